@@ -1,0 +1,43 @@
+// beamtrace: LiDAR simulation and ray tracing. Maps every error to one line and exit code 2.
+#include <CLI/CLI.hpp>
+#include <cstdio>
+#include <exception>
+#include <new>
+
+#include "beamtrace/core/error.hpp"
+#include "commands.hpp"
+
+int main(int argc, char** argv) {
+    CLI::App app{"beamtrace " BEAMTRACE_VERSION " - LiDAR simulator and ray tracer", "beamtrace"};
+    app.set_version_flag("--version", "beamtrace " BEAMTRACE_VERSION);
+    app.require_subcommand(1);
+    app.failure_message([](const CLI::App*, const CLI::Error& e) { return std::string(e.what()); });
+    const auto run_scan = beamtrace::cli::add_scan_command(app);
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::CallForHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::CallForAllHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::CallForVersion& e) {
+        return app.exit(e);
+    } catch (const CLI::ParseError& e) {
+        std::fprintf(stderr, "beamtrace: error: %s (see --help)\n", e.what());
+        return 2;
+    }
+    try {
+        if (app.got_subcommand("scan")) {
+            return run_scan();
+        }
+    } catch (const beamtrace::Error& e) {
+        std::fprintf(stderr, "beamtrace: error: %s\n", e.what());
+        return 2;
+    } catch (const std::bad_alloc&) {
+        std::fprintf(stderr, "beamtrace: error: out of memory\n");
+        return 2;
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "beamtrace: internal error: %s\n", e.what());
+        return 1;
+    }
+    return 0;
+}

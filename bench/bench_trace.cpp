@@ -1,0 +1,170 @@
+// BVH / k-d tree / brute force: build rate (triangles/s) and trace rate (rays/s) on a 1 M-triangle
+// terrain seen by a 512x512 nadir pinhole, all in one run so the figures compare as ratios.
+// Results are checked (every ray hits, backends agree) before anything is timed.
+#include <benchmark/benchmark.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <memory>
+#include <numbers>
+#include <thread>
+
+#include "beamtrace/accel/backend.hpp"
+#include "beamtrace/accel/bvh.hpp"
+#include "beamtrace/accel/kdtree.hpp"
+#include "beamtrace/scene/demo_scene.hpp"
+#include "beamtrace/scene/mesh_loader.hpp"
+#include "beamtrace/sensor/image_sensor.hpp"
+
+namespace bt = beamtrace;
+
+namespace {
+
+/// 708 x 708 cells, 2 triangles each: 1 002 528 triangles over 708 m x 708 m.
+const bt::TriangleMesh& terrain_1m() {
+    static const bt::TriangleMesh mesh = [] {
+        constexpr int n = 708;
+        bt::TriangleMesh m;
+        for (int j = 0; j <= n; ++j) {
+            for (int i = 0; i <= n; ++i) {
+                const double x = i - n / 2.0, y = j - n / 2.0;
+                m.vertices.emplace_back(static_cast<float>(x), static_cast<float>(y),
+                                        static_cast<float>(bt::demo_terrain_height(x, y)));
+            }
+        }
+        auto idx = [](int i, int j) { return static_cast<std::uint32_t>(j * (n + 1) + i); };
+        for (int j = 0; j < n; ++j) {
+            for (int i = 0; i < n; ++i) {
+                m.faces.push_back({idx(i, j), idx(i + 1, j), idx(i + 1, j + 1)});
+                m.faces.push_back({idx(i, j), idx(i + 1, j + 1), idx(i, j + 1)});
+            }
+        }
+        return m;
+    }();
+    return mesh;
+}
+
+/// A 512x512 nadir pinhole 400 m above the terrain, 90 degree FOV: every ray hits.
+const bt::RayBatch& nadir_rays() {
+    static const bt::RayBatch rays = [] {
+        bt::ImageSensorConfig c;
+        c.position_m = {0.0, 0.0, 400.0};
+        c.orientation = {0.0, -std::numbers::pi / 2, 0.0};
+        c.width = 512;
+        c.height = 512;
+        c.hfov_rad = std::numbers::pi / 2;
+        c.vfov_rad = std::numbers::pi / 2;
+        return bt::cast_rays_pinhole(c);
+    }();
+    return rays;
+}
+
+/// A subset of the nadir rays (every k-th), for the brute-force baseline.
+bt::RayBatch every_kth(const bt::RayBatch& rays, std::size_t k) {
+    bt::RayBatch sub;
+    for (std::size_t i = 0; i < rays.size(); i += k) {
+        sub.push_back(rays.origin(i), rays.direction(i));
+    }
+    return sub;
+}
+
+[[noreturn]] void fail(const char* what) {
+    std::fprintf(stderr, "benchmark check failed: %s\n", what);
+    std::exit(1);
+}
+
+/// Every backend agrees with brute force on a subset, and every nadir ray hits.
+void check_once() {
+    static bool done = false;
+    if (done) {
+        return;
+    }
+    done = true;
+    bt::ThreadPool pool(0);
+    const auto& mesh = terrain_1m();
+    const bt::RayBatch sub = every_kth(nadir_rays(), 1024);
+    const auto oracle = bt::make_backend(bt::BackendKind::brute, mesh, pool)->intersect(sub, pool);
+    for (auto kind : {bt::BackendKind::kdtree, bt::BackendKind::bvh}) {
+        const auto backend = bt::make_backend(kind, mesh, pool);
+        const auto got = backend->intersect(sub, pool);
+        if (got.face != oracle.face) {
+            fail("backend disagrees with brute force");
+        }
+        const auto all = backend->intersect(nadir_rays(), pool);
+        for (std::size_t i = 0; i < all.size(); ++i) {
+            if (!all.hit(i)) {
+                fail("a nadir ray missed the terrain");
+            }
+        }
+    }
+}
+
+unsigned threads_arg(const benchmark::State& state) {
+    return static_cast<unsigned>(state.range(0));
+}
+
+void BM_BuildBvh(benchmark::State& state) {
+    const auto& mesh = terrain_1m();
+    bt::ThreadPool pool(threads_arg(state));
+    for (auto _ : state) {
+        bt::Bvh bvh = bt::build_bvh(mesh, {}, pool);
+        benchmark::DoNotOptimize(bvh.nodes.data());
+    }
+    state.counters["triangles/s"] = benchmark::Counter(
+        static_cast<double>(mesh.triangle_count()), benchmark::Counter::kIsIterationInvariantRate);
+}
+
+void BM_BuildKdTree(benchmark::State& state) {
+    const auto& mesh = terrain_1m();
+    for (auto _ : state) {
+        bt::KdTree tree = bt::build_kdtree(mesh);
+        benchmark::DoNotOptimize(tree.nodes.data());
+    }
+    state.counters["triangles/s"] = benchmark::Counter(
+        static_cast<double>(mesh.triangle_count()), benchmark::Counter::kIsIterationInvariantRate);
+}
+
+template <bt::BackendKind Kind>
+void BM_Trace(benchmark::State& state) {
+    check_once();
+    const auto& mesh = terrain_1m();
+    bt::ThreadPool pool(threads_arg(state));
+    const auto backend = bt::make_backend(Kind, mesh, pool);
+    // Brute force traces every 1024th ray only (1 M tests per ray); rays/s stays comparable.
+    const bt::RayBatch rays =
+        Kind == bt::BackendKind::brute ? every_kth(nadir_rays(), 1024) : nadir_rays();
+    bt::HitBatch hits;
+    hits.resize(rays.size());
+    for (auto _ : state) {
+        backend->intersect(rays, 0, rays.size(), hits, pool);
+        benchmark::DoNotOptimize(hits.t.data());
+    }
+    state.counters["rays/s"] = benchmark::Counter(static_cast<double>(rays.size()),
+                                                  benchmark::Counter::kIsIterationInvariantRate);
+}
+
+void thread_args(benchmark::internal::Benchmark* b) {
+    b->Arg(1);
+    const unsigned hw = std::max(1u, std::thread::hardware_concurrency());
+    if (hw > 1) {
+        b->Arg(static_cast<int>(hw));
+    }
+    b->ArgName("threads")->Unit(benchmark::kMillisecond)->UseRealTime();
+}
+
+BENCHMARK(BM_BuildBvh)->Apply(thread_args)->MinTime(1.0);
+BENCHMARK(BM_BuildKdTree)->Unit(benchmark::kMillisecond)->Iterations(2);
+BENCHMARK(BM_Trace<bt::BackendKind::bvh>)->Name("BM_Trace/bvh")->Apply(thread_args)->MinTime(1.0);
+BENCHMARK(BM_Trace<bt::BackendKind::kdtree>)
+    ->Name("BM_Trace/kdtree")
+    ->Apply(thread_args)
+    ->MinTime(1.0);
+BENCHMARK(BM_Trace<bt::BackendKind::brute>)
+    ->Name("BM_Trace/brute")
+    ->Apply(thread_args)
+    ->Iterations(1);
+
+}  // namespace
+
+BENCHMARK_MAIN();

@@ -1,0 +1,55 @@
+// One interface for every ray-tracing backend. Queries take a batch of rays (a range of a
+// RayBatch) and run multi-threaded over rays; results never depend on the thread count.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "beamtrace/accel/hit_batch.hpp"
+#include "beamtrace/core/ray_batch.hpp"
+#include "beamtrace/core/thread_pool.hpp"
+#include "beamtrace/geometry/ray_triangle.hpp"
+#include "beamtrace/geometry/triangle_mesh.hpp"
+
+namespace beamtrace {
+
+enum class BackendKind : std::uint8_t { brute, kdtree, bvh };
+
+/// "brute", "kdtree" or "bvh"; throws ConfigError otherwise.
+[[nodiscard]] BackendKind parse_backend_kind(std::string_view name);
+[[nodiscard]] std::string_view to_string(BackendKind kind);
+
+class Backend {
+  public:
+    virtual ~Backend() = default;
+    [[nodiscard]] virtual BackendKind kind() const = 0;
+
+    /// Nearest hit of rays [begin, end) into `hits` (which must hold rays.size() slots). Ties in
+    /// range go to the lowest face ID, so every backend gives the same face for the same ray.
+    virtual void intersect(const RayBatch& rays, std::size_t begin, std::size_t end, HitBatch& hits,
+                           ThreadPool& pool) const = 0;
+    /// occluded[i] = 1 when ray i meets anything in [tmin, tmax].
+    virtual void occluded(const RayBatch& rays, std::size_t begin, std::size_t end,
+                          std::vector<std::uint8_t>& occluded, ThreadPool& pool) const = 0;
+    /// Every hit of every ray in [tmin, tmax] on the sides allowed by `facing`.
+    virtual void intersect_all(const RayBatch& rays, Facing facing, AllHits& hits,
+                               ThreadPool& pool) const = 0;
+
+    /// Nearest hits of the whole batch.
+    [[nodiscard]] HitBatch intersect(const RayBatch& rays, ThreadPool& pool) const {
+        HitBatch hits;
+        hits.resize(rays.size());
+        intersect(rays, 0, rays.size(), hits, pool);
+        return hits;
+    }
+};
+
+/// Builds a backend over `mesh`, which must outlive it (geometry is never copied).
+[[nodiscard]] std::unique_ptr<Backend> make_backend(BackendKind kind, const TriangleMesh& mesh,
+                                                    ThreadPool& pool);
+
+}  // namespace beamtrace

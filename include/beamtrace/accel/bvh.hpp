@@ -1,0 +1,41 @@
+// Bounding volume hierarchy as plain data: flattened 32-byte nodes in depth-first order and a
+// permutation of face IDs. The geometry stays in the TriangleMesh.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "beamtrace/core/thread_pool.hpp"
+#include "beamtrace/geometry/triangle_mesh.hpp"
+
+namespace beamtrace {
+
+struct BvhNode {
+    float lo[3];  ///< bounds, minimum corner
+    std::uint32_t
+        index;    ///< inner: right child (the left child is the next node); leaf: first prim
+    float hi[3];  ///< bounds, maximum corner
+    std::uint32_t count;  ///< number of faces in a leaf; 0 for an inner node
+
+    [[nodiscard]] bool is_leaf() const { return count != 0; }
+};
+static_assert(sizeof(BvhNode) == 32, "BVH nodes are 32 bytes");
+
+struct Bvh {
+    std::vector<BvhNode> nodes;           ///< nodes[0] is the root (absent for an empty mesh)
+    std::vector<std::uint32_t> prim_ids;  ///< leaf ranges index this; values are face IDs
+    int depth = 0;                        ///< longest root-to-leaf path (root = 1)
+};
+
+struct BvhBuildConfig {
+    int bin_count = 16;              ///< SAH bins per axis
+    int max_leaf_size = 8;           ///< a node with more faces is always split (if it can be)
+    float traversal_cost = 1.0f;     ///< SAH cost of visiting a node, relative to...
+    float intersection_cost = 1.0f;  ///< ...the cost of one ray/triangle test
+};
+
+/// Top-down binned-SAH build (Wald 2007). `pool` parallelises the per-face preparation.
+[[nodiscard]] Bvh build_bvh(const TriangleMesh& mesh, const BvhBuildConfig& config,
+                            ThreadPool& pool);
+
+}  // namespace beamtrace

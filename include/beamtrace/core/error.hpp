@@ -1,0 +1,40 @@
+// Exceptions thrown at I/O and configuration boundaries. Messages carry their context.
+#pragma once
+
+#include <stdexcept>
+#include <string>
+
+namespace beamtrace {
+
+/// Base of all beamtrace errors.
+class Error : public std::runtime_error {
+  public:
+    using std::runtime_error::runtime_error;
+};
+
+/// A file could not be read or parsed: the message names the file (and line where known).
+class InputError : public Error {
+  public:
+    InputError(const std::string& path, const std::string& what)
+        : Error(path + ": " + what), path_(path) {}
+    InputError(const std::string& path, long line, const std::string& what)
+        : Error(path + ":" + std::to_string(line) + ": " + what), path_(path) {}
+    [[nodiscard]] const std::string& path() const { return path_; }
+
+  private:
+    std::string path_;
+};
+
+/// Impossible or inconsistent settings; the message lists every problem found.
+class ConfigError : public Error {
+  public:
+    using Error::Error;
+};
+
+/// An output could not be written.
+class OutputError : public Error {
+  public:
+    using Error::Error;
+};
+
+}  // namespace beamtrace

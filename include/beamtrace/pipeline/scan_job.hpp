@@ -1,0 +1,55 @@
+// `beamtrace scan` as one library call: load the scene, cast the sensor's rays, trace them and
+// write hits.csv, points.ply and (for image patterns) range.png and range.npy.
+#pragma once
+
+#include <cstddef>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "beamtrace/accel/backend.hpp"
+#include "beamtrace/core/progress.hpp"
+#include "beamtrace/pipeline/face_filter.hpp"
+#include "beamtrace/scene/scene.hpp"
+#include "beamtrace/sensor/image_sensor.hpp"
+
+namespace beamtrace {
+
+enum class PatternKind : std::uint8_t { pinhole, scan, rays };
+
+/// "pinhole", "scan" or "rays"; throws ConfigError otherwise.
+[[nodiscard]] PatternKind parse_pattern_kind(std::string_view name);
+
+struct ScanJobConfig {
+    std::vector<std::filesystem::path> meshes;  ///< OBJ/PLY/STL files, concatenated in order
+    bool demo = false;                          ///< use the embedded demo scene instead
+    PatternKind pattern = PatternKind::pinhole;
+    ImageSensorConfig sensor;         ///< for pinhole and scan
+    std::filesystem::path rays_file;  ///< for rays: CSV ox,oy,oz,dx,dy,dz
+    /// For rays: write range images of this width x height (must equal the ray count).
+    std::optional<int> image_width, image_height;
+    BackendKind backend = BackendKind::bvh;
+    unsigned threads = 0;  ///< 0 = all hardware threads
+    std::filesystem::path output_dir;
+    std::vector<FaceRange> exclude_faces;  ///< hits on these faces are left out of points.ply
+
+    /// Every problem at once; empty when valid.
+    [[nodiscard]] std::vector<std::string> validate() const;
+};
+
+struct ScanResult {
+    std::size_t triangles = 0;
+    std::size_t rays = 0;
+    std::size_t hits = 0;
+    std::size_t points_written = 0;  ///< hits minus excluded faces
+    std::vector<ScenePart> parts;
+    std::vector<std::filesystem::path> outputs;
+    double load_s = 0, build_s = 0, trace_s = 0, write_s = 0;
+};
+
+/// Runs the scan. Throws ConfigError, InputError or OutputError with context; outputs appear
+/// only complete (each is written to a temporary file and renamed).
+[[nodiscard]] ScanResult run_scan(const ScanJobConfig& config, const ProgressFn& progress = {});
+
+}  // namespace beamtrace

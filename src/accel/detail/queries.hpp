@@ -1,0 +1,193 @@
+// The three ray queries (nearest, any, all), written once over a traverser. A traverser has
+//   template <class Visitor> void traverse(const TraceRay&, Visitor&) const;
+// and calls `visitor.visit(face)` for candidate faces, skipping nodes farther than
+// `visitor.limit()`, and stops when `visit` returns true.
+#pragma once
+
+#include <algorithm>
+#include <cstddef>
+#include <cstdint>
+#include <numeric>
+#include <utility>
+#include <vector>
+
+#include "beamtrace/accel/backend.hpp"
+#include "trace_ray.hpp"
+
+namespace beamtrace::detail {
+
+inline constexpr std::size_t kRayGrain = 1024;
+
+class NearestVisitor {
+  public:
+    NearestVisitor(const TriangleMesh& mesh, const TraceRay& ray)
+        : mesh_(mesh), ray_(ray), best_t_(ray.tmax) {}
+    [[nodiscard]] float limit() const { return best_t_; }
+    bool visit(std::uint32_t face) {
+        const Face& f = mesh_.faces[face];
+        TriangleHit h;
+        if (intersect_watertight(ray_.wt, mesh_.vertices[f[0]], mesh_.vertices[f[1]],
+                                 mesh_.vertices[f[2]], ray_.tmin, best_t_, Facing::both, h) &&
+            (h.t < best_t_ || face < face_)) {
+            best_t_ = h.t;
+            face_ = face;
+            u_ = h.u;
+            v_ = h.v;
+        }
+        return false;
+    }
+    void store(HitBatch& hits, std::size_t i) const {
+        if (face_ != kNoFace) {
+            hits.t[i] = best_t_;
+            hits.face[i] = face_;
+            hits.u[i] = u_;
+            hits.v[i] = v_;
+        } else {
+            hits.t[i] = std::numeric_limits<float>::infinity();
+            hits.face[i] = kNoFace;
+            hits.u[i] = hits.v[i] = 0.0f;
+        }
+    }
+
+  private:
+    const TriangleMesh& mesh_;
+    const TraceRay& ray_;
+    float best_t_;
+    std::uint32_t face_ = kNoFace;
+    float u_ = 0, v_ = 0;
+};
+
+class AnyVisitor {
+  public:
+    AnyVisitor(const TriangleMesh& mesh, const TraceRay& ray) : mesh_(mesh), ray_(ray) {}
+    [[nodiscard]] float limit() const { return ray_.tmax; }
+    bool visit(std::uint32_t face) {
+        const Face& f = mesh_.faces[face];
+        TriangleHit h;
+        hit_ = intersect_watertight(ray_.wt, mesh_.vertices[f[0]], mesh_.vertices[f[1]],
+                                    mesh_.vertices[f[2]], ray_.tmin, ray_.tmax, Facing::both, h);
+        return hit_;
+    }
+    [[nodiscard]] bool hit() const { return hit_; }
+
+  private:
+    const TriangleMesh& mesh_;
+    const TraceRay& ray_;
+    bool hit_ = false;
+};
+
+struct AllHit {
+    float t;
+    std::uint32_t face;
+    std::uint8_t front;
+};
+
+class AllVisitor {
+  public:
+    AllVisitor(const TriangleMesh& mesh, const TraceRay& ray, Facing facing,
+               std::vector<AllHit>& out)
+        : mesh_(mesh), ray_(ray), facing_(facing), out_(out), first_(out.size()) {}
+    [[nodiscard]] float limit() const { return ray_.tmax; }
+    bool visit(std::uint32_t face) {
+        const Face& f = mesh_.faces[face];
+        TriangleHit h;
+        if (intersect_watertight(ray_.wt, mesh_.vertices[f[0]], mesh_.vertices[f[1]],
+                                 mesh_.vertices[f[2]], ray_.tmin, ray_.tmax, facing_, h)) {
+            out_.push_back({h.t, face, static_cast<std::uint8_t>(h.front ? 1 : 0)});
+        }
+        return false;
+    }
+    /// Sorts this ray's hits by (t, face) and drops duplicates (a face met in several leaves).
+    void finish() {
+        auto b = out_.begin() + static_cast<std::ptrdiff_t>(first_);
+        std::sort(b, out_.end(), [](const AllHit& x, const AllHit& y) {
+            return x.t < y.t || (x.t == y.t && x.face < y.face);
+        });
+        out_.erase(std::unique(b, out_.end(),
+                               [](const AllHit& x, const AllHit& y) { return x.face == y.face; }),
+                   out_.end());
+    }
+
+  private:
+    const TriangleMesh& mesh_;
+    const TraceRay& ray_;
+    Facing facing_;
+    std::vector<AllHit>& out_;
+    std::size_t first_;
+};
+
+/// A Backend over any traverser; the only virtual call is per batch.
+template <class Traverser, BackendKind Kind>
+class QueryBackend final : public Backend {
+  public:
+    QueryBackend(const TriangleMesh& mesh, Traverser traverser)
+        : mesh_(mesh), traverser_(std::move(traverser)) {}
+
+    [[nodiscard]] BackendKind kind() const override { return Kind; }
+    [[nodiscard]] const Traverser& traverser() const { return traverser_; }
+
+    void intersect(const RayBatch& rays, std::size_t begin, std::size_t end, HitBatch& hits,
+                   ThreadPool& pool) const override {
+        pool.parallel_for(end - begin, kRayGrain, [&](std::size_t b, std::size_t e) {
+            for (std::size_t i = begin + b; i < begin + e; ++i) {
+                const TraceRay r = make_trace_ray(rays, i);
+                NearestVisitor vis(mesh_, r);
+                traverser_.traverse(r, vis);
+                vis.store(hits, i);
+            }
+        });
+    }
+
+    void occluded(const RayBatch& rays, std::size_t begin, std::size_t end,
+                  std::vector<std::uint8_t>& occluded, ThreadPool& pool) const override {
+        occluded.resize(rays.size());
+        pool.parallel_for(end - begin, kRayGrain, [&](std::size_t b, std::size_t e) {
+            for (std::size_t i = begin + b; i < begin + e; ++i) {
+                const TraceRay r = make_trace_ray(rays, i);
+                AnyVisitor vis(mesh_, r);
+                traverser_.traverse(r, vis);
+                occluded[i] = vis.hit() ? 1 : 0;
+            }
+        });
+    }
+
+    void intersect_all(const RayBatch& rays, Facing facing, AllHits& hits,
+                       ThreadPool& pool) const override {
+        const std::size_t n = rays.size();
+        const std::size_t chunks = (n + kRayGrain - 1) / kRayGrain;
+        std::vector<std::vector<AllHit>> per_chunk(chunks);
+        std::vector<std::uint32_t> counts(n, 0);
+        pool.parallel_for(n, kRayGrain, [&](std::size_t b, std::size_t e) {
+            auto& out = per_chunk[b / kRayGrain];
+            for (std::size_t i = b; i < e; ++i) {
+                const TraceRay r = make_trace_ray(rays, i);
+                const std::size_t before = out.size();
+                AllVisitor vis(mesh_, r, facing, out);
+                traverser_.traverse(r, vis);
+                vis.finish();
+                counts[i] = static_cast<std::uint32_t>(out.size() - before);
+            }
+        });
+        hits.offsets.assign(n + 1, 0);
+        std::partial_sum(counts.begin(), counts.end(), hits.offsets.begin() + 1);
+        const std::size_t total = hits.offsets[n];
+        hits.t.resize(total);
+        hits.face.resize(total);
+        hits.front.resize(total);
+        std::size_t k = 0;
+        for (const auto& chunk : per_chunk) {
+            for (const auto& h : chunk) {
+                hits.t[k] = h.t;
+                hits.face[k] = h.face;
+                hits.front[k] = h.front;
+                ++k;
+            }
+        }
+    }
+
+  private:
+    const TriangleMesh& mesh_;
+    Traverser traverser_;
+};
+
+}  // namespace beamtrace::detail

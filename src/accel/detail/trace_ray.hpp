@@ -1,0 +1,56 @@
+// Per-ray constants for traversal (float), built once per ray from a double RayBatch slot.
+#pragma once
+
+#include <cmath>
+#include <cstddef>
+#include <limits>
+
+#include "beamtrace/core/ray_batch.hpp"
+#include "beamtrace/geometry/ray_triangle.hpp"
+
+namespace beamtrace::detail {
+
+struct TraceRay {
+    Vec3f org, dir, inv_dir;
+    float tmin = 0, tmax = std::numeric_limits<float>::infinity();
+    WatertightRay wt;
+};
+
+[[nodiscard]] inline TraceRay make_trace_ray(const RayBatch& rays, std::size_t i) {
+    TraceRay r;
+    r.org = Vec3f(static_cast<float>(rays.ox[i]), static_cast<float>(rays.oy[i]),
+                  static_cast<float>(rays.oz[i]));
+    r.dir = Vec3f(static_cast<float>(rays.dx[i]), static_cast<float>(rays.dy[i]),
+                  static_cast<float>(rays.dz[i]));
+    // 1/0 = inf; the slab test below treats the NaN of 0*inf as "inside that slab".
+    r.inv_dir = Vec3f(1.0f / r.dir.x, 1.0f / r.dir.y, 1.0f / r.dir.z);
+    r.tmin = static_cast<float>(rays.tmin[i]);
+    r.tmax = static_cast<float>(rays.tmax[i]);
+    r.wt = make_watertight_ray(r.org, r.dir);
+    return r;
+}
+
+/// Robust slab test (Ize 2013: far distance padded by 2*gamma(3)). Rays parallel to a slab
+/// whose origin lies exactly on its plane produce NaN, which the operand order ignores. Returns
+/// true and the entry distance in `entry` when the box is met within [tmin, tmax].
+[[nodiscard]] inline bool slab_entry(const TraceRay& r, const float lo[3], const float hi[3],
+                                     float tmin, float tmax, float& entry) {
+    constexpr float kPad = 2.0f * 3.0f * std::numeric_limits<float>::epsilon();
+    float tnear = tmin, tfar = tmax;
+    for (int a = 0; a < 3; ++a) {
+        const float o = r.org[static_cast<std::size_t>(a)];
+        const float inv = r.inv_dir[static_cast<std::size_t>(a)];
+        const float t0 = (lo[a] - o) * inv;
+        const float t1 = (hi[a] - o) * inv;
+        const float n = (t1 < t0) ? t1 : t0;  // NaN t0 -> t0 -> ignored below
+        const float f = (t0 > t1) ? t0 : t1;  // NaN t1 -> t1 -> ignored below
+        tnear = (n > tnear) ? n : tnear;
+        const float fp = f + std::fabs(f) * kPad;
+        tfar = (fp < tfar) ? fp : tfar;
+    }
+    // The entry distance is lowered by the same margin, so culling a node by it is conservative.
+    entry = tnear - std::fabs(tnear) * kPad;
+    return tnear <= tfar;
+}
+
+}  // namespace beamtrace::detail

@@ -1,0 +1,146 @@
+#include "beamtrace/io/hits_csv.hpp"
+
+#include <algorithm>
+#include <cerrno>
+#include <charconv>
+#include <cstring>
+#include <fstream>
+#include <string>
+#include <string_view>
+#include <system_error>
+
+#include "beamtrace/core/error.hpp"
+#include "beamtrace/io/atomic_file.hpp"
+
+namespace beamtrace {
+
+namespace {
+
+constexpr std::string_view kHeader = "ray,range_m,face_id";
+constexpr std::size_t kChunkBytes = std::size_t{1} << 20;
+constexpr std::size_t kMaxRowBytes = 64;  // 20 + 1 + 15 + 1 + 10 + 1 at most
+
+std::string read_file(const std::filesystem::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) {
+        throw InputError(path.string(), std::string("cannot open: ") + std::strerror(errno));
+    }
+    std::error_code ec;
+    const auto size = std::filesystem::file_size(path, ec);
+    if (ec) {
+        throw InputError(path.string(), "cannot read: " + ec.message());
+    }
+    std::string text(size, '\0');
+    if (!in.read(text.data(), static_cast<std::streamsize>(size))) {
+        throw InputError(path.string(), "read error");
+    }
+    return text;
+}
+
+/// Parses all of `field` as a number of type T.
+template <typename T>
+bool parse_field(std::string_view field, T& value) {
+    const char* end = field.data() + field.size();
+    const auto [ptr, ec] = std::from_chars(field.data(), end, value);
+    return ec == std::errc{} && ptr == end && !field.empty();
+}
+
+}  // namespace
+
+void write_hits_csv(const std::filesystem::path& path, const HitBatch& hits) {
+    const std::size_t n = hits.size();
+    if (hits.face.size() != n) {
+        throw OutputError(path.string() + ": hit batch has " + std::to_string(n) + " ranges but " +
+                          std::to_string(hits.face.size()) + " face IDs");
+    }
+    AtomicFile out(path);
+    std::string buffer(kChunkBytes + kMaxRowBytes, '\0');
+    char* const begin = buffer.data();
+    char* const end = begin + buffer.size();
+    char* p = begin;
+    std::memcpy(p, kHeader.data(), kHeader.size());
+    p += kHeader.size();
+    *p++ = '\n';
+    for (std::size_t i = 0; i < n; ++i) {
+        p = std::to_chars(p, end, i).ptr;
+        *p++ = ',';
+        if (hits.hit(i)) {
+            p = std::to_chars(p, end, hits.t[i]).ptr;
+            *p++ = ',';
+            p = std::to_chars(p, end, hits.face[i]).ptr;
+            *p++ = '\n';
+        } else {
+            constexpr std::string_view kMiss = "inf,-1\n";
+            std::memcpy(p, kMiss.data(), kMiss.size());
+            p += kMiss.size();
+        }
+        if (std::size_t(p - begin) >= kChunkBytes) {
+            out.write(begin, std::size_t(p - begin));
+            p = begin;
+        }
+    }
+    out.write(begin, std::size_t(p - begin));
+    out.commit();
+}
+
+HitsCsv read_hits_csv(const std::filesystem::path& path) {
+    const std::string file = path.string();
+    const std::string text = read_file(path);
+    HitsCsv table;
+    const auto lines = std::size_t(std::count(text.begin(), text.end(), '\n'));
+    table.ray.reserve(lines);
+    table.range_m.reserve(lines);
+    table.face_id.reserve(lines);
+    std::size_t pos = 0;
+    long line_no = 0;
+    bool seen_header = false;
+    while (pos < text.size()) {
+        std::size_t eol = text.find('\n', pos);
+        if (eol == std::string::npos) {
+            eol = text.size();
+        }
+        std::string_view line(text.data() + pos, eol - pos);
+        pos = eol + 1;
+        ++line_no;
+        if (!line.empty() && line.back() == '\r') {
+            line.remove_suffix(1);
+        }
+        if (!seen_header) {
+            if (line != kHeader) {
+                throw InputError(file, line_no,
+                                 "expected the header '" + std::string(kHeader) + "'");
+            }
+            seen_header = true;
+            continue;
+        }
+        if (line.empty()) {
+            continue;
+        }
+        const std::size_t c1 = line.find(',');
+        const std::size_t c2 = c1 == std::string_view::npos ? c1 : line.find(',', c1 + 1);
+        if (c2 == std::string_view::npos || line.find(',', c2 + 1) != std::string_view::npos) {
+            throw InputError(file, line_no, "expected 3 fields: ray,range_m,face_id");
+        }
+        std::uint64_t ray = 0;
+        double range = 0.0;
+        std::int64_t face = 0;
+        if (!parse_field(line.substr(0, c1), ray)) {
+            throw InputError(file, line_no, "malformed ray index");
+        }
+        if (!parse_field(line.substr(c1 + 1, c2 - c1 - 1), range)) {
+            throw InputError(file, line_no, "malformed range");
+        }
+        if (!parse_field(line.substr(c2 + 1), face)) {
+            throw InputError(file, line_no, "malformed face ID");
+        }
+        table.ray.push_back(ray);
+        table.range_m.push_back(range);
+        table.face_id.push_back(face);
+    }
+    if (!seen_header) {
+        throw InputError(file, "empty file (expected the header '" + std::string(kHeader) + "')");
+    }
+    return table;
+}
+
+}  // namespace beamtrace

@@ -1,0 +1,259 @@
+// Every backend against brute force on the same rays: real meshes, random and adversarial rays.
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "beamtrace/accel/backend.hpp"
+#include "beamtrace/geometry/moller_trumbore.hpp"
+#include "beamtrace/scene/mesh_loader.hpp"
+#include "test_support.hpp"
+
+namespace beamtrace {
+namespace {
+
+/// Rays from a sphere around the mesh aimed at random points of its bounding box (most hit),
+/// plus 10 % in random directions (many miss).
+RayBatch random_rays(const TriangleMesh& mesh, std::size_t n, unsigned seed) {
+    const Aabb b = mesh.bounds();
+    const Vec3d c(b.center());
+    const double radius = 1.5 * length(Vec3d(b.extent()));
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<double> uni(0.0, 1.0);
+    std::normal_distribution<double> g(0.0, 1.0);
+    RayBatch rays;
+    rays.reserve(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        const Vec3d o = c + normalize(Vec3d{g(rng), g(rng), g(rng)}) * radius;
+        Vec3d d;
+        if (i % 10 == 9) {
+            d = normalize(Vec3d{g(rng), g(rng), g(rng)});
+        } else {
+            const Vec3d target{b.lo.x + uni(rng) * (b.hi.x - b.lo.x),
+                               b.lo.y + uni(rng) * (b.hi.y - b.lo.y),
+                               b.lo.z + uni(rng) * (b.hi.z - b.lo.z)};
+            d = normalize(target - o);
+        }
+        rays.push_back(o, d);
+    }
+    return rays;
+}
+
+/// Rays aimed exactly at every vertex and at edge points of the mesh.
+RayBatch vertex_and_edge_rays(const TriangleMesh& mesh, std::size_t max_rays, unsigned seed) {
+    const Aabb b = mesh.bounds();
+    const Vec3d c(b.center());
+    const double radius = 1.5 * length(Vec3d(b.extent()));
+    std::mt19937_64 rng(seed);
+    std::normal_distribution<double> g(0.0, 1.0);
+    std::uniform_real_distribution<double> uni(0.0, 1.0);
+    RayBatch rays;
+    const std::size_t step = std::max<std::size_t>(1, mesh.faces.size() / max_rays);
+    for (std::size_t f = 0; f < mesh.faces.size() && rays.size() < max_rays; f += step) {
+        const Face& face = mesh.faces[f];
+        const Vec3d a(mesh.vertices[face[0]]), bb(mesh.vertices[face[1]]);
+        const Vec3d target = (f % 2 == 0) ? a : a + (bb - a) * uni(rng);
+        const Vec3d o = c + normalize(Vec3d{g(rng), g(rng), g(rng)}) * radius;
+        rays.push_back(o, normalize(target - o));
+    }
+    return rays;
+}
+
+void expect_agreement(const TriangleMesh& mesh, const RayBatch& rays, const char* what) {
+    ThreadPool pool(0);
+    const auto brute = make_backend(BackendKind::brute, mesh, pool);
+    const HitBatch oracle = brute->intersect(rays, pool);
+    std::size_t hits = 0;
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+        hits += oracle.hit(i) ? 1 : 0;
+    }
+    EXPECT_GT(hits, rays.size() / 10) << what << ": the test rays should hit something";
+    for (BackendKind kind : {BackendKind::kdtree, BackendKind::bvh}) {
+        const auto backend = make_backend(kind, mesh, pool);
+        const HitBatch got = backend->intersect(rays, pool);
+        std::size_t bad = 0;
+        for (std::size_t i = 0; i < rays.size(); ++i) {
+            const bool same_face = got.face[i] == oracle.face[i];
+            const bool same_range =
+                oracle.hit(i) && got.hit(i) &&
+                std::abs(double(got.t[i]) - double(oracle.t[i])) <= 1e-6 * double(oracle.t[i]);
+            if (!same_face && !same_range) {
+                if (++bad <= 5) {
+                    ADD_FAILURE() << what << " " << to_string(kind) << " ray " << i << ": face "
+                                  << got.face[i] << " t " << got.t[i] << " vs brute face "
+                                  << oracle.face[i] << " t " << oracle.t[i];
+                }
+            }
+        }
+        EXPECT_EQ(bad, 0u) << what << " " << to_string(kind);
+        // Occlusion agrees with the nearest-hit query.
+        std::vector<std::uint8_t> occ;
+        backend->occluded(rays, 0, rays.size(), occ, pool);
+        for (std::size_t i = 0; i < rays.size(); ++i) {
+            ASSERT_EQ(occ[i] != 0, oracle.hit(i)) << what << " " << to_string(kind) << " ray " << i;
+        }
+    }
+}
+
+TEST(CrossCheck, BunnyRandomRays) {
+    const auto path = test::shared_data("meshes/small/stanford-bunny.obj");
+    BEAMTRACE_REQUIRE_FILE(path);
+    const TriangleMesh mesh = load_mesh(path);
+    expect_agreement(mesh, random_rays(mesh, test::heavy_scale(60000), 1), "bunny");
+}
+
+TEST(CrossCheck, TerrainRandomRays) {
+    const auto path = test::shared_data("meshes/terrain/dem_hd_sub_heightfield.obj");
+    BEAMTRACE_REQUIRE_FILE(path);
+    const TriangleMesh mesh = load_mesh(path);
+    expect_agreement(mesh, random_rays(mesh, test::heavy_scale(60000), 2), "terrain");
+}
+
+TEST(CrossCheck, BunnyVertexAndEdgeRays) {
+    const auto path = test::shared_data("meshes/small/stanford-bunny.obj");
+    BEAMTRACE_REQUIRE_FILE(path);
+    const TriangleMesh mesh = load_mesh(path);
+    expect_agreement(mesh, vertex_and_edge_rays(mesh, test::heavy_scale(10000), 3),
+                     "bunny-vertices");
+}
+
+TEST(CrossCheck, TerrainVertexAndEdgeRays) {
+    const auto path = test::shared_data("meshes/terrain/dem_hd_sub_heightfield.obj");
+    BEAMTRACE_REQUIRE_FILE(path);
+    const TriangleMesh mesh = load_mesh(path);
+    expect_agreement(mesh, vertex_and_edge_rays(mesh, test::heavy_scale(10000), 4),
+                     "terrain-vertices");
+}
+
+/// Rays from inside a closed mesh through its vertices and edges must hit: no leaks.
+void expect_no_leaks(const TriangleMesh& mesh, const Vec3d& inside, const char* what) {
+    RayBatch rays;
+    for (const auto& v : mesh.vertices) {
+        rays.push_back(inside, normalize(Vec3d(v) - inside));
+    }
+    for (const auto& f : mesh.faces) {
+        for (int k = 0; k < 3; ++k) {
+            const Vec3d a(mesh.vertices[f[static_cast<std::size_t>(k)]]);
+            const Vec3d b(mesh.vertices[f[static_cast<std::size_t>((k + 1) % 3)]]);
+            rays.push_back(inside, normalize((a + b) * 0.5 - inside));
+        }
+    }
+    ThreadPool pool(0);
+    for (BackendKind kind : {BackendKind::brute, BackendKind::kdtree, BackendKind::bvh}) {
+        const auto backend = make_backend(kind, mesh, pool);
+        const HitBatch hits = backend->intersect(rays, pool);
+        std::size_t leaks = 0;
+        for (std::size_t i = 0; i < rays.size(); ++i) {
+            leaks += hits.hit(i) ? 0 : 1;
+        }
+        EXPECT_EQ(leaks, 0u) << what << " " << to_string(kind) << ": " << leaks << " of "
+                             << rays.size() << " rays escaped";
+    }
+}
+
+TEST(CrossCheck, NoLeaksThroughIcosphereVerticesAndEdges) {
+    expect_no_leaks(test::make_icosphere(4, 3.0f), {0.0, 0.0, 0.0}, "icosphere");
+    expect_no_leaks(test::make_icosphere(3, 1.0f), {0.1, -0.2, 0.05}, "icosphere-offset");
+}
+
+TEST(CrossCheck, NoLeaksThroughSpotVerticesAndEdges) {
+    const auto path = test::shared_data("meshes/small/spot.obj");
+    BEAMTRACE_REQUIRE_FILE(path);
+    const TriangleMesh mesh = load_mesh(path);
+    // An interior point: halfway between the first two hits of a ray through the body.
+    ThreadPool pool(1);
+    const auto bvh = make_backend(BackendKind::bvh, mesh, pool);
+    RayBatch probe;
+    const Vec3d c(mesh.bounds().center());
+    probe.push_back(c + Vec3d{0, 0, 10}, {0, 0, -1});
+    AllHits all;
+    bvh->intersect_all(probe, Facing::both, all, pool);
+    ASSERT_GE(all.count(0), 2u);
+    ASSERT_TRUE(all.front[0]);
+    const double mid = 0.5 * (double(all.t[0]) + double(all.t[1]));
+    expect_no_leaks(mesh, c + Vec3d{0, 0, 10} + Vec3d{0, 0, -1} * mid, "spot");
+}
+
+TEST(CrossCheck, AxisAlignedRaysThroughGridVerticesAndEdges) {
+    // Exactly representable vertices and rays exactly through them: the hardest case for
+    // slab tests (origin on box planes, zero direction components) and for the k-d tree (split
+    // planes through the ray).
+    const TriangleMesh grid = test::make_grid(32);
+    RayBatch rays;
+    for (int j = 0; j <= 64; ++j) {
+        for (int i = 0; i <= 64; ++i) {
+            const double x = 0.5 * i, y = 0.5 * j;
+            rays.push_back({x, y, 10.0}, {0, 0, -1});
+            rays.push_back({x, y, -10.0}, {0, 0, 1});
+        }
+    }
+    ThreadPool pool(2);
+    for (BackendKind kind : {BackendKind::brute, BackendKind::kdtree, BackendKind::bvh}) {
+        const auto backend = make_backend(kind, grid, pool);
+        const HitBatch hits = backend->intersect(rays, pool);
+        for (std::size_t i = 0; i < rays.size(); ++i) {
+            ASSERT_TRUE(hits.hit(i)) << to_string(kind) << " ray " << i << " leaked";
+            EXPECT_EQ(hits.t[i], 10.0f);
+        }
+    }
+    expect_agreement(grid, rays, "grid");
+}
+
+TEST(CrossCheck, AllHitsMatchBruteForceAndMollerTrumbore) {
+    const TriangleMesh sphere = test::make_icosphere(3, 2.0f);
+    ThreadPool pool(2);
+    RayBatch rays;
+    std::mt19937 rng(5);
+    std::normal_distribution<double> g(0.0, 1.0);
+    for (int i = 0; i < 2000; ++i) {
+        const Vec3d o = normalize(Vec3d{g(rng), g(rng), g(rng)}) * 5.0;
+        rays.push_back(o, normalize(Vec3d{g(rng), g(rng), g(rng)} * 0.8 - o));
+    }
+    AllHits ref;
+    make_backend(BackendKind::brute, sphere, pool)->intersect_all(rays, Facing::both, ref, pool);
+    for (BackendKind kind : {BackendKind::kdtree, BackendKind::bvh}) {
+        for (Facing facing : {Facing::front, Facing::back, Facing::both}) {
+            AllHits got;
+            make_backend(kind, sphere, pool)->intersect_all(rays, facing, got, pool);
+            for (std::size_t i = 0; i < rays.size(); ++i) {
+                std::vector<std::uint32_t> expect;
+                for (std::size_t k = ref.offsets[i]; k < ref.offsets[i + 1]; ++k) {
+                    const bool front = ref.front[k] != 0;
+                    if (facing == Facing::both || (facing == Facing::front) == front) {
+                        expect.push_back(ref.face[k]);
+                    }
+                }
+                std::vector<std::uint32_t> faces(
+                    got.face.begin() + static_cast<long>(got.offsets[i]),
+                    got.face.begin() + static_cast<long>(got.offsets[i + 1]));
+                ASSERT_EQ(faces, expect) << to_string(kind) << " ray " << i;
+                if (facing == Facing::both) {
+                    const auto mt =
+                        ray_intersect_all(sphere, rays.origin(i), rays.direction(i), Facing::both);
+                    EXPECT_EQ(mt.size(), faces.size()) << "ray " << i;
+                }
+            }
+        }
+    }
+}
+
+TEST(CrossCheck, ResultsDoNotDependOnThreadCount) {
+    const TriangleMesh sphere = test::make_icosphere(3, 2.0f);
+    RayBatch rays;
+    std::mt19937 rng(9);
+    std::normal_distribution<double> g(0.0, 1.0);
+    for (int i = 0; i < 20000; ++i) {
+        const Vec3d o = normalize(Vec3d{g(rng), g(rng), g(rng)}) * 5.0;
+        rays.push_back(o, normalize(Vec3d{g(rng), g(rng), g(rng)} - o));
+    }
+    ThreadPool one(1), four(4);
+    for (BackendKind kind : {BackendKind::kdtree, BackendKind::bvh}) {
+        const HitBatch a = make_backend(kind, sphere, one)->intersect(rays, one);
+        const HitBatch b = make_backend(kind, sphere, four)->intersect(rays, four);
+        EXPECT_EQ(a.t, b.t);
+        EXPECT_EQ(a.face, b.face);
+        EXPECT_EQ(a.u, b.u);
+    }
+}
+
+}  // namespace
+}  // namespace beamtrace

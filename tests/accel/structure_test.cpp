@@ -1,0 +1,107 @@
+// Invariants of the acceleration structures themselves.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+
+#include "beamtrace/accel/bvh.hpp"
+#include "beamtrace/accel/kdtree.hpp"
+#include "beamtrace/core/error.hpp"
+#include "test_support.hpp"
+
+namespace beamtrace {
+namespace {
+
+TEST(Bvh, EveryFaceInExactlyOneLeafAndBoundsContainChildren) {
+    const TriangleMesh mesh = test::make_icosphere(4, 5.0f);
+    ThreadPool pool(2);
+    const Bvh bvh = build_bvh(mesh, {}, pool);
+    std::vector<int> seen(mesh.triangle_count(), 0);
+    std::size_t leaves = 0;
+    for (std::size_t i = 0; i < bvh.nodes.size(); ++i) {
+        const BvhNode& n = bvh.nodes[i];
+        if (n.is_leaf()) {
+            ++leaves;
+            EXPECT_LE(n.count, 8u);
+            for (std::uint32_t k = n.index; k < n.index + n.count; ++k) {
+                const std::uint32_t f = bvh.prim_ids[k];
+                ++seen[f];
+                const Aabb tb = mesh.triangle_bounds(f);
+                for (std::size_t a = 0; a < 3; ++a) {
+                    EXPECT_LE(n.lo[a], tb.lo[a]);
+                    EXPECT_GE(n.hi[a], tb.hi[a]);
+                }
+            }
+        } else {
+            for (std::uint32_t c : {static_cast<std::uint32_t>(i + 1), n.index}) {
+                ASSERT_LT(c, bvh.nodes.size());
+                for (std::size_t a = 0; a < 3; ++a) {
+                    EXPECT_LE(n.lo[a], bvh.nodes[c].lo[a]);
+                    EXPECT_GE(n.hi[a], bvh.nodes[c].hi[a]);
+                }
+            }
+        }
+    }
+    EXPECT_TRUE(std::all_of(seen.begin(), seen.end(), [](int s) { return s == 1; }));
+    EXPECT_EQ(bvh.nodes.size(), 2 * leaves - 1);
+    EXPECT_GT(bvh.depth, 5);
+}
+
+TEST(Bvh, DegenerateInputsStillBuild) {
+    // 1000 copies of one triangle: centroids coincide, so the builder splits by index.
+    TriangleMesh mesh;
+    mesh.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+    mesh.faces.assign(1000, Face{0, 1, 2});
+    ThreadPool pool(1);
+    const Bvh bvh = build_bvh(mesh, {}, pool);
+    std::size_t total = 0;
+    for (const auto& n : bvh.nodes) {
+        total += n.count;
+    }
+    EXPECT_EQ(total, 1000u);
+    EXPECT_LE(bvh.depth, 120);
+}
+
+TEST(KdTree, FollowsTheReportRules) {
+    const TriangleMesh mesh = test::make_icosphere(5, 5.0f);  // 20480 triangles
+    KdTreeBuildConfig cfg;
+    cfg.sah_termination = false;  // the report's rule: split until <= 30 or depth 25
+    const KdTree tree = build_kdtree(mesh, cfg);
+    EXPECT_LE(tree.depth, 25);
+    std::vector<int> seen(mesh.triangle_count(), 0);
+    // Walk the tree tracking depth and the cyclic axis.
+    struct Item {
+        std::uint32_t node;
+        int depth;
+    };
+    std::vector<Item> stack{{0, 1}};
+    while (!stack.empty()) {
+        const Item it = stack.back();
+        stack.pop_back();
+        const KdNode& n = tree.nodes[it.node];
+        if (n.is_leaf()) {
+            EXPECT_TRUE(n.count <= 30 || it.depth >= 25) << "leaf of " << n.count;
+            for (std::uint32_t k = n.index; k < n.index + n.count; ++k) {
+                seen[tree.prim_ids[k]] = 1;
+            }
+        } else {
+            EXPECT_EQ(n.axis, static_cast<std::uint32_t>((it.depth - 1) % 3))
+                << "axes cycle x, y, z";
+            stack.push_back({it.node + 1, it.depth + 1});
+            stack.push_back({n.index, it.depth + 1});
+        }
+    }
+    EXPECT_TRUE(std::all_of(seen.begin(), seen.end(), [](int s) { return s == 1; }))
+        << "every face reaches a leaf";
+}
+
+TEST(KdTree, RejectsImpossibleSettings) {
+    const TriangleMesh mesh = test::make_icosphere(1, 1.0f);
+    KdTreeBuildConfig cfg;
+    cfg.max_depth = 0;
+    EXPECT_THROW((void)build_kdtree(mesh, cfg), ConfigError);
+    cfg.max_depth = 100;
+    EXPECT_THROW((void)build_kdtree(mesh, cfg), ConfigError);
+}
+
+}  // namespace
+}  // namespace beamtrace

@@ -1,0 +1,135 @@
+// Helpers shared by the tests: data paths, temporary folders, procedural meshes.
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cmath>
+#include <filesystem>
+#include <map>
+#include <random>
+#include <string>
+#include <utility>
+
+#include <unistd.h>
+
+#include "beamtrace/geometry/triangle_mesh.hpp"
+
+namespace beamtrace::test {
+
+inline std::filesystem::path shared_data(const std::string& rel) {
+    return std::filesystem::path(BEAMTRACE_SHARED_DATA_DIR) / rel;
+}
+
+/// Skips the current test when a shared data file is missing (CI has ../shared too).
+#define BEAMTRACE_REQUIRE_FILE(path)                                 \
+    do {                                                             \
+        if (!std::filesystem::exists(path)) {                        \
+            GTEST_SKIP() << "missing test data " << (path).string(); \
+        }                                                            \
+    } while (0)
+
+/// A fresh empty folder, removed with everything in it when the object dies.
+class TempDir {
+  public:
+    TempDir() {
+        static std::atomic<int> counter{0};
+        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+        std::string name = "beamtrace-test-";
+        if (info != nullptr) {
+            name += std::string(info->test_suite_name()) + "-" + info->name();
+        }
+        for (auto& ch : name) {
+            if (ch == '/') {
+                ch = '_';
+            }
+        }
+        name += "-" + std::to_string(::getpid()) + "-" + std::to_string(counter++);
+        path_ = std::filesystem::temp_directory_path() / name;
+        std::filesystem::remove_all(path_);
+        std::filesystem::create_directories(path_);
+    }
+    ~TempDir() {
+        std::error_code ec;
+        std::filesystem::remove_all(path_, ec);
+    }
+    TempDir(const TempDir&) = delete;
+    TempDir& operator=(const TempDir&) = delete;
+    [[nodiscard]] const std::filesystem::path& path() const { return path_; }
+    [[nodiscard]] std::filesystem::path operator/(const std::string& rel) const {
+        return path_ / rel;
+    }
+
+  private:
+    std::filesystem::path path_;
+};
+
+/// A closed, outward-facing icosphere of the given radius around the origin.
+inline TriangleMesh make_icosphere(int subdivisions, float radius) {
+    TriangleMesh m;
+    const float t = (1.0f + std::sqrt(5.0f)) / 2.0f;
+    const float base[12][3] = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0},
+                               {0, -1, t}, {0, 1, t}, {0, -1, -t}, {0, 1, -t},
+                               {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
+    for (auto& v : base) {
+        m.vertices.push_back(normalize(Vec3f(v[0], v[1], v[2])) * radius);
+    }
+    m.faces = {{0, 11, 5},  {0, 5, 1},  {0, 1, 7},  {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
+               {11, 10, 2}, {10, 7, 6}, {7, 1, 8},  {3, 9, 4},  {3, 4, 2},   {3, 2, 6}, {3, 6, 8},
+               {3, 8, 9},   {4, 9, 5},  {2, 4, 11}, {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
+    for (int s = 0; s < subdivisions; ++s) {
+        std::map<std::pair<std::uint32_t, std::uint32_t>, std::uint32_t> mid;
+        auto midpoint = [&](std::uint32_t a, std::uint32_t b) {
+            const auto key = std::minmax(a, b);
+            auto it = mid.find(key);
+            if (it != mid.end()) {
+                return it->second;
+            }
+            const Vec3f p = normalize((m.vertices[a] + m.vertices[b]) * 0.5f) * radius;
+            m.vertices.push_back(p);
+            const auto idx = static_cast<std::uint32_t>(m.vertices.size() - 1);
+            mid.emplace(key, idx);
+            return idx;
+        };
+        std::vector<Face> faces;
+        for (const auto& f : m.faces) {
+            const auto a = midpoint(f[0], f[1]), b = midpoint(f[1], f[2]), c = midpoint(f[2], f[0]);
+            faces.push_back({f[0], a, c});
+            faces.push_back({f[1], b, a});
+            faces.push_back({f[2], c, b});
+            faces.push_back({a, b, c});
+        }
+        m.faces = std::move(faces);
+    }
+    return m;
+}
+
+/// A flat grid in the plane z = `z` over [0, n] x [0, n] with unit cells (two triangles each,
+/// counter-clockwise seen from above).
+inline TriangleMesh make_grid(int n, float z = 0.0f) {
+    TriangleMesh m;
+    for (int j = 0; j <= n; ++j) {
+        for (int i = 0; i <= n; ++i) {
+            m.vertices.emplace_back(static_cast<float>(i), static_cast<float>(j), z);
+        }
+    }
+    auto idx = [n](int i, int j) { return static_cast<std::uint32_t>(j * (n + 1) + i); };
+    for (int j = 0; j < n; ++j) {
+        for (int i = 0; i < n; ++i) {
+            m.faces.push_back({idx(i, j), idx(i + 1, j), idx(i + 1, j + 1)});
+            m.faces.push_back({idx(i, j), idx(i + 1, j + 1), idx(i, j + 1)});
+        }
+    }
+    return m;
+}
+
+/// Scale factor for heavy tests: 1 in optimised builds, smaller under sanitizers.
+inline std::size_t heavy_scale(std::size_t full) {
+#ifdef BEAMTRACE_SANITIZED
+    return full / 20;
+#else
+    return full;
+#endif
+}
+
+}  // namespace beamtrace::test
