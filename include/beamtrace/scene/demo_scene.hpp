@@ -20,7 +20,8 @@ struct DemoSceneConfig {
 /// Terrain height of the demo scene at (x, y), metres.
 [[nodiscard]] double demo_terrain_height(double x_m, double y_m);
 
-/// The demo's default view: a pinhole 60 m east of the vehicles looking west, 2 m above ground.
+/// The demo's default view: a 640 x 320 pinhole 5 m above the ground, 47 m from vehicle 1,
+/// looking at it past the occluder.
 [[nodiscard]] ImageSensorConfig demo_sensor();
 
 }  // namespace beamtrace

@@ -1,0 +1,241 @@
+// End-to-end runs of the beamtrace CLI and of the documented examples.
+#include <gtest/gtest.h>
+
+#include <sys/wait.h>
+#include <array>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "beamtrace/io/hits_csv.hpp"
+#include "beamtrace/io/npy.hpp"
+#include "beamtrace/io/point_cloud_ply.hpp"
+#include "beamtrace/scene/demo_scene.hpp"
+#include "beamtrace/sensor/image_sensor.hpp"
+#include "test_support.hpp"
+
+namespace beamtrace {
+namespace {
+
+struct RunResult {
+    int exit_code = -1;
+    std::string out;  ///< stdout and stderr together
+};
+
+RunResult run(const std::string& args, const std::string& env = "") {
+    const std::string cmd = env + " " + std::string(BEAMTRACE_CLI_PATH) + " " + args + " 2>&1";
+    RunResult r;
+    FILE* p = ::popen(cmd.c_str(), "r");
+    if (p == nullptr) {
+        return r;
+    }
+    std::array<char, 4096> buf{};
+    std::size_t n = 0;
+    while ((n = std::fread(buf.data(), 1, buf.size(), p)) > 0) {
+        r.out.append(buf.data(), n);
+    }
+    const int status = ::pclose(p);
+    r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    return r;
+}
+
+std::string read_file(const std::filesystem::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+}
+
+std::size_t count_lines(const std::string& s) {
+    return static_cast<std::size_t>(std::count(s.begin(), s.end(), '\n'));
+}
+
+TEST(Cli, DemoScanWritesAllOutputsConsistently) {
+    test::TempDir dir;
+    const auto r = run("scan --demo --output " + dir.path().string());
+    ASSERT_EQ(r.exit_code, 0) << r.out;
+    const ImageSensorConfig cam = demo_sensor();
+    const auto n = static_cast<std::size_t>(cam.width * cam.height);
+    const HitsCsv hits = read_hits_csv(dir / "hits.csv");
+    ASSERT_EQ(hits.size(), n);
+    const auto points = read_points_ply(dir / "points.ply");
+    std::size_t n_hits = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+        EXPECT_EQ(hits.ray[i], i);
+        n_hits += hits.face_id[i] >= 0 ? 1 : 0;
+        if (hits.face_id[i] < 0) {
+            EXPECT_TRUE(std::isinf(hits.range_m[i]));
+        }
+    }
+    ASSERT_EQ(points.size(), n_hits);
+    // Each point lies at its range along its ray, and carries the face of hits.csv.
+    const RayBatch rays = cast_rays_pinhole(cam);
+    for (std::size_t k = 0; k < points.size(); k += 97) {
+        const auto& p = points[k];
+        const std::size_t i = p.ray_index;
+        EXPECT_EQ(static_cast<std::int64_t>(p.face_id), hits.face_id[i]);
+        // hits.csv prints the float range in its shortest form: equal to ~1e-7 relative.
+        EXPECT_NEAR(p.x, rays.ox[i] + hits.range_m[i] * rays.dx[i], 1e-6 * hits.range_m[i]);
+        EXPECT_NEAR(p.z, rays.oz[i] + hits.range_m[i] * rays.dz[i], 1e-6 * hits.range_m[i]);
+    }
+    // The range image is h x w, row-major, pixel (v, u) = ray u * h + v, misses 0.
+    const NpyArray img = read_npy_f32(dir / "range.npy");
+    ASSERT_EQ(img.shape, (std::vector<std::size_t>{static_cast<std::size_t>(cam.height),
+                                                   static_cast<std::size_t>(cam.width)}));
+    for (int u = 0; u < cam.width; u += 37) {
+        for (int v = 0; v < cam.height; v += 13) {
+            const std::size_t i = ray_index(u, v, cam.height);
+            const float px = img.data[static_cast<std::size_t>(v * cam.width + u)];
+            if (hits.face_id[i] < 0) {
+                EXPECT_EQ(px, 0.0f);
+            } else {
+                EXPECT_FLOAT_EQ(px, static_cast<float>(hits.range_m[i]));
+            }
+        }
+    }
+    EXPECT_TRUE(std::filesystem::file_size(dir / "range.png") > 1000);
+}
+
+TEST(Cli, OutputsAreIdenticalForAnyThreadCountAndBackend) {
+    test::TempDir dir;
+    const std::string common = "scan --demo --quiet --width 96 --height 48 ";
+    ASSERT_EQ(run(common + "--threads 1 --output " + (dir / "t1").string()).exit_code, 0);
+    ASSERT_EQ(run(common + "--threads 3 --output " + (dir / "t3").string()).exit_code, 0);
+    ASSERT_EQ(run(common + "--backend kdtree --output " + (dir / "kd").string()).exit_code, 0);
+    ASSERT_EQ(run(common + "--backend brute --output " + (dir / "bf").string()).exit_code, 0);
+    for (const char* f : {"hits.csv", "points.ply", "range.npy", "range.png"}) {
+        const std::string ref = read_file(dir / "t1" / f);
+        EXPECT_FALSE(ref.empty());
+        EXPECT_EQ(ref, read_file(dir / "t3" / f)) << f;
+        if (std::string(f) != "points.ply") {  // the PLY comment names the backend
+            EXPECT_EQ(ref, read_file(dir / "kd" / f)) << f;
+            EXPECT_EQ(ref, read_file(dir / "bf" / f)) << f;
+        }
+    }
+}
+
+TEST(Cli, BadInputsGiveOneLineErrorExitCode2AndNoOutputs) {
+    test::TempDir dir;
+    const std::string out = (dir / "out").string();
+    std::ofstream(dir / "broken.obj") << "v 0 0 0\nv 1 0 0\nf 1 2 7\n";
+    std::ofstream(dir / "mesh.xyz") << "1 2 3\n";
+    const std::vector<std::pair<std::string, std::string>> cases = {
+        {"scan --demo --output " + out + " --hfov 4", "hfov"},
+        {"scan --demo --output " + out + " --width 0", "width"},
+        {"scan --demo --output " + out + " --pattern fisheye", "fisheye"},
+        {"scan --demo --output " + out + " --backend embree9", "embree9"},
+        {"scan --demo --output " + out + " --position 1,2", "--position"},
+        {"scan --demo --output " + out + " --exclude-faces 5-2", "5-2"},
+        {"scan --mesh " + (dir / "nope.obj").string() + " --output " + out, "nope.obj"},
+        {"scan --mesh " + (dir / "broken.obj").string() + " --output " + out, "broken.obj:3"},
+        {"scan --mesh " + (dir / "mesh.xyz").string() + " --output " + out, "mesh.xyz"},
+        {"scan --output " + out, "--demo"},
+        {"scan --demo", "--output"},
+        {"scan --demo --output " + out + " --frobnicate", "frobnicate"},
+        {"scan --demo --output " + out + " --pattern rays", "--rays"},
+    };
+    for (const auto& [args, needle] : cases) {
+        const auto r = run(args);
+        EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.out;
+        EXPECT_NE(r.out.find(needle), std::string::npos) << args << "\n" << r.out;
+        EXPECT_EQ(count_lines(r.out), 1u) << args << "\n" << r.out;
+        EXPECT_FALSE(std::filesystem::exists(dir / "out" / "hits.csv")) << args;
+    }
+}
+
+TEST(Cli, RaysFileWithImageShape) {
+    test::TempDir dir;
+    {
+        std::ofstream f(dir / "rays.csv");
+        f << "ox,oy,oz,dx,dy,dz\n";
+        for (int i = 0; i < 6; ++i) {
+            f << "0," << i << ",50,0,0,-1\n";
+        }
+    }
+    const std::string rays = (dir / "rays.csv").string();
+    auto r = run("scan --demo --pattern rays --rays " + rays + " --width 3 --height 2 --output " +
+                 (dir / "ok").string());
+    ASSERT_EQ(r.exit_code, 0) << r.out;
+    const HitsCsv hits = read_hits_csv(dir / "ok" / "hits.csv");
+    ASSERT_EQ(hits.size(), 6u);
+    for (std::size_t i = 0; i < 6; ++i) {
+        const double ground = demo_terrain_height(0.0, static_cast<double>(i));
+        // Rays at y = 0..1.75 hit vehicle 1 (top of the turret at about 2.6 m), others the ground.
+        EXPECT_GT(hits.range_m[i], 40.0);
+        EXPECT_LE(hits.range_m[i], 50.0 - ground + 1e-3);
+    }
+    EXPECT_EQ(read_npy_f32(dir / "ok" / "range.npy").shape, (std::vector<std::size_t>{2, 3}));
+    r = run("scan --demo --pattern rays --rays " + rays + " --width 4 --height 2 --output " +
+            (dir / "bad").string());
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_NE(r.out.find("6 rays"), std::string::npos) << r.out;
+    EXPECT_FALSE(std::filesystem::exists(dir / "bad" / "hits.csv"));
+}
+
+int run_example(const std::string& name, const std::filesystem::path& out) {
+    const std::string cmd = "BEAMTRACE=" + std::string(BEAMTRACE_CLI_PATH) +
+                            " PUSHBROOM_RAYS=" + std::string(BEAMTRACE_PUSHBROOM_PATH) +
+                            " OUT=" + out.string() + " bash " + BEAMTRACE_EXAMPLES_DIR + "/" +
+                            name + " --quiet > /dev/null 2>&1";
+    const int status = std::system(cmd.c_str());
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+TEST(Examples, Panorama360) {
+    test::TempDir dir;
+    ASSERT_EQ(run_example("panorama.sh", dir.path()), 0);
+    const NpyArray img = read_npy_f32(dir / "range.npy");
+    ASSERT_EQ(img.shape, (std::vector<std::size_t>{200, 3600}));
+    // A full turn: the first and last columns look the same way (the report's linspace over
+    // [pi, -pi] repeats it), so they see the same ranges.
+    for (std::size_t v = 0; v < 200; ++v) {
+        EXPECT_NEAR(img.data[v * 3600], img.data[v * 3600 + 3599], 1e-3) << v;
+    }
+    // The lower rows look down at the ground all round.
+    for (std::size_t u = 0; u < 3600; u += 10) {
+        EXPECT_GT(img.data[199 * 3600 + u], 0.0f) << u;
+    }
+}
+
+TEST(Examples, OcclusionDropsOnlyTheOccluderPoints) {
+    test::TempDir dir;
+    ASSERT_EQ(run_example("occlusion.sh", dir.path()), 0);
+    const HitsCsv hits = read_hits_csv(dir / "hits.csv");
+    const auto points = read_points_ply(dir / "points.ply");
+    const Scene scene = make_demo_scene();
+    const auto occluder = scene.parts.back();
+    ASSERT_EQ(occluder.name, "occluder");
+    ASSERT_EQ(occluder.first_face, 80180u);
+    std::size_t on_occluder = 0, on_vehicle = 0, n_hits = 0;
+    for (std::size_t i = 0; i < hits.size(); ++i) {
+        if (hits.face_id[i] < 0) {
+            continue;
+        }
+        ++n_hits;
+        const auto part = scene.part_of_face(static_cast<std::uint32_t>(hits.face_id[i]));
+        on_occluder += part == 4 ? 1 : 0;
+        on_vehicle += part == 1 ? 1 : 0;
+    }
+    EXPECT_GT(on_occluder, 1000u) << "the plane is in view";
+    EXPECT_GT(on_vehicle, 1000u) << "the vehicle is in view";
+    EXPECT_EQ(points.size(), n_hits - on_occluder);
+    for (const auto& p : points) {
+        ASSERT_LT(p.face_id, 80180u);
+    }
+}
+
+TEST(Examples, PushbroomFromRaysFile) {
+    test::TempDir dir;
+    ASSERT_EQ(run_example("pushbroom.sh", dir.path()), 0);
+    const NpyArray img = read_npy_f32(dir / "range.npy");
+    ASSERT_EQ(img.shape, (std::vector<std::size_t>{500, 500}));
+    // Flying at 200 m over terrain within a few metres of 0: every range is about 200 / cos.
+    for (float r : img.data) {
+        ASSERT_GT(r, 190.0f);
+        ASSERT_LT(r, 220.0f);
+    }
+}
+
+}  // namespace
+}  // namespace beamtrace
