@@ -45,7 +45,7 @@ const bt::TriangleMesh& terrain_1m() {
     return mesh;
 }
 
-/// A 512x512 nadir pinhole 400 m above the terrain, 90 degree FOV: every ray hits.
+/// A 512x512 nadir pinhole 400 m above the terrain, 60 degree FOV: every ray hits.
 const bt::RayBatch& nadir_rays() {
     static const bt::RayBatch rays = [] {
         bt::ImageSensorConfig c;
@@ -53,8 +53,8 @@ const bt::RayBatch& nadir_rays() {
         c.orientation = {0.0, -std::numbers::pi / 2, 0.0};
         c.width = 512;
         c.height = 512;
-        c.hfov_rad = std::numbers::pi / 2;
-        c.vfov_rad = std::numbers::pi / 2;
+        c.hfov_rad = std::numbers::pi / 3;
+        c.vfov_rad = std::numbers::pi / 3;
         return bt::cast_rays_pinhole(c);
     }();
     return rays;

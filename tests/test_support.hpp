@@ -3,22 +3,35 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <atomic>
+#include <bit>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <map>
 #include <random>
 #include <string>
+#include <string_view>
 #include <utility>
 
 #include <unistd.h>
 
+#include "beamtrace/core/error.hpp"
 #include "beamtrace/geometry/triangle_mesh.hpp"
 
 namespace beamtrace::test {
 
 inline std::filesystem::path shared_data(const std::string& rel) {
     return std::filesystem::path(BEAMTRACE_SHARED_DATA_DIR) / rel;
+}
+
+/// A mesh under the shared data's `meshes/` folder.
+inline std::filesystem::path shared_mesh(const std::string& rel) {
+    return shared_data("meshes/" + rel);
 }
 
 /// Skips the current test when a shared data file is missing (CI has ../shared too).
@@ -62,6 +75,97 @@ class TempDir {
 
   private:
     std::filesystem::path path_;
+};
+
+/// Writes `bytes` to `path`, replacing any file there, and returns `path`.
+inline std::filesystem::path write_file(const std::filesystem::path& path, std::string_view bytes) {
+    // Removing first is much faster than truncating: ext4 flushes files rewritten that way.
+    std::error_code ec;
+    std::filesystem::remove(path, ec);
+    std::ofstream out(path, std::ios::binary);
+    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+    out.close();
+    if (!out) {
+        ADD_FAILURE() << "cannot write " << path;
+    }
+    return path;
+}
+
+/// The whole content of `path` (empty, with a test failure, if it cannot be opened).
+inline std::string read_file(const std::filesystem::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) {
+        ADD_FAILURE() << "cannot open " << path;
+        return {};
+    }
+    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+/// Appends the bytes of `value` to `out` in the given byte order.
+template <typename T>
+void append_bytes(std::string& out, T value, std::endian order = std::endian::little) {
+    std::array<char, sizeof(T)> bytes{};
+    std::memcpy(bytes.data(), &value, sizeof(T));
+    if (order != std::endian::native) {
+        std::reverse(bytes.begin(), bytes.end());
+    }
+    out.append(bytes.data(), bytes.size());
+}
+
+/// Expects `read(path)` to throw InputError naming `path` (in path() and in the message) whose
+/// message contains `fragment`. Returns the message, or "" when nothing was thrown.
+template <typename Read>
+std::string expect_input_error(Read&& read, const std::filesystem::path& path,
+                               std::string_view fragment = {}) {
+    try {
+        static_cast<void>(read(path));
+    } catch (const InputError& e) {
+        const std::string message = e.what();
+        EXPECT_EQ(e.path(), path.string()) << message;
+        EXPECT_NE(message.find(path.string()), std::string::npos) << message;
+        EXPECT_NE(message.find(fragment), std::string::npos) << message;
+        return message;
+    }
+    ADD_FAILURE() << "expected InputError reading " << path << " with '" << fragment << "'";
+    return {};
+}
+
+/// Calls `load(prefix)` for every proper prefix of `bytes`, as if the file had been cut short.
+/// `load` may throw InputError (the reader rejects the file); anything else fails the test.
+template <typename Load>
+void load_every_truncation(const std::string& bytes, Load&& load) {
+    for (std::size_t n = 0; n < bytes.size(); ++n) {
+        try {
+            load(bytes.substr(0, n));
+        } catch (const InputError&) {
+        }
+    }
+}
+
+/// Calls `load(corrupt)` for `trials` copies of `bytes`, each with one byte replaced at random.
+/// `load` may throw InputError (the reader rejects the file); anything else fails the test.
+template <typename Load>
+void load_random_byte_flips(const std::string& bytes, std::mt19937& rng, int trials, Load&& load) {
+    for (int trial = 0; trial < trials; ++trial) {
+        std::string corrupt = bytes;
+        corrupt[rng() % corrupt.size()] = static_cast<char>(rng() % 256);
+        try {
+            load(corrupt);
+        } catch (const InputError&) {
+        }
+    }
+}
+
+/// A fixture with a fresh temporary folder `dir_` and a way to write files into it.
+class TempDirTest : public ::testing::Test {
+  protected:
+    /// Writes `bytes` to `name` in the temporary folder and returns its path.
+    [[nodiscard]] std::filesystem::path write(const std::string& name,
+                                              std::string_view bytes) const {
+        return write_file(dir_ / name, bytes);
+    }
+
+    TempDir dir_;
 };
 
 /// A closed, outward-facing icosphere of the given radius around the origin.

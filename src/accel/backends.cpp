@@ -57,7 +57,7 @@ struct BvhTraverser {
                     }
                 }
             } else {
-                const std::uint32_t li = index + 1, ri = node.index;
+                const std::uint32_t li = node.index, ri = node.index + 1;
                 const float limit = vis.limit();
                 float tl = 0.0f, tr = 0.0f;
                 const bool hl = slab_entry(r, nodes[li].lo, nodes[li].hi, r.tmin, limit, tl);
@@ -201,18 +201,18 @@ std::string_view to_string(BackendKind kind) {
     return "?";
 }
 
-std::unique_ptr<Backend> make_backend(BackendKind kind, const TriangleMesh& mesh,
-                                      ThreadPool& pool) {
+std::unique_ptr<Backend> make_backend(BackendKind kind, const TriangleMesh& mesh, ThreadPool& pool,
+                                      const BackendConfig& config) {
     switch (kind) {
         case BackendKind::brute:
             return std::make_unique<detail::QueryBackend<BruteForceTraverser, BackendKind::brute>>(
                 mesh, BruteForceTraverser{static_cast<std::uint32_t>(mesh.triangle_count())});
         case BackendKind::kdtree:
             return std::make_unique<detail::QueryBackend<KdTreeTraverser, BackendKind::kdtree>>(
-                mesh, KdTreeTraverser{build_kdtree(mesh)});
+                mesh, KdTreeTraverser{build_kdtree(mesh, config.kdtree)});
         case BackendKind::bvh:
             return std::make_unique<detail::QueryBackend<BvhTraverser, BackendKind::bvh>>(
-                mesh, BvhTraverser{build_bvh(mesh, BvhBuildConfig{}, pool)});
+                mesh, BvhTraverser{build_bvh(mesh, config.bvh, pool)});
     }
     throw ConfigError("unknown backend kind");
 }

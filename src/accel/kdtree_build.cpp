@@ -1,5 +1,6 @@
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <limits>
 
 #include "beamtrace/accel/kdtree.hpp"
@@ -8,10 +9,20 @@
 namespace beamtrace {
 namespace {
 
+constexpr int kMaxDepthLimit = 60;  // the traversal stack holds 64 entries
+constexpr int kMaxBins = 64;
+
+struct Candidate {
+    float pos = 0.0f;
+    float cost = std::numeric_limits<float>::infinity();
+    int axis = -1;
+};
+
 class KdBuilder {
   public:
-    KdBuilder(const TriangleMesh& mesh, const KdTreeBuildConfig& config, KdTree& tree)
-        : mesh_(mesh), config_(config), tree_(tree) {
+    KdBuilder(const TriangleMesh& mesh, const KdTreeBuildConfig& config, int max_depth,
+              KdTree& tree)
+        : mesh_(mesh), config_(config), max_depth_(max_depth), tree_(tree) {
         boxes_.resize(mesh.triangle_count());
         for (std::size_t i = 0; i < boxes_.size(); ++i) {
             boxes_[i] = mesh.triangle_bounds(i);
@@ -22,31 +33,35 @@ class KdBuilder {
     void build(std::uint32_t node_index, std::vector<std::uint32_t> faces, const Aabb& bounds,
                int depth, int axis) {
         tree_.depth = std::max(tree_.depth, depth);
-        const auto n = faces.size();
-        float split = 0.0f;
-        if (n <= static_cast<std::size_t>(config_.max_leaf_size) || depth >= config_.max_depth ||
-            !choose_split(faces, bounds, axis, split)) {
+        if (faces.size() <= static_cast<std::size_t>(config_.max_leaf_size) ||
+            depth >= max_depth_) {
             make_leaf(node_index, faces);
             return;
         }
-        const auto a = static_cast<std::size_t>(axis);
+        const Candidate c = config_.rule == KdSplitRule::report ? report_split(faces, bounds, axis)
+                                                                : sah_split(faces, bounds);
+        if (c.axis < 0) {
+            make_leaf(node_index, faces);
+            return;
+        }
+        const auto a = static_cast<std::size_t>(c.axis);
         std::vector<std::uint32_t> left, right;
         for (auto f : faces) {
-            if (boxes_[f].lo[a] <= split) {
+            if (boxes_[f].lo[a] <= c.pos) {
                 left.push_back(f);
             }
-            if (boxes_[f].hi[a] > split) {
+            if (boxes_[f].hi[a] > c.pos) {
                 right.push_back(f);
             }
         }
         std::vector<std::uint32_t>().swap(faces);
         Aabb left_bounds = bounds, right_bounds = bounds;
-        left_bounds.hi[a] = split;
-        right_bounds.lo[a] = split;
-        const int next_axis = (axis + 1) % 3;
+        left_bounds.hi[a] = c.pos;
+        right_bounds.lo[a] = c.pos;
+        const int next_axis = (c.axis + 1) % 3;
 
-        tree_.nodes[node_index].axis = static_cast<std::uint32_t>(axis);
-        tree_.nodes[node_index].split = split;
+        tree_.nodes[node_index].axis = static_cast<std::uint32_t>(c.axis);
+        tree_.nodes[node_index].split = c.pos;
         const auto left_index = static_cast<std::uint32_t>(tree_.nodes.size());
         tree_.nodes.emplace_back();
         build(left_index, std::move(left), left_bounds, depth + 1, next_axis);
@@ -65,11 +80,24 @@ class KdBuilder {
         tree_.prim_ids.insert(tree_.prim_ids.end(), faces.begin(), faces.end());
     }
 
+    /// SAH cost of splitting `bounds` at `pos` on axis `a` with the given counts.
+    [[nodiscard]] float split_cost(const Aabb& bounds, std::size_t a, float pos, std::size_t n_left,
+                                   std::size_t n_right, float empty_bonus) const {
+        Aabb lb = bounds, rb = bounds;
+        lb.hi[a] = pos;
+        rb.lo[a] = pos;
+        const float area = bounds.half_area();
+        const float weighted = lb.half_area() * static_cast<float>(n_left) +
+                               rb.half_area() * static_cast<float>(n_right);
+        const float bonus = (n_left == 0 || n_right == 0) ? 1.0f - empty_bonus : 1.0f;
+        return config_.traversal_cost +
+               config_.intersection_cost * bonus *
+                   (area > 0.0f ? weighted / area : 0.5f * static_cast<float>(n_left + n_right));
+    }
+
     /// The report's findKDSplitPlane with exact counts: candidates are the first, median and last
-    /// vertex coordinate along `axis`. Returns false when no candidate separates anything (or,
-    /// with sah_termination, when a leaf is cheaper).
-    bool choose_split(const std::vector<std::uint32_t>& faces, const Aabb& bounds, int axis,
-                      float& split) {
+    /// vertex coordinate along the cyclic axis. No candidate when none separates anything.
+    Candidate report_split(const std::vector<std::uint32_t>& faces, const Aabb& bounds, int axis) {
         const auto a = static_cast<std::size_t>(axis);
         coords_.clear();
         for (auto f : faces) {
@@ -82,13 +110,8 @@ class KdBuilder {
                          coords_.begin() + static_cast<std::ptrdiff_t>(median_rank), coords_.end());
         const float median = coords_[median_rank];
         const auto [mn, mx] = std::minmax_element(coords_.begin(), coords_.end());
-        const std::array<float, 3> candidates{*mn, *mx, median};
-
-        const float n = static_cast<float>(faces.size());
-        const float area = bounds.half_area();
-        float best_cost = std::numeric_limits<float>::infinity();
-        bool found = false;
-        for (float c : candidates) {
+        Candidate best;
+        for (float c : {*mn, *mx, median}) {
             const float pos = std::clamp(c, bounds.lo[a], bounds.hi[a]);
             std::size_t n_left = 0, n_right = 0;
             for (auto f : faces) {
@@ -98,35 +121,57 @@ class KdBuilder {
             if (n_left == faces.size() && n_right == faces.size()) {
                 continue;  // separates nothing
             }
-            if (n_left == 0 || n_right == 0) {
-                // Only worth it when it cuts off empty space.
-                if (pos <= bounds.lo[a] || pos >= bounds.hi[a]) {
-                    continue;
+            if ((n_left == 0 || n_right == 0) && (pos <= bounds.lo[a] || pos >= bounds.hi[a])) {
+                continue;  // an empty side of zero width cuts nothing off
+            }
+            const float cost = split_cost(bounds, a, pos, n_left, n_right, 0.0f);
+            if (cost < best.cost) {
+                best = {pos, cost, axis};
+            }
+        }
+        return best;
+    }
+
+    /// Binned SAH over all three axes; no candidate when a leaf is cheaper.
+    Candidate sah_split(const std::vector<std::uint32_t>& faces, const Aabb& bounds) const {
+        const int bins = std::clamp(config_.bin_count, 2, kMaxBins);
+        Candidate best;
+        const Vec3f ext = bounds.extent();
+        for (std::size_t a = 0; a < 3; ++a) {
+            if (!(ext[a] > 0.0f)) {
+                continue;
+            }
+            std::array<std::uint32_t, kMaxBins> starts{}, ends{};
+            const float scale = static_cast<float>(bins) / ext[a];
+            const auto bin_of = [&](float x) {
+                return std::clamp(static_cast<int>((x - bounds.lo[a]) * scale), 0, bins - 1);
+            };
+            for (auto f : faces) {
+                ++starts[static_cast<std::size_t>(bin_of(boxes_[f].lo[a]))];
+                ++ends[static_cast<std::size_t>(bin_of(boxes_[f].hi[a]))];
+            }
+            // Plane k sits between bins k-1 and k: left = faces starting below it, right = faces
+            // ending at or above it.
+            std::size_t n_left = 0, n_right = faces.size();
+            for (int k = 1; k < bins; ++k) {
+                n_left += starts[static_cast<std::size_t>(k - 1)];
+                n_right -= ends[static_cast<std::size_t>(k - 1)];
+                const float pos = bounds.lo[a] + static_cast<float>(k) / scale;
+                const float cost = split_cost(bounds, a, pos, n_left, n_right, config_.empty_bonus);
+                if (cost < best.cost) {
+                    best = {pos, cost, static_cast<int>(a)};
                 }
             }
-            Aabb lb = bounds, rb = bounds;
-            lb.hi[a] = pos;
-            rb.lo[a] = pos;
-            const float weighted = lb.half_area() * static_cast<float>(n_left) +
-                                   rb.half_area() * static_cast<float>(n_right);
-            const float cost =
-                config_.traversal_cost +
-                config_.intersection_cost *
-                    (area > 0.0f ? weighted / area : 0.5f * static_cast<float>(n_left + n_right));
-            if (cost < best_cost) {
-                best_cost = cost;
-                split = pos;
-                found = true;
-            }
         }
-        if (found && config_.sah_termination && best_cost >= config_.intersection_cost * n) {
-            return false;
+        if (best.cost >= config_.intersection_cost * static_cast<float>(faces.size())) {
+            return {};
         }
-        return found;
+        return best;
     }
 
     const TriangleMesh& mesh_;
     const KdTreeBuildConfig& config_;
+    int max_depth_;
     KdTree& tree_;
     std::vector<Aabb> boxes_;
     std::vector<float> coords_;
@@ -135,8 +180,10 @@ class KdBuilder {
 }  // namespace
 
 KdTree build_kdtree(const TriangleMesh& mesh, const KdTreeBuildConfig& config) {
-    if (config.max_depth < 1 || config.max_depth > 60 || config.max_leaf_size < 1) {
-        throw ConfigError("k-d tree: max_depth must be in [1, 60] and max_leaf_size at least 1");
+    if (config.max_depth < 0 || config.max_depth > kMaxDepthLimit || config.max_leaf_size < 1) {
+        throw ConfigError(
+            "k-d tree: max_depth must be in [0, 60] (0 = automatic) and "
+            "max_leaf_size at least 1");
     }
     KdTree tree;
     tree.bounds = mesh.bounds();
@@ -148,7 +195,13 @@ KdTree build_kdtree(const TriangleMesh& mesh, const KdTreeBuildConfig& config) {
     if (faces.empty()) {
         return tree;
     }
-    KdBuilder builder(mesh, config, tree);
+    int max_depth = config.max_depth;
+    if (max_depth == 0) {
+        max_depth = std::min(
+            kMaxDepthLimit,
+            8 + static_cast<int>(std::lround(1.3 * std::log2(static_cast<double>(faces.size())))));
+    }
+    KdBuilder builder(mesh, config, max_depth, tree);
     builder.build(0, std::move(faces), tree.bounds, 1, 0);
     return tree;
 }

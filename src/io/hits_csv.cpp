@@ -1,41 +1,22 @@
 #include "beamtrace/io/hits_csv.hpp"
 
 #include <algorithm>
-#include <cerrno>
 #include <charconv>
 #include <cstring>
-#include <fstream>
 #include <string>
 #include <string_view>
 #include <system_error>
 
 #include "beamtrace/core/error.hpp"
-#include "beamtrace/io/atomic_file.hpp"
+#include "io/detail/file_bytes.hpp"
+#include "io/detail/row_writer.hpp"
 
 namespace beamtrace {
 
 namespace {
 
 constexpr std::string_view kHeader = "ray,range_m,face_id";
-constexpr std::size_t kChunkBytes = std::size_t{1} << 20;
 constexpr std::size_t kMaxRowBytes = 64;  // 20 + 1 + 15 + 1 + 10 + 1 at most
-
-std::string read_file(const std::filesystem::path& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) {
-        throw InputError(path.string(), std::string("cannot open: ") + std::strerror(errno));
-    }
-    std::error_code ec;
-    const auto size = std::filesystem::file_size(path, ec);
-    if (ec) {
-        throw InputError(path.string(), "cannot read: " + ec.message());
-    }
-    std::string text(size, '\0');
-    if (!in.read(text.data(), static_cast<std::streamsize>(size))) {
-        throw InputError(path.string(), "read error");
-    }
-    return text;
-}
 
 /// Parses all of `field` as a number of type T.
 template <typename T>
@@ -53,15 +34,10 @@ void write_hits_csv(const std::filesystem::path& path, const HitBatch& hits) {
         throw OutputError(path.string() + ": hit batch has " + std::to_string(n) + " ranges but " +
                           std::to_string(hits.face.size()) + " face IDs");
     }
-    AtomicFile out(path);
-    std::string buffer(kChunkBytes + kMaxRowBytes, '\0');
-    char* const begin = buffer.data();
-    char* const end = begin + buffer.size();
-    char* p = begin;
-    std::memcpy(p, kHeader.data(), kHeader.size());
-    p += kHeader.size();
-    *p++ = '\n';
+    detail::RowWriter rows(path, kHeader, kMaxRowBytes);
+    char* const end = rows.end();
     for (std::size_t i = 0; i < n; ++i) {
+        char* p = rows.row();
         p = std::to_chars(p, end, i).ptr;
         *p++ = ',';
         if (hits.hit(i)) {
@@ -74,18 +50,14 @@ void write_hits_csv(const std::filesystem::path& path, const HitBatch& hits) {
             std::memcpy(p, kMiss.data(), kMiss.size());
             p += kMiss.size();
         }
-        if (std::size_t(p - begin) >= kChunkBytes) {
-            out.write(begin, std::size_t(p - begin));
-            p = begin;
-        }
+        rows.end_row(p);
     }
-    out.write(begin, std::size_t(p - begin));
-    out.commit();
+    rows.commit();
 }
 
 HitsCsv read_hits_csv(const std::filesystem::path& path) {
     const std::string file = path.string();
-    const std::string text = read_file(path);
+    const std::string text = detail::read_file_bytes(path);
     HitsCsv table;
     const auto lines = std::size_t(std::count(text.begin(), text.end(), '\n'));
     table.ray.reserve(lines);

@@ -2,11 +2,9 @@
 
 #include <algorithm>
 #include <bit>
-#include <cerrno>
 #include <charconv>
 #include <cstdint>
 #include <cstring>
-#include <fstream>
 #include <limits>
 #include <string>
 #include <string_view>
@@ -14,6 +12,7 @@
 
 #include "beamtrace/core/error.hpp"
 #include "beamtrace/io/atomic_file.hpp"
+#include "io/detail/file_bytes.hpp"
 
 namespace beamtrace {
 
@@ -34,23 +33,6 @@ std::string header_text(std::size_t rows, std::size_t cols) {
     dict.append(padded - unpadded, ' ');
     dict.push_back('\n');
     return dict;
-}
-
-std::string read_file(const std::filesystem::path& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) {
-        throw InputError(path.string(), std::string("cannot open: ") + std::strerror(errno));
-    }
-    std::error_code ec;
-    const auto size = std::filesystem::file_size(path, ec);
-    if (ec) {
-        throw InputError(path.string(), "cannot read: " + ec.message());
-    }
-    std::string bytes(size, '\0');
-    if (!in.read(bytes.data(), static_cast<std::streamsize>(size))) {
-        throw InputError(path.string(), "read error");
-    }
-    return bytes;
 }
 
 /// The text after `'key':` in the header dict, with leading spaces removed.
@@ -128,7 +110,7 @@ void write_npy_f32(const std::filesystem::path& path, std::size_t rows, std::siz
 
 NpyArray read_npy_f32(const std::filesystem::path& path) {
     const std::string file = path.string();
-    const std::string bytes = read_file(path);
+    const std::string bytes = detail::read_file_bytes(path);
     if (bytes.size() < kMagic.size() + 4 ||
         std::string_view(bytes.data(), kMagic.size()) != kMagic) {
         throw InputError(file, "not a .npy file (bad magic bytes)");

@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "beamtrace/core/error.hpp"
-#include "beamtrace/io/atomic_file.hpp"
+#include "io/detail/row_writer.hpp"
 
 namespace beamtrace {
 
@@ -258,15 +258,10 @@ void write_rays_csv(const std::filesystem::path& path, const RayBatch& rays) {
             throw OutputError(path.string() + ": malformed ray batch (columns of different sizes)");
         }
     }
-    AtomicFile out(path);
-    std::string buffer(kChunkBytes + kMaxRowBytes, '\0');
-    char* const begin = buffer.data();
-    char* const end = begin + buffer.size();
-    char* p = begin;
-    std::memcpy(p, kHeader.data(), kHeader.size());
-    p += kHeader.size();
-    *p++ = '\n';
+    detail::RowWriter rows(path, kHeader, kMaxRowBytes);
+    char* const end = rows.end();
     for (std::size_t i = 0; i < n; ++i) {
+        char* p = rows.row();
         for (std::size_t k = 0; k < kFields; ++k) {
             const double value = (*columns[k])[i];
             if (!std::isfinite(value)) {
@@ -276,13 +271,9 @@ void write_rays_csv(const std::filesystem::path& path, const RayBatch& rays) {
             p = std::to_chars(p, end, value).ptr;
             *p++ = k + 1 < kFields ? ',' : '\n';
         }
-        if (std::size_t(p - begin) >= kChunkBytes) {
-            out.write(begin, std::size_t(p - begin));
-            p = begin;
-        }
+        rows.end_row(p);
     }
-    out.write(begin, std::size_t(p - begin));
-    out.commit();
+    rows.commit();
 }
 
 }  // namespace beamtrace

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstring>
 
 #include "beamtrace/accel/bvh.hpp"
 #include "beamtrace/accel/kdtree.hpp"
@@ -32,7 +33,7 @@ TEST(Bvh, EveryFaceInExactlyOneLeafAndBoundsContainChildren) {
                 }
             }
         } else {
-            for (std::uint32_t c : {static_cast<std::uint32_t>(i + 1), n.index}) {
+            for (std::uint32_t c : {n.index, n.index + 1}) {
                 ASSERT_LT(c, bvh.nodes.size());
                 for (std::size_t a = 0; a < 3; ++a) {
                     EXPECT_LE(n.lo[a], bvh.nodes[c].lo[a]);
@@ -43,7 +44,23 @@ TEST(Bvh, EveryFaceInExactlyOneLeafAndBoundsContainChildren) {
     }
     EXPECT_TRUE(std::all_of(seen.begin(), seen.end(), [](int s) { return s == 1; }));
     EXPECT_EQ(bvh.nodes.size(), 2 * leaves - 1);
+
     EXPECT_GT(bvh.depth, 5);
+}
+
+TEST(Bvh, ParallelBuildGivesTheSameTreeForAnyThreadCount) {
+    const TriangleMesh mesh = test::make_grid(250);  // 125000 triangles: subtrees built in parallel
+    ThreadPool one(1), three(3);
+    const Bvh a = build_bvh(mesh, {}, one);
+    const Bvh b = build_bvh(mesh, {}, three);
+    ASSERT_EQ(a.nodes.size(), b.nodes.size());
+    EXPECT_EQ(a.prim_ids, b.prim_ids);
+    EXPECT_EQ(0, std::memcmp(a.nodes.data(), b.nodes.data(), a.nodes.size() * sizeof(BvhNode)));
+    std::size_t total = 0;
+    for (const auto& n : b.nodes) {
+        total += n.count;
+    }
+    EXPECT_EQ(total, mesh.triangle_count());
 }
 
 TEST(Bvh, DegenerateInputsStillBuild) {
@@ -63,9 +80,7 @@ TEST(Bvh, DegenerateInputsStillBuild) {
 
 TEST(KdTree, FollowsTheReportRules) {
     const TriangleMesh mesh = test::make_icosphere(5, 5.0f);  // 20480 triangles
-    KdTreeBuildConfig cfg;
-    cfg.sah_termination = false;  // the report's rule: split until <= 30 or depth 25
-    const KdTree tree = build_kdtree(mesh, cfg);
+    const KdTree tree = build_kdtree(mesh, KdTreeBuildConfig::report());
     EXPECT_LE(tree.depth, 25);
     std::vector<int> seen(mesh.triangle_count(), 0);
     // Walk the tree tracking depth and the cyclic axis.
@@ -94,11 +109,27 @@ TEST(KdTree, FollowsTheReportRules) {
         << "every face reaches a leaf";
 }
 
+TEST(KdTree, SahTreeHoldsEveryFaceAndRespectsItsDepth) {
+    const TriangleMesh mesh = test::make_icosphere(5, 5.0f);
+    const KdTree tree = build_kdtree(mesh);
+    EXPECT_LE(tree.depth, 8 + 19);  // 8 + 1.3 log2(20480)
+    std::vector<int> seen(mesh.triangle_count(), 0);
+    for (const auto& n : tree.nodes) {
+        if (n.is_leaf()) {
+            for (std::uint32_t k = n.index; k < n.index + n.count; ++k) {
+                seen[tree.prim_ids[k]] = 1;
+            }
+        }
+    }
+    EXPECT_TRUE(std::all_of(seen.begin(), seen.end(), [](int s) { return s == 1; }));
+}
+
 TEST(KdTree, RejectsImpossibleSettings) {
     const TriangleMesh mesh = test::make_icosphere(1, 1.0f);
     KdTreeBuildConfig cfg;
-    cfg.max_depth = 0;
+    cfg.max_leaf_size = 0;
     EXPECT_THROW((void)build_kdtree(mesh, cfg), ConfigError);
+    cfg.max_leaf_size = 2;
     cfg.max_depth = 100;
     EXPECT_THROW((void)build_kdtree(mesh, cfg), ConfigError);
 }

@@ -5,7 +5,6 @@
 #include <array>
 #include <cstdio>
 #include <fstream>
-#include <sstream>
 #include <string>
 
 #include "beamtrace/io/hits_csv.hpp"
@@ -38,13 +37,6 @@ RunResult run(const std::string& args, const std::string& env = "") {
     const int status = ::pclose(p);
     r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
     return r;
-}
-
-std::string read_file(const std::filesystem::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
 }
 
 std::size_t count_lines(const std::string& s) {
@@ -105,12 +97,12 @@ TEST(Cli, OutputsAreIdenticalForAnyThreadCountAndBackend) {
     ASSERT_EQ(run(common + "--backend kdtree --output " + (dir / "kd").string()).exit_code, 0);
     ASSERT_EQ(run(common + "--backend brute --output " + (dir / "bf").string()).exit_code, 0);
     for (const char* f : {"hits.csv", "points.ply", "range.npy", "range.png"}) {
-        const std::string ref = read_file(dir / "t1" / f);
+        const std::string ref = test::read_file(dir / "t1" / f);
         EXPECT_FALSE(ref.empty());
-        EXPECT_EQ(ref, read_file(dir / "t3" / f)) << f;
+        EXPECT_EQ(ref, test::read_file(dir / "t3" / f)) << f;
         if (std::string(f) != "points.ply") {  // the PLY comment names the backend
-            EXPECT_EQ(ref, read_file(dir / "kd" / f)) << f;
-            EXPECT_EQ(ref, read_file(dir / "bf" / f)) << f;
+            EXPECT_EQ(ref, test::read_file(dir / "kd" / f)) << f;
+            EXPECT_EQ(ref, test::read_file(dir / "bf" / f)) << f;
         }
     }
 }

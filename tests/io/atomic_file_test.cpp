@@ -4,44 +4,17 @@
 #include <unistd.h>
 
 #include <filesystem>
-#include <fstream>
 #include <iterator>
 #include <stdexcept>
 #include <string>
 
 #include "beamtrace/core/error.hpp"
+#include "test_support.hpp"
 
 namespace beamtrace {
 namespace {
 
 namespace fs = std::filesystem;
-
-/// A fresh folder under the system temp directory, removed with its content at scope exit.
-class TempDir {
-  public:
-    TempDir() {
-        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-        path_ = fs::temp_directory_path() / ("beamtrace-" + std::string(info->test_suite_name()) +
-                                             "-" + info->name() + "-" + std::to_string(::getpid()));
-        fs::remove_all(path_);
-        fs::create_directories(path_);
-    }
-    ~TempDir() {
-        std::error_code ignored;
-        fs::remove_all(path_, ignored);
-    }
-    TempDir(const TempDir&) = delete;
-    TempDir& operator=(const TempDir&) = delete;
-    [[nodiscard]] const fs::path& path() const { return path_; }
-
-  private:
-    fs::path path_;
-};
-
-std::string slurp(const fs::path& path) {
-    std::ifstream in(path, std::ios::binary);
-    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
 
 std::size_t entry_count(const fs::path& dir) {
     return static_cast<std::size_t>(
@@ -49,7 +22,7 @@ std::size_t entry_count(const fs::path& dir) {
 }
 
 TEST(AtomicFile, CommitPublishesTheContentAndLeavesNoTempFile) {
-    TempDir dir;
+    test::TempDir dir;
     const fs::path target = dir.path() / "out.bin";
     {
         AtomicFile out(target);
@@ -61,12 +34,12 @@ TEST(AtomicFile, CommitPublishesTheContentAndLeavesNoTempFile) {
         EXPECT_TRUE(out.committed());
         EXPECT_EQ(out.stream(), nullptr);
     }
-    EXPECT_EQ(slurp(target), "hello world");
+    EXPECT_EQ(test::read_file(target), "hello world");
     EXPECT_EQ(entry_count(dir.path()), 1u);
 }
 
 TEST(AtomicFile, TempFileIsHiddenNextToTheTarget) {
-    TempDir dir;
+    test::TempDir dir;
     AtomicFile out(dir.path() / "image.png");
     EXPECT_EQ(out.temp_path().parent_path(), dir.path());
     EXPECT_EQ(out.temp_path().filename().string(),
@@ -75,7 +48,7 @@ TEST(AtomicFile, TempFileIsHiddenNextToTheTarget) {
 }
 
 TEST(AtomicFile, WithoutCommitNothingAppearsAndTheTempFileIsRemoved) {
-    TempDir dir;
+    test::TempDir dir;
     const fs::path target = dir.path() / "out.bin";
     fs::path temp;
     {
@@ -89,7 +62,7 @@ TEST(AtomicFile, WithoutCommitNothingAppearsAndTheTempFileIsRemoved) {
 }
 
 TEST(AtomicFile, AnExceptionWhileWritingKeepsThePreviousFile) {
-    TempDir dir;
+    test::TempDir dir;
     const fs::path target = dir.path() / "out.txt";
     {
         AtomicFile first(target);
@@ -103,22 +76,22 @@ TEST(AtomicFile, AnExceptionWhileWritingKeepsThePreviousFile) {
             throw std::runtime_error("simulated failure");
         },
         std::runtime_error);
-    EXPECT_EQ(slurp(target), "old");
+    EXPECT_EQ(test::read_file(target), "old");
     EXPECT_EQ(entry_count(dir.path()), 1u);
 }
 
 TEST(AtomicFile, CommitReplacesAnExistingFile) {
-    TempDir dir;
+    test::TempDir dir;
     const fs::path target = dir.path() / "out.txt";
-    std::ofstream(target) << "previous content that is longer";
+    test::write_file(target, "previous content that is longer");
     AtomicFile out(target, /*fsync_on_commit=*/true);
     out.write(std::string_view("new"));
     out.commit();
-    EXPECT_EQ(slurp(target), "new");
+    EXPECT_EQ(test::read_file(target), "new");
 }
 
 TEST(AtomicFile, TwoWritersOfTheSameTargetUseDistinctTempFiles) {
-    TempDir dir;
+    test::TempDir dir;
     const fs::path target = dir.path() / "out.txt";
     AtomicFile a(target);
     AtomicFile b(target);
@@ -127,12 +100,12 @@ TEST(AtomicFile, TwoWritersOfTheSameTargetUseDistinctTempFiles) {
     b.write(std::string_view("b"));
     a.commit();
     b.commit();
-    EXPECT_EQ(slurp(target), "b");
+    EXPECT_EQ(test::read_file(target), "b");
     EXPECT_EQ(entry_count(dir.path()), 1u);
 }
 
 TEST(AtomicFile, MissingFolderIsAnOutputErrorNamingThePath) {
-    TempDir dir;
+    test::TempDir dir;
     const fs::path target = dir.path() / "no" / "such" / "folder" / "out.txt";
     try {
         AtomicFile out(target);
@@ -145,7 +118,7 @@ TEST(AtomicFile, MissingFolderIsAnOutputErrorNamingThePath) {
 }
 
 TEST(AtomicFile, RenameFailureIsAnOutputErrorAndRemovesTheTempFile) {
-    TempDir dir;
+    test::TempDir dir;
     const fs::path target = dir.path() / "taken";
     fs::create_directories(target / "child");  // a non-empty folder cannot be replaced
     fs::path temp;
@@ -164,7 +137,7 @@ TEST(AtomicFile, RenameFailureIsAnOutputErrorAndRemovesTheTempFile) {
 }
 
 TEST(AtomicFile, WriteAfterCommitThrows) {
-    TempDir dir;
+    test::TempDir dir;
     AtomicFile out(dir.path() / "out.txt");
     out.commit();
     EXPECT_THROW(out.write("x", 1), OutputError);
@@ -172,7 +145,7 @@ TEST(AtomicFile, WriteAfterCommitThrows) {
 }
 
 TEST(AtomicFile, EmptyFileIsFine) {
-    TempDir dir;
+    test::TempDir dir;
     const fs::path target = dir.path() / "empty";
     AtomicFile out(target);
     out.write(nullptr, 0);
@@ -182,7 +155,7 @@ TEST(AtomicFile, EmptyFileIsFine) {
 }
 
 TEST(AtomicFile, LargeWritesArriveIntact) {
-    TempDir dir;
+    test::TempDir dir;
     const fs::path target = dir.path() / "big.bin";
     std::string block(3 << 20, '\0');
     for (std::size_t i = 0; i < block.size(); ++i) {
@@ -192,7 +165,7 @@ TEST(AtomicFile, LargeWritesArriveIntact) {
     out.write(block.data(), 10);
     out.write(block.data() + 10, block.size() - 10);
     out.commit();
-    EXPECT_EQ(slurp(target), block);
+    EXPECT_EQ(test::read_file(target), block);
 }
 
 }  // namespace

@@ -1,53 +1,21 @@
 #include "beamtrace/io/hits_csv.hpp"
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <bit>
 #include <cstdint>
 #include <filesystem>
-#include <fstream>
-#include <iterator>
 #include <limits>
 #include <random>
 #include <string>
 
 #include "beamtrace/core/error.hpp"
+#include "test_support.hpp"
 
 namespace beamtrace {
 namespace {
 
 namespace fs = std::filesystem;
-
-class TempDir {
-  public:
-    TempDir() {
-        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-        path_ = fs::temp_directory_path() / ("beamtrace-" + std::string(info->test_suite_name()) +
-                                             "-" + info->name() + "-" + std::to_string(::getpid()));
-        fs::remove_all(path_);
-        fs::create_directories(path_);
-    }
-    ~TempDir() {
-        std::error_code ignored;
-        fs::remove_all(path_, ignored);
-    }
-    TempDir(const TempDir&) = delete;
-    TempDir& operator=(const TempDir&) = delete;
-    [[nodiscard]] const fs::path& path() const { return path_; }
-
-  private:
-    fs::path path_;
-};
-
-std::string slurp(const fs::path& path) {
-    std::ifstream in(path, std::ios::binary);
-    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
-void spit(const fs::path& path, const std::string& text) {
-    std::ofstream(path, std::ios::binary) << text;
-}
 
 HitBatch small_batch() {
     HitBatch hits;
@@ -62,10 +30,10 @@ HitBatch small_batch() {
 }
 
 TEST(HitsCsv, WritesHeaderRowsAndMissesExactly) {
-    TempDir dir;
+    test::TempDir dir;
     const fs::path path = dir.path() / "hits.csv";
     write_hits_csv(path, small_batch());
-    EXPECT_EQ(slurp(path),
+    EXPECT_EQ(test::read_file(path),
               "ray,range_m,face_id\n"
               "0,12.5,7\n"
               "1,inf,-1\n"
@@ -74,7 +42,7 @@ TEST(HitsCsv, WritesHeaderRowsAndMissesExactly) {
 }
 
 TEST(HitsCsv, RoundTripReproducesEveryFloat) {
-    TempDir dir;
+    test::TempDir dir;
     const fs::path path = dir.path() / "hits.csv";
     std::mt19937 rng(1234);
     std::uniform_real_distribution<float> range(0.0f, 2000.0f);
@@ -107,15 +75,15 @@ TEST(HitsCsv, RoundTripReproducesEveryFloat) {
 }
 
 TEST(HitsCsv, EmptyBatchIsJustTheHeader) {
-    TempDir dir;
+    test::TempDir dir;
     const fs::path path = dir.path() / "empty.csv";
     write_hits_csv(path, HitBatch{});
-    EXPECT_EQ(slurp(path), "ray,range_m,face_id\n");
+    EXPECT_EQ(test::read_file(path), "ray,range_m,face_id\n");
     EXPECT_EQ(read_hits_csv(path).size(), 0u);
 }
 
 TEST(HitsCsv, MismatchedBatchIsAnOutputError) {
-    TempDir dir;
+    test::TempDir dir;
     HitBatch hits = small_batch();
     hits.face.pop_back();
     EXPECT_THROW(write_hits_csv(dir.path() / "x.csv", hits), OutputError);
@@ -123,17 +91,11 @@ TEST(HitsCsv, MismatchedBatchIsAnOutputError) {
 }
 
 TEST(HitsCsv, ReaderReportsFileAndLine) {
-    TempDir dir;
+    test::TempDir dir;
     const fs::path path = dir.path() / "broken.csv";
     const auto expect_error_at = [&](const std::string& text, const std::string& location) {
-        spit(path, text);
-        try {
-            static_cast<void>(read_hits_csv(path));
-            ADD_FAILURE() << "expected InputError for:\n" << text;
-        } catch (const InputError& e) {
-            EXPECT_NE(std::string(e.what()).find(path.string() + location), std::string::npos)
-                << e.what();
-        }
+        test::expect_input_error(read_hits_csv, test::write_file(path, text),
+                                 path.string() + location);
     };
     expect_error_at("", ":");
     expect_error_at("x,y,z\n0,1,2\n", ":1:");
@@ -144,9 +106,9 @@ TEST(HitsCsv, ReaderReportsFileAndLine) {
 }
 
 TEST(HitsCsv, ReaderAcceptsCrlf) {
-    TempDir dir;
+    test::TempDir dir;
     const fs::path path = dir.path() / "crlf.csv";
-    spit(path, "ray,range_m,face_id\r\n0,1.5,2\r\n1,inf,-1\r\n");
+    test::write_file(path, "ray,range_m,face_id\r\n0,1.5,2\r\n1,inf,-1\r\n");
     const HitsCsv table = read_hits_csv(path);
     ASSERT_EQ(table.size(), 2u);
     EXPECT_EQ(table.range_m[0], 1.5);

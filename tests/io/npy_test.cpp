@@ -1,66 +1,28 @@
 #include "beamtrace/io/npy.hpp"
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <cstring>
 #include <filesystem>
-#include <fstream>
-#include <iterator>
 #include <limits>
 #include <string>
 #include <vector>
 
 #include "beamtrace/core/error.hpp"
+#include "test_support.hpp"
 
 namespace beamtrace {
 namespace {
 
 namespace fs = std::filesystem;
 
-class TempDir {
-  public:
-    TempDir() {
-        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-        path_ = fs::temp_directory_path() / ("beamtrace-" + std::string(info->test_suite_name()) +
-                                             "-" + info->name() + "-" + std::to_string(::getpid()));
-        fs::remove_all(path_);
-        fs::create_directories(path_);
-    }
-    ~TempDir() {
-        std::error_code ignored;
-        fs::remove_all(path_, ignored);
-    }
-    TempDir(const TempDir&) = delete;
-    TempDir& operator=(const TempDir&) = delete;
-    [[nodiscard]] const fs::path& path() const { return path_; }
-
-  private:
-    fs::path path_;
-};
-
-std::string slurp(const fs::path& path) {
-    std::ifstream in(path, std::ios::binary);
-    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
-void spit(const fs::path& path, const std::string& bytes) {
-    std::ofstream(path, std::ios::binary) << bytes;
-}
-
+/// Expects reading `path` to fail with an InputError naming it; returns the message.
 std::string expect_input_error(const fs::path& path) {
-    try {
-        static_cast<void>(read_npy_f32(path));
-    } catch (const InputError& e) {
-        EXPECT_NE(std::string(e.what()).find(path.string()), std::string::npos) << e.what();
-        return e.what();
-    }
-    ADD_FAILURE() << "expected InputError reading " << path;
-    return {};
+    return test::expect_input_error(read_npy_f32, path);
 }
 
 TEST(Npy, RoundTripKeepsShapeAndBits) {
-    TempDir dir;
+    test::TempDir dir;
     const fs::path path = dir.path() / "a.npy";
     std::vector<float> data = {0.0f,
                                -0.0f,
@@ -82,11 +44,11 @@ TEST(Npy, RoundTripKeepsShapeAndBits) {
 }
 
 TEST(Npy, HeaderBytesAreExact) {
-    TempDir dir;
+    test::TempDir dir;
     const fs::path path = dir.path() / "h.npy";
     const std::vector<float> data(12, 1.0f);
     write_npy_f32(path, 3, 4, data);
-    const std::string bytes = slurp(path);
+    const std::string bytes = test::read_file(path);
 
     ASSERT_GE(bytes.size(), 10u);
     EXPECT_EQ(bytes.substr(0, 8), std::string("\x93NUMPY\x01\x00", 8));
@@ -104,7 +66,7 @@ TEST(Npy, HeaderBytesAreExact) {
 }
 
 TEST(Npy, EmptyArrayIsValid) {
-    TempDir dir;
+    test::TempDir dir;
     const fs::path path = dir.path() / "empty.npy";
     write_npy_f32(path, 0, 5, {});
     const NpyArray array = read_npy_f32(path);
@@ -113,14 +75,14 @@ TEST(Npy, EmptyArrayIsValid) {
 }
 
 TEST(Npy, SizeMismatchIsAnOutputError) {
-    TempDir dir;
+    test::TempDir dir;
     const std::vector<float> data(5);
     EXPECT_THROW(write_npy_f32(dir.path() / "x.npy", 2, 3, data), OutputError);
     EXPECT_TRUE(fs::is_empty(dir.path()));
 }
 
 TEST(Npy, ReadsOtherShapesAndVersion2) {
-    TempDir dir;
+    test::TempDir dir;
     const fs::path path = dir.path() / "v2.npy";
     std::string dict = "{'descr': '<f4', 'fortran_order': False, 'shape': (2,), }";
     dict += "   \n";
@@ -130,43 +92,43 @@ TEST(Npy, ReadsOtherShapesAndVersion2) {
     bytes += dict;
     const float values[2] = {1.0f, -2.0f};
     bytes.append(reinterpret_cast<const char*>(values), sizeof values);
-    spit(path, bytes);
+    test::write_file(path, bytes);
     const NpyArray array = read_npy_f32(path);
     EXPECT_EQ(array.shape, (std::vector<std::size_t>{2}));
     EXPECT_EQ(array.data, (std::vector<float>{1.0f, -2.0f}));
 }
 
 TEST(Npy, BrokenFilesAreInputErrorsNamingTheFile) {
-    TempDir dir;
+    test::TempDir dir;
     const fs::path good = dir.path() / "good.npy";
     write_npy_f32(good, 2, 2, std::vector<float>{1, 2, 3, 4});
-    const std::string bytes = slurp(good);
+    const std::string bytes = test::read_file(good);
 
     const fs::path missing = dir.path() / "missing.npy";
     expect_input_error(missing);
 
     const fs::path magic = dir.path() / "magic.npy";
-    spit(magic, "PK\x03\x04 not numpy at all");
+    test::write_file(magic, "PK\x03\x04 not numpy at all");
     EXPECT_NE(expect_input_error(magic).find("magic"), std::string::npos);
 
     const fs::path truncated = dir.path() / "truncated.npy";
-    spit(truncated, bytes.substr(0, bytes.size() - 1));
+    test::write_file(truncated, bytes.substr(0, bytes.size() - 1));
     EXPECT_NE(expect_input_error(truncated).find("bytes"), std::string::npos);
 
     const fs::path f8 = dir.path() / "f8.npy";
     std::string wrong_type = bytes;
     wrong_type.replace(wrong_type.find("<f4"), 3, "<f8");
-    spit(f8, wrong_type);
+    test::write_file(f8, wrong_type);
     EXPECT_NE(expect_input_error(f8).find("'<f8'"), std::string::npos);
 
     const fs::path fortran = dir.path() / "fortran.npy";
     std::string fortran_order = bytes;
     fortran_order.replace(fortran_order.find("False"), 5, "True ");
-    spit(fortran, fortran_order);
+    test::write_file(fortran, fortran_order);
     EXPECT_NE(expect_input_error(fortran).find("Fortran"), std::string::npos);
 
     const fs::path short_header = dir.path() / "short_header.npy";
-    spit(short_header, bytes.substr(0, 40));
+    test::write_file(short_header, bytes.substr(0, 40));
     expect_input_error(short_header);
 }
 

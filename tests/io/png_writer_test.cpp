@@ -2,7 +2,6 @@
 
 #include <gtest/gtest.h>
 #include <png.h>
-#include <unistd.h>
 
 #include <csetjmp>
 #include <cstdio>
@@ -12,32 +11,12 @@
 #include <vector>
 
 #include "beamtrace/core/error.hpp"
+#include "test_support.hpp"
 
 namespace beamtrace {
 namespace {
 
 namespace fs = std::filesystem;
-
-class TempDir {
-  public:
-    TempDir() {
-        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-        path_ = fs::temp_directory_path() / ("beamtrace-" + std::string(info->test_suite_name()) +
-                                             "-" + info->name() + "-" + std::to_string(::getpid()));
-        fs::remove_all(path_);
-        fs::create_directories(path_);
-    }
-    ~TempDir() {
-        std::error_code ignored;
-        fs::remove_all(path_, ignored);
-    }
-    TempDir(const TempDir&) = delete;
-    TempDir& operator=(const TempDir&) = delete;
-    [[nodiscard]] const fs::path& path() const { return path_; }
-
-  private:
-    fs::path path_;
-};
 
 /// What an independent libpng reader sees in a file.
 struct DecodedPng {
@@ -97,7 +76,7 @@ DecodedPng read_png(const fs::path& path) {
 }
 
 TEST(PngWriter, Rgb8RoundTripsPixelForPixel) {
-    TempDir dir;
+    test::TempDir dir;
     const fs::path path = dir.path() / "rgb.png";
     constexpr int kWidth = 7;
     constexpr int kHeight = 5;
@@ -117,7 +96,7 @@ TEST(PngWriter, Rgb8RoundTripsPixelForPixel) {
 }
 
 TEST(PngWriter, TopRowComesFirst) {
-    TempDir dir;
+    test::TempDir dir;
     const fs::path path = dir.path() / "rows.png";
     // Row 0 red, row 1 blue.
     const std::vector<std::uint8_t> rgb = {255, 0, 0, 255, 0, 0, 0, 0, 255, 0, 0, 255};
@@ -129,7 +108,7 @@ TEST(PngWriter, TopRowComesFirst) {
 }
 
 TEST(PngWriter, Gray16RoundTripsWithBigEndianSamples) {
-    TempDir dir;
+    test::TempDir dir;
     const fs::path path = dir.path() / "gray.png";
     constexpr int kWidth = 4;
     constexpr int kHeight = 3;
@@ -154,7 +133,7 @@ TEST(PngWriter, Gray16RoundTripsWithBigEndianSamples) {
 }
 
 TEST(PngWriter, SizeMismatchIsAnOutputErrorAndWritesNothing) {
-    TempDir dir;
+    test::TempDir dir;
     const fs::path path = dir.path() / "bad.png";
     const std::vector<std::uint8_t> rgb(10);
     try {
@@ -169,7 +148,7 @@ TEST(PngWriter, SizeMismatchIsAnOutputErrorAndWritesNothing) {
 }
 
 TEST(PngWriter, LibpngErrorsBecomeOutputErrorsAndLeaveNoFile) {
-    TempDir dir;
+    test::TempDir dir;
     const fs::path path = dir.path() / "too_wide.png";
     // libpng refuses images wider than its default user limit of 1 000 000 pixels.
     constexpr int kWidth = 1'000'001;
@@ -186,7 +165,7 @@ TEST(PngWriter, LibpngErrorsBecomeOutputErrorsAndLeaveNoFile) {
 }
 
 TEST(PngWriter, MissingFolderIsAnOutputError) {
-    TempDir dir;
+    test::TempDir dir;
     const std::vector<std::uint8_t> rgb(3);
     EXPECT_THROW(write_png_rgb8(dir.path() / "missing" / "x.png", 1, 1, rgb), OutputError);
 }

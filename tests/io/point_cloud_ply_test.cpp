@@ -1,14 +1,11 @@
 #include "beamtrace/io/point_cloud_ply.hpp"
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <bit>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
-#include <iterator>
 #include <limits>
 #include <string>
 #include <string_view>
@@ -16,6 +13,7 @@
 
 #include "beamtrace/accel/hit_batch.hpp"
 #include "beamtrace/core/error.hpp"
+#include "test_support.hpp"
 
 namespace beamtrace {
 namespace {
@@ -27,36 +25,6 @@ constexpr std::string_view kVersion = BEAMTRACE_VERSION;
 #else
 constexpr std::string_view kVersion = "unknown";
 #endif
-
-class TempDir {
-  public:
-    TempDir() {
-        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-        path_ = fs::temp_directory_path() / ("beamtrace-" + std::string(info->test_suite_name()) +
-                                             "-" + info->name() + "-" + std::to_string(::getpid()));
-        fs::remove_all(path_);
-        fs::create_directories(path_);
-    }
-    ~TempDir() {
-        std::error_code ignored;
-        fs::remove_all(path_, ignored);
-    }
-    TempDir(const TempDir&) = delete;
-    TempDir& operator=(const TempDir&) = delete;
-    [[nodiscard]] const fs::path& path() const { return path_; }
-
-  private:
-    fs::path path_;
-};
-
-std::string slurp(const fs::path& path) {
-    std::ifstream in(path, std::ios::binary);
-    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
-void spit(const fs::path& path, const std::string& bytes) {
-    std::ofstream(path, std::ios::binary) << bytes;
-}
 
 std::string expected_header(std::size_t count, std::string_view comments) {
     return "ply\n"
@@ -87,11 +55,11 @@ std::vector<PointRecord> sample_points() {
 }
 
 TEST(PointCloudPly, HeaderTextIsExact) {
-    TempDir dir;
+    test::TempDir dir;
     const fs::path path = dir.path() / "points.ply";
     const std::vector<PointRecord> points = sample_points();
     write_points_ply(path, points, "scene demo.yaml\nseed 7");
-    const std::string bytes = slurp(path);
+    const std::string bytes = test::read_file(path);
     const std::string header = expected_header(3, "comment scene demo.yaml\ncomment seed 7\n");
     ASSERT_GE(bytes.size(), header.size());
     EXPECT_EQ(bytes.substr(0, header.size()), header);
@@ -99,11 +67,11 @@ TEST(PointCloudPly, HeaderTextIsExact) {
 }
 
 TEST(PointCloudPly, BodyIsPackedLittleEndian) {
-    TempDir dir;
+    test::TempDir dir;
     const fs::path path = dir.path() / "one.ply";
     const std::vector<PointRecord> points = {{1.0, 2.0, 3.0, 4.0f, kNoFace, 9u}};
     write_points_ply(path, points, "");
-    const std::string bytes = slurp(path);
+    const std::string bytes = test::read_file(path);
     const std::string header = expected_header(1, "");
     ASSERT_EQ(bytes.size(), header.size() + 36);
     const char* body = bytes.data() + header.size();
@@ -122,7 +90,7 @@ TEST(PointCloudPly, BodyIsPackedLittleEndian) {
 }
 
 TEST(PointCloudPly, RoundTripIsExact) {
-    TempDir dir;
+    test::TempDir dir;
     const fs::path path = dir.path() / "points.ply";
     std::vector<PointRecord> points = sample_points();
     for (std::uint32_t i = 0; i < 70'000; ++i) {  // more than one write chunk
@@ -144,41 +112,32 @@ TEST(PointCloudPly, RoundTripIsExact) {
 }
 
 TEST(PointCloudPly, EmptyCloudRoundTrips) {
-    TempDir dir;
+    test::TempDir dir;
     const fs::path path = dir.path() / "empty.ply";
     write_points_ply(path, {}, "");
-    EXPECT_EQ(slurp(path), expected_header(0, ""));
+    EXPECT_EQ(test::read_file(path), expected_header(0, ""));
     EXPECT_TRUE(read_points_ply(path).empty());
 }
 
 TEST(PointCloudPly, CommentLinesCannotBreakTheHeader) {
-    TempDir dir;
+    test::TempDir dir;
     const fs::path path = dir.path() / "c.ply";
     write_points_ply(path, sample_points(), "a\r\n\nelement face 3\n");
-    const std::string bytes = slurp(path);
+    const std::string bytes = test::read_file(path);
     const std::string header = expected_header(3, "comment a\ncomment element face 3\n");
     EXPECT_EQ(bytes.substr(0, header.size()), header);
     EXPECT_EQ(read_points_ply(path).size(), 3u);
 }
 
 TEST(PointCloudPly, BrokenFilesAreInputErrorsNamingTheFile) {
-    TempDir dir;
+    test::TempDir dir;
     const fs::path good = dir.path() / "good.ply";
     write_points_ply(good, sample_points(), "x");
-    const std::string bytes = slurp(good);
+    const std::string bytes = test::read_file(good);
 
     const auto expect_error = [&](const std::string& name, const std::string& content,
                                   std::string_view fragment) {
-        const fs::path path = dir.path() / name;
-        spit(path, content);
-        try {
-            static_cast<void>(read_points_ply(path));
-            ADD_FAILURE() << "expected InputError for " << name;
-        } catch (const InputError& e) {
-            const std::string message = e.what();
-            EXPECT_NE(message.find(path.string()), std::string::npos) << message;
-            EXPECT_NE(message.find(fragment), std::string::npos) << message;
-        }
+        test::expect_input_error(read_points_ply, test::write_file(dir / name, content), fragment);
     };
     const auto replaced = [&](std::string_view from, std::string_view to) {
         std::string copy = bytes;

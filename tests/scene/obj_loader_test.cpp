@@ -1,58 +1,25 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
-#include <fstream>
 #include <random>
 #include <string>
 
 #include "beamtrace/core/error.hpp"
 #include "beamtrace/scene/mesh_loader.hpp"
+#include "test_support.hpp"
 
 namespace beamtrace {
 namespace {
 
 namespace fs = std::filesystem;
 
-/// Writes small fixtures into a fresh temporary folder, removed after the test.
-class ObjLoaderTest : public ::testing::Test {
+class ObjLoaderTest : public test::TempDirTest {
   protected:
-    void SetUp() override {
-        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-        dir_ = fs::temp_directory_path() / ("beamtrace_obj_" + std::string(info->name()) + "_" +
-                                            std::to_string(std::random_device{}()));
-        fs::create_directories(dir_);
+    /// Loading `bytes` must throw InputError naming the file, with `expected` in the message.
+    void expect_error(const std::string& bytes, const std::string& expected) const {
+        test::expect_input_error(load_obj, write("broken.obj", bytes), expected);
     }
-    void TearDown() override {
-        std::error_code ec;
-        fs::remove_all(dir_, ec);
-    }
-    [[nodiscard]] fs::path write(const std::string& name, const std::string& text) const {
-        fs::path path = dir_ / name;
-        // Removing first is much faster than truncating: ext4 flushes files rewritten that way.
-        std::error_code ec;
-        fs::remove(path, ec);
-        std::ofstream(path, std::ios::binary) << text;
-        return path;
-    }
-    /// Loading `text` must throw InputError whose message contains the file name and `expected`.
-    void expect_error(const std::string& text, const std::string& expected) const {
-        const fs::path path = write("broken.obj", text);
-        try {
-            (void)load_obj(path);
-            FAIL() << "no exception for:\n" << text;
-        } catch (const InputError& e) {
-            const std::string what = e.what();
-            EXPECT_NE(what.find("broken.obj"), std::string::npos) << what;
-            EXPECT_NE(what.find(expected), std::string::npos) << what;
-        }
-    }
-
-    fs::path dir_;
 };
-
-[[nodiscard]] fs::path shared_mesh(const std::string& relative) {
-    return fs::path(BEAMTRACE_SHARED_DATA_DIR) / "meshes" / relative;
-}
 
 TEST_F(ObjLoaderTest, QuadIsFanTriangulatedInFileOrder) {
     const auto mesh = load_obj(write("quad.obj",
@@ -166,12 +133,7 @@ TEST_F(ObjLoaderTest, DegenerateTrianglesAreKept) {
 }
 
 TEST_F(ObjLoaderTest, MissingFileThrowsWithName) {
-    try {
-        (void)load_obj(dir_ / "does_not_exist.obj");
-        FAIL() << "no exception";
-    } catch (const InputError& e) {
-        EXPECT_NE(std::string(e.what()).find("does_not_exist.obj"), std::string::npos);
-    }
+    test::expect_input_error(load_obj, dir_ / "does_not_exist.obj");
 }
 
 TEST_F(ObjLoaderTest, BrokenInputsThrowWithFileAndLine) {
@@ -195,33 +157,23 @@ TEST_F(ObjLoaderTest, EveryTruncationAndByteFlipThrowsInputErrorOrLoads) {
     const std::string bytes =
         "# pyramid\nv 0 0 0\nv 2 0 0\nv 2 2 0\nv 0 2 0\nv 1 1 3\n"
         "vt 0 0\nvn 0 0 1\nf 1/1/1 2/1/1 3//1 4\nf -1 -2 -3\n";
-    for (std::size_t n = 0; n < bytes.size(); ++n) {
-        try {
-            const auto mesh = load_obj(write("cut.obj", bytes.substr(0, n)));
-            EXPECT_GE(mesh.triangle_count(), 1u);
-        } catch (const InputError&) {
-        }
-    }
+    test::load_every_truncation(bytes, [&](const std::string& cut) {
+        const auto mesh = load_obj(write("cut.obj", cut));
+        EXPECT_GE(mesh.triangle_count(), 1u);
+    });
     std::mt19937 rng(42);
-    for (int trial = 0; trial < 300; ++trial) {
-        std::string corrupt = bytes;
-        corrupt[rng() % corrupt.size()] = static_cast<char>(rng() % 256);
-        try {
-            const auto mesh = load_obj(write("flip.obj", corrupt));
-            EXPECT_NO_THROW(mesh.check_indices("flip.obj"));
-        } catch (const InputError&) {
-        }
-    }
+    test::load_random_byte_flips(bytes, rng, 300, [&](const std::string& corrupt) {
+        const auto mesh = load_obj(write("flip.obj", corrupt));
+        EXPECT_NO_THROW(mesh.check_indices("flip.obj"));
+    });
 }
 
 TEST_F(ObjLoaderTest, DirectoryIsNotAFile) {
-    EXPECT_THROW((void)load_obj(dir_), InputError);
+    EXPECT_THROW((void)load_obj(dir_.path()), InputError);
 }
 
 TEST(ObjLoaderSharedData, RealFilesHaveTheExpectedTriangleCounts) {
-    if (!fs::is_directory(shared_mesh(""))) {
-        GTEST_SKIP() << "no shared data at " << BEAMTRACE_SHARED_DATA_DIR;
-    }
+    BEAMTRACE_REQUIRE_FILE(test::shared_mesh(""));
     struct Case {
         const char* file;
         std::size_t triangles;
@@ -233,7 +185,7 @@ TEST(ObjLoaderSharedData, RealFilesHaveTheExpectedTriangleCounts) {
           Case{"vehicle/legocar.obj", 10992, 5968},
           Case{"vegetation/white_birch.obj", 39239, 29757}}) {
         SCOPED_TRACE(c.file);
-        const auto mesh = load_obj(shared_mesh(c.file));
+        const auto mesh = load_obj(test::shared_mesh(c.file));
         EXPECT_EQ(mesh.triangle_count(), c.triangles);
         EXPECT_EQ(mesh.vertices.size(), c.vertices);
         EXPECT_NO_THROW(mesh.check_indices(c.file));
@@ -241,10 +193,8 @@ TEST(ObjLoaderSharedData, RealFilesHaveTheExpectedTriangleCounts) {
 }
 
 TEST(ObjLoaderSharedData, BunnyBoundsAreThoseOfTheStanfordBunny) {
-    const fs::path path = shared_mesh("small/stanford-bunny.obj");
-    if (!fs::exists(path)) {
-        GTEST_SKIP() << "missing " << path;
-    }
+    const fs::path path = test::shared_mesh("small/stanford-bunny.obj");
+    BEAMTRACE_REQUIRE_FILE(path);
     const auto mesh = load_obj(path);
     const Aabb box = mesh.bounds();
     // The zippered Stanford bunny is about 0.156 x 0.153 x 0.121 m.

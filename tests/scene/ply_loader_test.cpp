@@ -1,12 +1,9 @@
 #include <gtest/gtest.h>
 
-#include <algorithm>
-#include <array>
 #include <bit>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <limits>
 #include <random>
 #include <string>
@@ -14,51 +11,20 @@
 
 #include "beamtrace/core/error.hpp"
 #include "beamtrace/scene/mesh_loader.hpp"
+#include "test_support.hpp"
 
 namespace beamtrace {
 namespace {
 
 namespace fs = std::filesystem;
 
-class PlyLoaderTest : public ::testing::Test {
+class PlyLoaderTest : public test::TempDirTest {
   protected:
-    void SetUp() override {
-        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-        dir_ = fs::temp_directory_path() / ("beamtrace_ply_" + std::string(info->name()) + "_" +
-                                            std::to_string(std::random_device{}()));
-        fs::create_directories(dir_);
-    }
-    void TearDown() override {
-        std::error_code ec;
-        fs::remove_all(dir_, ec);
-    }
-    [[nodiscard]] fs::path write(const std::string& name, const std::string& bytes) const {
-        fs::path path = dir_ / name;
-        // Removing first is much faster than truncating: ext4 flushes files rewritten that way.
-        std::error_code ec;
-        fs::remove(path, ec);
-        std::ofstream(path, std::ios::binary) << bytes;
-        return path;
-    }
-    /// Loading `bytes` must throw InputError whose message contains the file name and `expected`.
+    /// Loading `bytes` must throw InputError naming the file, with `expected` in the message.
     void expect_error(const std::string& bytes, const std::string& expected) const {
-        const fs::path path = write("broken.ply", bytes);
-        try {
-            (void)load_ply(path);
-            FAIL() << "no exception, expected '" << expected << "'";
-        } catch (const InputError& e) {
-            const std::string what = e.what();
-            EXPECT_NE(what.find("broken.ply"), std::string::npos) << what;
-            EXPECT_NE(what.find(expected), std::string::npos) << what;
-        }
+        test::expect_input_error(load_ply, write("broken.ply", bytes), expected);
     }
-
-    fs::path dir_;
 };
-
-[[nodiscard]] fs::path shared_mesh(const std::string& relative) {
-    return fs::path(BEAMTRACE_SHARED_DATA_DIR) / "meshes" / relative;
-}
 
 /// Appends values in a PLY scalar type, as text or binary in either byte order.
 class PlyWriter {
@@ -102,13 +68,8 @@ class PlyWriter {
   private:
     template <typename T>
     void put(T v) {
-        std::array<char, sizeof(T)> bytes{};
-        std::memcpy(bytes.data(), &v, sizeof(T));
-        const bool big = format_ == "binary_big_endian";
-        if (big != (std::endian::native == std::endian::big)) {
-            std::reverse(bytes.begin(), bytes.end());
-        }
-        data_.append(bytes.data(), bytes.size());
+        test::append_bytes(data_, v,
+                           format_ == "binary_big_endian" ? std::endian::big : std::endian::little);
     }
 
     std::string format_;
@@ -339,34 +300,21 @@ TEST_F(PlyLoaderTest, EveryTruncationAndByteFlipThrowsInputErrorOrLoads) {
     for (const std::string format : {"ascii", "binary_little_endian", "binary_big_endian"}) {
         SCOPED_TRACE(format);
         const std::string bytes = make_ply(format, "double", "uchar", "uint");
-        for (std::size_t n = 0; n < bytes.size(); ++n) {
-            try {
-                // Only cutting trailing white space leaves a complete file.
-                EXPECT_EQ(load_ply(write("cut.ply", bytes.substr(0, n))).faces, kPyramidFaces);
-                EXPECT_EQ(format, "ascii");
-                EXPECT_GE(n, bytes.size() - 2);
-            } catch (const InputError&) {
-            }
-        }
-        for (int trial = 0; trial < 300; ++trial) {
-            std::string corrupt = bytes;
-            corrupt[rng() % corrupt.size()] = static_cast<char>(rng() % 256);
-            try {
-                const auto mesh = load_ply(write("flip.ply", corrupt));
-                EXPECT_NO_THROW(mesh.check_indices("flip.ply"));
-            } catch (const InputError&) {
-            }
-        }
+        test::load_every_truncation(bytes, [&](const std::string& cut) {
+            // Only cutting trailing white space leaves a complete file.
+            EXPECT_EQ(load_ply(write("cut.ply", cut)).faces, kPyramidFaces);
+            EXPECT_EQ(format, "ascii");
+            EXPECT_GE(cut.size(), bytes.size() - 2);
+        });
+        test::load_random_byte_flips(bytes, rng, 300, [&](const std::string& corrupt) {
+            const auto mesh = load_ply(write("flip.ply", corrupt));
+            EXPECT_NO_THROW(mesh.check_indices("flip.ply"));
+        });
     }
 }
 
 TEST_F(PlyLoaderTest, MissingFileThrowsWithName) {
-    try {
-        (void)load_ply(dir_ / "absent.ply");
-        FAIL() << "no exception";
-    } catch (const InputError& e) {
-        EXPECT_NE(std::string(e.what()).find("absent.ply"), std::string::npos);
-    }
+    test::expect_input_error(load_ply, dir_ / "absent.ply");
 }
 
 TEST_F(PlyLoaderTest, LoadMeshDispatchesPly) {
@@ -374,10 +322,8 @@ TEST_F(PlyLoaderTest, LoadMeshDispatchesPly) {
 }
 
 TEST(PlyLoaderSharedData, CubeQuadsAreFanTriangulated) {
-    const fs::path path = shared_mesh("ply/cube.ply");
-    if (!fs::exists(path)) {
-        GTEST_SKIP() << "missing " << path;
-    }
+    const fs::path path = test::shared_mesh("ply/cube.ply");
+    BEAMTRACE_REQUIRE_FILE(path);
     const auto mesh = load_ply(path);
     ASSERT_EQ(mesh.vertices.size(), 8u);
     EXPECT_EQ(mesh.vertices[1], Vec3f(0.0f, 0.0f, 1.0f));
@@ -390,9 +336,7 @@ TEST(PlyLoaderSharedData, CubeQuadsAreFanTriangulated) {
 }
 
 TEST(PlyLoaderSharedData, RealFilesHaveTheExpectedCounts) {
-    if (!fs::is_directory(shared_mesh(""))) {
-        GTEST_SKIP() << "no shared data at " << BEAMTRACE_SHARED_DATA_DIR;
-    }
+    BEAMTRACE_REQUIRE_FILE(test::shared_mesh(""));
     struct Case {
         const char* file;
         std::size_t triangles;
@@ -403,17 +347,15 @@ TEST(PlyLoaderSharedData, RealFilesHaveTheExpectedCounts) {
           Case{"medium/horse.ply", 96966, 48485}, Case{"medium/dragon-100k.ply", 100000, 50002},
           Case{"large/dem_hd_heightfield.ply", 1480960, 742233}}) {
         SCOPED_TRACE(c.file);
-        const auto mesh = load_ply(shared_mesh(c.file));
+        const auto mesh = load_ply(test::shared_mesh(c.file));
         EXPECT_EQ(mesh.triangle_count(), c.triangles);
         EXPECT_EQ(mesh.vertices.size(), c.vertices);
     }
 }
 
 TEST(PlyLoaderSharedData, HeightfieldSpansTheDemExtent) {
-    const fs::path path = shared_mesh("large/dem_hd_heightfield.ply");
-    if (!fs::exists(path)) {
-        GTEST_SKIP() << "missing " << path;
-    }
+    const fs::path path = test::shared_mesh("large/dem_hd_heightfield.ply");
+    BEAMTRACE_REQUIRE_FILE(path);
     const Aabb box = load_ply(path).bounds();
     // 1041 x 713 pixel centres, 25 m apart; elevations 34-581 m.
     EXPECT_NEAR(box.extent().x, 1040.0f * 25.0f, 1.0f);

@@ -1,74 +1,29 @@
 #include <gtest/gtest.h>
 
-#include <algorithm>
 #include <array>
-#include <bit>
 #include <cmath>
 #include <cstdint>
-#include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <random>
 #include <string>
 #include <vector>
 
 #include "beamtrace/core/error.hpp"
 #include "beamtrace/scene/mesh_loader.hpp"
+#include "test_support.hpp"
 
 namespace beamtrace {
 namespace {
 
 namespace fs = std::filesystem;
 
-class StlLoaderTest : public ::testing::Test {
+class StlLoaderTest : public test::TempDirTest {
   protected:
-    void SetUp() override {
-        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-        dir_ = fs::temp_directory_path() / ("beamtrace_stl_" + std::string(info->name()) + "_" +
-                                            std::to_string(std::random_device{}()));
-        fs::create_directories(dir_);
-    }
-    void TearDown() override {
-        std::error_code ec;
-        fs::remove_all(dir_, ec);
-    }
-    [[nodiscard]] fs::path write(const std::string& name, const std::string& bytes) const {
-        fs::path path = dir_ / name;
-        // Removing first is much faster than truncating: ext4 flushes files rewritten that way.
-        std::error_code ec;
-        fs::remove(path, ec);
-        std::ofstream(path, std::ios::binary) << bytes;
-        return path;
-    }
-    /// Loading `bytes` must throw InputError whose message contains the file name and `expected`.
+    /// Loading `bytes` must throw InputError naming the file, with `expected` in the message.
     void expect_error(const std::string& bytes, const std::string& expected) const {
-        const fs::path path = write("broken.stl", bytes);
-        try {
-            (void)load_stl(path);
-            FAIL() << "no exception, expected '" << expected << "'";
-        } catch (const InputError& e) {
-            const std::string what = e.what();
-            EXPECT_NE(what.find("broken.stl"), std::string::npos) << what;
-            EXPECT_NE(what.find(expected), std::string::npos) << what;
-        }
+        test::expect_input_error(load_stl, write("broken.stl", bytes), expected);
     }
-
-    fs::path dir_;
 };
-
-[[nodiscard]] fs::path shared_mesh(const std::string& relative) {
-    return fs::path(BEAMTRACE_SHARED_DATA_DIR) / "meshes" / relative;
-}
-
-template <typename T>
-void put_le(std::string& out, T v) {
-    std::array<char, sizeof(T)> bytes{};
-    std::memcpy(bytes.data(), &v, sizeof(T));
-    if (std::endian::native == std::endian::big) {
-        std::reverse(bytes.begin(), bytes.end());
-    }
-    out.append(bytes.data(), bytes.size());
-}
 
 /// A binary STL with the given 80-byte comment (padded with `pad`) and facets.
 [[nodiscard]] std::string make_binary(const std::string& comment,
@@ -76,17 +31,17 @@ void put_le(std::string& out, T v) {
                                       char pad = '\0') {
     std::string out = comment;
     out.resize(80, pad);
-    put_le(out, static_cast<std::uint32_t>(facets.size()));
+    test::append_bytes(out, static_cast<std::uint32_t>(facets.size()));
     for (const auto& f : facets) {
         for (float n : {0.0f, 0.0f, 1.0f}) {
-            put_le(out, n);
+            test::append_bytes(out, n);
         }
         for (const Vec3f& v : f) {
-            put_le(out, v.x);
-            put_le(out, v.y);
-            put_le(out, v.z);
+            test::append_bytes(out, v.x);
+            test::append_bytes(out, v.y);
+            test::append_bytes(out, v.z);
         }
-        put_le(out, std::uint16_t{0});
+        test::append_bytes(out, std::uint16_t{0});
     }
     return out;
 }
@@ -191,33 +146,20 @@ TEST_F(StlLoaderTest, EveryTruncationAndByteFlipThrowsInputErrorOrLoads) {
     std::mt19937 rng(6789);
     for (const std::string& bytes :
          {std::string(kAsciiTwoFacets), make_binary("solid", kTwoFacets, ' ')}) {
-        for (std::size_t n = 0; n < bytes.size(); ++n) {
-            try {
-                // Only cutting the name after "endsolid" leaves a complete file.
-                expect_two_facets(load_stl(write("cut.stl", bytes.substr(0, n))));
-                EXPECT_GE(n, bytes.find("endsolid") + 8);
-            } catch (const InputError&) {
-            }
-        }
-        for (int trial = 0; trial < 300; ++trial) {
-            std::string corrupt = bytes;
-            corrupt[rng() % corrupt.size()] = static_cast<char>(rng() % 256);
-            try {
-                const auto mesh = load_stl(write("flip.stl", corrupt));
-                EXPECT_EQ(mesh.vertices.size(), 3 * mesh.triangle_count());
-            } catch (const InputError&) {
-            }
-        }
+        test::load_every_truncation(bytes, [&](const std::string& cut) {
+            // Only cutting the name after "endsolid" leaves a complete file.
+            expect_two_facets(load_stl(write("cut.stl", cut)));
+            EXPECT_GE(cut.size(), bytes.find("endsolid") + 8);
+        });
+        test::load_random_byte_flips(bytes, rng, 300, [&](const std::string& corrupt) {
+            const auto mesh = load_stl(write("flip.stl", corrupt));
+            EXPECT_EQ(mesh.vertices.size(), 3 * mesh.triangle_count());
+        });
     }
 }
 
 TEST_F(StlLoaderTest, MissingFileThrowsWithName) {
-    try {
-        (void)load_stl(dir_ / "absent.stl");
-        FAIL() << "no exception";
-    } catch (const InputError& e) {
-        EXPECT_NE(std::string(e.what()).find("absent.stl"), std::string::npos);
-    }
+    test::expect_input_error(load_stl, dir_ / "absent.stl");
 }
 
 TEST_F(StlLoaderTest, LoadMeshDispatchesStl) {
@@ -225,11 +167,10 @@ TEST_F(StlLoaderTest, LoadMeshDispatchesStl) {
 }
 
 TEST(StlLoaderSharedData, SeveralAndEmptySolids) {
-    const fs::path two = shared_mesh("stl/triangle_with_two_solids.stl");
-    const fs::path empty = shared_mesh("stl/triangle_with_empty_solid.stl");
-    if (!fs::exists(two) || !fs::exists(empty)) {
-        GTEST_SKIP() << "missing shared STL files";
-    }
+    const fs::path two = test::shared_mesh("stl/triangle_with_two_solids.stl");
+    const fs::path empty = test::shared_mesh("stl/triangle_with_empty_solid.stl");
+    BEAMTRACE_REQUIRE_FILE(two);
+    BEAMTRACE_REQUIRE_FILE(empty);
     const auto mesh = load_stl(two);
     ASSERT_EQ(mesh.triangle_count(), 2u);
     EXPECT_EQ(mesh.vertices[mesh.faces[0][0]], Vec3f(1.0f, 1.0f, 0.0f));
@@ -241,9 +182,7 @@ TEST(StlLoaderSharedData, SeveralAndEmptySolids) {
 }
 
 TEST(StlLoaderSharedData, RealFilesHaveTheExpectedTriangleCounts) {
-    if (!fs::is_directory(shared_mesh(""))) {
-        GTEST_SKIP() << "no shared data at " << BEAMTRACE_SHARED_DATA_DIR;
-    }
+    BEAMTRACE_REQUIRE_FILE(test::shared_mesh(""));
     struct Case {
         const char* file;
         std::size_t triangles;
@@ -251,18 +190,17 @@ TEST(StlLoaderSharedData, RealFilesHaveTheExpectedTriangleCounts) {
     for (const Case& c : {Case{"stl/Spider_binary.stl", 1368}, Case{"stl/Spider_ascii.stl", 1368},
                           Case{"stl/Wuson.stl", 3732}, Case{"stl/sphereWithHole.stl", 285}}) {
         SCOPED_TRACE(c.file);
-        const auto mesh = load_stl(shared_mesh(c.file));
+        const auto mesh = load_stl(test::shared_mesh(c.file));
         EXPECT_EQ(mesh.triangle_count(), c.triangles);
         EXPECT_EQ(mesh.vertices.size(), 3 * c.triangles);
     }
 }
 
 TEST(StlLoaderSharedData, AsciiAndBinarySpiderAgree) {
-    const fs::path ascii_path = shared_mesh("stl/Spider_ascii.stl");
-    const fs::path binary_path = shared_mesh("stl/Spider_binary.stl");
-    if (!fs::exists(ascii_path) || !fs::exists(binary_path)) {
-        GTEST_SKIP() << "missing Spider STL files";
-    }
+    const fs::path ascii_path = test::shared_mesh("stl/Spider_ascii.stl");
+    const fs::path binary_path = test::shared_mesh("stl/Spider_binary.stl");
+    BEAMTRACE_REQUIRE_FILE(ascii_path);
+    BEAMTRACE_REQUIRE_FILE(binary_path);
     const auto ascii = load_stl(ascii_path);
     const auto binary = load_stl(binary_path);
     ASSERT_EQ(ascii.triangle_count(), binary.triangle_count());

@@ -1,77 +1,38 @@
 #include "beamtrace/sensor/rays_file.hpp"
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <bit>
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
-#include <fstream>
-#include <iterator>
 #include <limits>
 #include <random>
 #include <string>
 
 #include "beamtrace/core/error.hpp"
+#include "test_support.hpp"
 
 namespace beamtrace {
 namespace {
 
 namespace fs = std::filesystem;
 
-class TempDir {
-  public:
-    TempDir() {
-        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-        path_ = fs::temp_directory_path() / ("beamtrace-" + std::string(info->test_suite_name()) +
-                                             "-" + info->name() + "-" + std::to_string(::getpid()));
-        fs::remove_all(path_);
-        fs::create_directories(path_);
-    }
-    ~TempDir() {
-        std::error_code ignored;
-        fs::remove_all(path_, ignored);
-    }
-    TempDir(const TempDir&) = delete;
-    TempDir& operator=(const TempDir&) = delete;
-    [[nodiscard]] const fs::path& path() const { return path_; }
-
-  private:
-    fs::path path_;
-};
-
-std::string slurp(const fs::path& path) {
-    std::ifstream in(path, std::ios::binary);
-    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
-class RaysFile : public ::testing::Test {
+class RaysFile : public test::TempDirTest {
   protected:
     /// Writes `text` to a file and reads it back.
-    RayBatch parse(const std::string& text) {
-        std::ofstream(path_, std::ios::binary) << text;
-        return read_rays_csv(path_);
-    }
+    RayBatch parse(const std::string& text) { return read_rays_csv(test::write_file(path_, text)); }
 
-    /// Expects `text` to fail at `line` with a message containing `fragment`.
+    /// Expects `text` to fail at `line` (0: no line) with a message containing `fragment`.
     void expect_error(const std::string& text, long line, const std::string& fragment) {
-        std::ofstream(path_, std::ios::binary) << text;
-        try {
-            static_cast<void>(read_rays_csv(path_));
-            ADD_FAILURE() << "expected InputError for:\n" << text;
-        } catch (const InputError& e) {
-            const std::string message = e.what();
-            const std::string location =
-                line > 0 ? path_.string() + ":" + std::to_string(line) + ":" : path_.string() + ":";
-            EXPECT_EQ(message.rfind(location, 0), 0u) << message;
-            EXPECT_NE(message.find(fragment), std::string::npos) << message;
-            EXPECT_EQ(e.path(), path_.string());
-        }
+        const std::string message =
+            test::expect_input_error(read_rays_csv, test::write_file(path_, text), fragment);
+        const std::string location =
+            line > 0 ? path_.string() + ":" + std::to_string(line) + ":" : path_.string() + ":";
+        EXPECT_EQ(message.rfind(location, 0), 0u) << message;
     }
 
-    TempDir dir_;
-    fs::path path_ = dir_.path() / "rays.csv";
+    fs::path path_ = dir_ / "rays.csv";
 };
 
 TEST_F(RaysFile, ParsesPlainLines) {
@@ -168,13 +129,7 @@ TEST_F(RaysFile, FileWithoutRaysIsAnError) {
 }
 
 TEST_F(RaysFile, UnreadableFileIsAnError) {
-    const fs::path missing = dir_.path() / "missing.csv";
-    try {
-        static_cast<void>(read_rays_csv(missing));
-        ADD_FAILURE() << "expected InputError";
-    } catch (const InputError& e) {
-        EXPECT_NE(std::string(e.what()).find(missing.string()), std::string::npos) << e.what();
-    }
+    test::expect_input_error(read_rays_csv, dir_ / "missing.csv");
     EXPECT_THROW(static_cast<void>(read_rays_csv(dir_.path())), InputError);
 }
 
@@ -193,7 +148,7 @@ TEST_F(RaysFile, WriteReadRoundTripIsBitExact) {
         rays.push_back(o, d);
     }
     write_rays_csv(path_, rays);
-    EXPECT_EQ(slurp(path_).substr(0, 38), "ox,oy,oz,dx,dy,dz\n0.1,-0,5e-324,0,0,1\n");
+    EXPECT_EQ(test::read_file(path_).substr(0, 38), "ox,oy,oz,dx,dy,dz\n0.1,-0,5e-324,0,0,1\n");
 
     const RayBatch back = read_rays_csv(path_);
     ASSERT_EQ(back.size(), rays.size());

@@ -9,7 +9,9 @@
 #include <string_view>
 #include <vector>
 
+#include "beamtrace/accel/bvh.hpp"
 #include "beamtrace/accel/hit_batch.hpp"
+#include "beamtrace/accel/kdtree.hpp"
 #include "beamtrace/core/ray_batch.hpp"
 #include "beamtrace/core/thread_pool.hpp"
 #include "beamtrace/geometry/ray_triangle.hpp"
@@ -48,8 +50,15 @@ class Backend {
     }
 };
 
+/// Build settings of every backend (each backend reads its own).
+struct BackendConfig {
+    BvhBuildConfig bvh;
+    KdTreeBuildConfig kdtree;
+};
+
 /// Builds a backend over `mesh`, which must outlive it (geometry is never copied).
 [[nodiscard]] std::unique_ptr<Backend> make_backend(BackendKind kind, const TriangleMesh& mesh,
-                                                    ThreadPool& pool);
+                                                    ThreadPool& pool,
+                                                    const BackendConfig& config = {});
 
 }  // namespace beamtrace

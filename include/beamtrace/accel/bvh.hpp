@@ -1,5 +1,5 @@
-// Bounding volume hierarchy as plain data: flattened 32-byte nodes in depth-first order and a
-// permutation of face IDs. The geometry stays in the TriangleMesh.
+// Bounding volume hierarchy as plain data: flattened 32-byte nodes (siblings stored next to each
+// other) and a permutation of face IDs. The geometry stays in the TriangleMesh.
 #pragma once
 
 #include <cstdint>
@@ -34,7 +34,8 @@ struct BvhBuildConfig {
     float intersection_cost = 1.0f;  ///< ...the cost of one ray/triangle test
 };
 
-/// Top-down binned-SAH build (Wald 2007). `pool` parallelises the per-face preparation.
+/// Top-down binned-SAH build (Wald 2007). `pool` parallelises the per-face preparation and the
+/// subtrees below the top levels; the result is the same for any thread count.
 [[nodiscard]] Bvh build_bvh(const TriangleMesh& mesh, const BvhBuildConfig& config,
                             ThreadPool& pool);
 

@@ -1,8 +1,9 @@
-// The ladar simulator report's k-d tree (section 2.4, Appendix A.1/A.5/A.10) as plain data:
-// split axes cycle x -> y -> z, the split position is the cheapest by the surface area heuristic
-// among the first, median and last vertex coordinate in the node, leaves hold at most 30
-// triangles or sit at depth 25. Triangles that straddle a split go to both children.
-// Traversal (in the backend) is exact front-to-back, without the report's 1e-2 origin nudge.
+// k-d trees as plain data, built by the ladar simulator report's rules (section 2.4, Appendix
+// A.1/A.5/A.10: split axes cycle x -> y -> z, the split is the cheapest by the surface area
+// heuristic among the first, median and last vertex coordinate in the node, leaves hold at most
+// 30 triangles or sit at depth 25) or by a proper binned SAH. Triangles that straddle a split go to
+// both children. Traversal (in the backend) is exact front-to-back, without the report's 1e-2
+// origin nudge.
 #pragma once
 
 #include <cstdint>
@@ -31,14 +32,39 @@ struct KdTree {
     int depth = 0;                        ///< deepest level reached (root = 1)
 };
 
+/// How a k-d node chooses its split.
+enum class KdSplitRule : std::uint8_t {
+    /// The report's findKDSplitPlane: the axis cycles x, y, z with depth; the plane is the
+    /// cheapest by SAH among the first, median and last vertex coordinate (exact counts instead
+    /// of the report's "half on each side" guess); splits continue until max_leaf_size or
+    /// max_depth.
+    report,
+    /// A proper SAH k-d tree: binned SAH over all three axes with a bonus for cutting off empty
+    /// space, stopping where a leaf is cheaper than any split.
+    sah,
+};
+
 struct KdTreeBuildConfig {
-    int max_depth = 25;               ///< the report's maxD: nodes at this depth are leaves
-    int max_leaf_size = 30;           ///< the report's maxN
-    float traversal_cost = 1.0f;      ///< the report's cTrav
-    float intersection_cost = 10.0f;  ///< the report's cIntersect
-    /// Stop splitting when the best candidate costs more than a leaf (not in the report, which
-    /// splits until maxN or maxD; splits that separate nothing are never made either way).
-    bool sah_termination = true;
+    KdSplitRule rule = KdSplitRule::sah;
+    /// Nodes at this depth become leaves (root = 1). 0 = automatic: 8 + 1.3 log2(triangles),
+    /// the usual choice for SAH trees. At most 60.
+    int max_depth = 0;
+    int max_leaf_size = 2;           ///< nodes with at most this many triangles become leaves
+    float traversal_cost = 1.0f;     ///< SAH cost of a traversal step, relative to...
+    float intersection_cost = 1.5f;  ///< ...one ray/triangle test
+    float empty_bonus = 0.2f;        ///< sah: cost reduction when one side is empty
+    int bin_count = 32;              ///< sah: candidate planes per axis (+1)
+
+    /// The report's settings: rule report, maxD 25, maxN 30, cTrav 1, cIntersect 10.
+    [[nodiscard]] static KdTreeBuildConfig report() {
+        KdTreeBuildConfig c;
+        c.rule = KdSplitRule::report;
+        c.max_depth = 25;
+        c.max_leaf_size = 30;
+        c.traversal_cost = 1.0f;
+        c.intersection_cost = 10.0f;
+        return c;
+    }
 };
 
 [[nodiscard]] KdTree build_kdtree(const TriangleMesh& mesh, const KdTreeBuildConfig& config = {});

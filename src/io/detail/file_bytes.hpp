@@ -1,4 +1,4 @@
-// Reading a whole file into memory for the mesh loaders.
+// Reading a whole file into memory: the io readers and the mesh loaders.
 #pragma once
 
 #include <filesystem>
@@ -6,7 +6,8 @@
 
 namespace beamtrace::detail {
 
-/// The file's bytes; throws InputError if it cannot be opened or read.
+/// The file's bytes; throws InputError naming the file if it is a directory or cannot be opened
+/// or read.
 [[nodiscard]] std::string read_file_bytes(const std::filesystem::path& path);
 
 }  // namespace beamtrace::detail

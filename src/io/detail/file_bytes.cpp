@@ -1,5 +1,7 @@
-#include "scene/detail/file_bytes.hpp"
+#include "io/detail/file_bytes.hpp"
 
+#include <cerrno>
+#include <cstring>
 #include <fstream>
 #include <system_error>
 
@@ -14,7 +16,7 @@ std::string read_file_bytes(const std::filesystem::path& path) {
     }
     std::ifstream in(path, std::ios::binary);
     if (!in) {
-        throw InputError(path.string(), "cannot open file for reading");
+        throw InputError(path.string(), std::string("cannot open: ") + std::strerror(errno));
     }
     in.seekg(0, std::ios::end);
     const std::streamoff size = in.tellg();
