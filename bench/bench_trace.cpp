@@ -117,20 +117,26 @@ void BM_BuildBvh(benchmark::State& state) {
 
 void BM_BuildKdTree(benchmark::State& state) {
     const auto& mesh = terrain_1m();
+    const auto config =
+        state.range(0) != 0 ? bt::KdTreeBuildConfig::report() : bt::KdTreeBuildConfig{};
     for (auto _ : state) {
-        bt::KdTree tree = bt::build_kdtree(mesh);
+        bt::KdTree tree = bt::build_kdtree(mesh, config);
         benchmark::DoNotOptimize(tree.nodes.data());
     }
     state.counters["triangles/s"] = benchmark::Counter(
         static_cast<double>(mesh.triangle_count()), benchmark::Counter::kIsIterationInvariantRate);
 }
 
-template <bt::BackendKind Kind>
+template <bt::BackendKind Kind, bool ReportRules = false>
 void BM_Trace(benchmark::State& state) {
     check_once();
     const auto& mesh = terrain_1m();
     bt::ThreadPool pool(threads_arg(state));
-    const auto backend = bt::make_backend(Kind, mesh, pool);
+    bt::BackendConfig config;
+    if (ReportRules) {
+        config.kdtree = bt::KdTreeBuildConfig::report();
+    }
+    const auto backend = bt::make_backend(Kind, mesh, pool, config);
     // Brute force traces every 1024th ray only (1 M tests per ray); rays/s stays comparable.
     const bt::RayBatch rays =
         Kind == bt::BackendKind::brute ? every_kth(nadir_rays(), 1024) : nadir_rays();
@@ -154,10 +160,22 @@ void thread_args(benchmark::internal::Benchmark* b) {
 }
 
 BENCHMARK(BM_BuildBvh)->Apply(thread_args)->MinTime(1.0);
-BENCHMARK(BM_BuildKdTree)->Unit(benchmark::kMillisecond)->Iterations(2);
+BENCHMARK(BM_BuildKdTree)
+    ->ArgName("report_rules")
+    ->Arg(0)
+    ->Arg(1)
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(1);
 BENCHMARK(BM_Trace<bt::BackendKind::bvh>)->Name("BM_Trace/bvh")->Apply(thread_args)->MinTime(1.0);
 BENCHMARK(BM_Trace<bt::BackendKind::kdtree>)
     ->Name("BM_Trace/kdtree")
+    ->Apply(thread_args)
+    ->MinTime(1.0);
+void BM_TraceKdReportRules(benchmark::State& state) {
+    BM_Trace<bt::BackendKind::kdtree, true>(state);
+}
+BENCHMARK(BM_TraceKdReportRules)
+    ->Name("BM_Trace/kdtree_report_rules")
     ->Apply(thread_args)
     ->MinTime(1.0);
 BENCHMARK(BM_Trace<bt::BackendKind::brute>)

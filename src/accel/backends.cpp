@@ -102,12 +102,10 @@ struct KdTreeTraverser {
         }
         const float lo[3] = {tree.bounds.lo.x, tree.bounds.lo.y, tree.bounds.lo.z};
         const float hi[3] = {tree.bounds.hi.x, tree.bounds.hi.y, tree.bounds.hi.z};
-        float tnear = 0.0f;
-        if (!slab_entry(r, lo, hi, r.tmin, vis.limit(), tnear)) {
+        float tnear = 0.0f, tfar = 0.0f;
+        if (!detail::slab_interval(r, lo, hi, r.tmin, vis.limit(), tnear, tfar)) {
             return;
         }
-        // The far end of the root interval; the slab test only returns the entry, so recompute.
-        float tfar = vis.limit();
         struct Entry {
             std::uint32_t node;
             float tnear, tfar;
@@ -119,24 +117,25 @@ struct KdTreeTraverser {
         for (;;) {
             const KdNode& node = nodes[index];
             if (node.is_leaf()) {
-                for (std::uint32_t k = node.index; k < node.index + node.count; ++k) {
+                for (std::uint32_t k = node.first(); k < node.first() + node.count(); ++k) {
                     if (vis.visit(tree.prim_ids[k])) {
                         return;
                     }
                 }
             } else {
-                const auto a = static_cast<std::size_t>(node.axis);
+                const auto a = static_cast<std::size_t>(node.axis());
+                const float split = node.split();
                 const float o = r.org[a];
-                const std::uint32_t left = index + 1, right = node.index;
-                if (o == node.split) {
+                const std::uint32_t left = index + 1, right = node.right();
+                if (o == split) {
                     // Starting on the plane: both sides, whole interval (rare, and exact).
                     stack[sp++] = {right, tnear, tfar};
                     index = left;
                     continue;
                 }
-                const std::uint32_t near_child = o < node.split ? left : right;
-                const std::uint32_t far_child = o < node.split ? right : left;
-                const float t_split = (node.split - o) * r.inv_dir[a];
+                const std::uint32_t near_child = o < split ? left : right;
+                const std::uint32_t far_child = o < split ? right : left;
+                const float t_split = (split - o) * r.inv_dir[a];
                 // Moving away from the plane, or parallel to it: only the near side.
                 if (!(t_split > 0.0f) || t_split == std::numeric_limits<float>::infinity()) {
                     index = near_child;

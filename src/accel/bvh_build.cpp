@@ -18,10 +18,30 @@ struct PrimInfo {
     std::uint32_t id;
 };
 
-/// Plain bin data: only the bins in use are initialised.
 struct Bin {
-    Aabb box, cbox;
+    Aabb box;
     std::uint32_t count;
+};
+
+/// Bins of the three axes; only the first `n` of each are used.
+struct BinSet {
+    Bin bins[3][kMaxBins];
+    void reset(int n) {
+        for (auto& axis : bins) {
+            for (int k = 0; k < n; ++k) {
+                axis[k].box = Aabb{};
+                axis[k].count = 0;
+            }
+        }
+    }
+    void merge(const BinSet& o, int n) {
+        for (std::size_t a = 0; a < 3; ++a) {
+            for (int k = 0; k < n; ++k) {
+                bins[a][k].box.extend(o.bins[a][k].box);
+                bins[a][k].count += o.bins[a][k].count;
+            }
+        }
+    }
 };
 
 /// A range of prim_ids with its bounds and centroid bounds.
@@ -36,48 +56,73 @@ struct Split {
     Range left, right;
 };
 
-/// Binned SAH (Wald 2007). Child bounds come from the bins, so no pass re-reads the prims.
+/// Binned SAH (Wald 2007). Child bounds come from the bins and the partition pass, so no extra
+/// pass reads the faces.
 class SplitFinder {
   public:
-    SplitFinder(std::vector<PrimInfo>& prims, const BvhBuildConfig& config)
-        : prims_(prims), config_(config), bins_(std::clamp(config.bin_count, 2, kMaxBins)) {}
+    /// `pool`, when not null, bins large nodes in parallel (only from a thread outside the pool).
+    SplitFinder(std::vector<PrimInfo>& prims, const BvhBuildConfig& config, ThreadPool* pool)
+        : prims_(prims),
+          config_(config),
+          bins_(std::clamp(config.bin_count, 2, kMaxBins)),
+          pool_(pool) {}
 
     [[nodiscard]] Split find(const Range& r) const {
         Split s;
         s.mid = r.begin;
         const std::uint32_t count = r.end - r.begin;
-        if (count <= 1) {
+        if (count <= static_cast<std::uint32_t>(std::max(1, config_.min_leaf_size)) ||
+            r.depth >= kMaxDepth) {
             return s;
         }
-        const auto max_leaf = static_cast<std::uint32_t>(std::max(1, config_.max_leaf_size));
-        const bool must_split = count > max_leaf;
-        if (r.depth >= kMaxDepth) {
-            return s;
+        const bool must_split =
+            count > static_cast<std::uint32_t>(std::max(1, config_.max_leaf_size));
+        // One pass over the faces fills the bins of all three axes (in parallel chunks for the
+        // large nodes at the top; merging boxes and counts is exact, so the order is irrelevant).
+        BinSet bins;
+        const Vec3f lo = r.cbox.lo;
+        const Vec3f cext = r.cbox.extent();
+        Vec3f scale;
+        for (std::size_t a = 0; a < 3; ++a) {
+            scale[a] = cext[a] > 0.0f ? static_cast<float>(bins_) / cext[a] : 0.0f;
+        }
+        const auto fill = [&](BinSet& set, std::uint32_t b, std::uint32_t e) {
+            set.reset(bins_);
+            for (std::uint32_t i = b; i < e; ++i) {
+                const PrimInfo& p = prims_[i];
+                for (std::size_t a = 0; a < 3; ++a) {
+                    Bin& bin = set.bins[a][bin_of(p.centroid[a], lo[a], scale[a])];
+                    bin.box.extend(p.box);
+                    ++bin.count;
+                }
+            }
+        };
+        constexpr std::uint32_t kParallelBinning = 1u << 16;
+        if (pool_ != nullptr && pool_->size() > 1 && count >= kParallelBinning) {
+            const std::size_t chunks = 4 * pool_->size();
+            const std::uint32_t step = (count + static_cast<std::uint32_t>(chunks) - 1) /
+                                       static_cast<std::uint32_t>(chunks);
+            std::vector<BinSet> partial(chunks);
+            pool_->parallel_for(chunks, 1, [&](std::size_t cb, std::size_t ce) {
+                for (std::size_t c = cb; c < ce; ++c) {
+                    const std::uint32_t b = r.begin + static_cast<std::uint32_t>(c) * step;
+                    fill(partial[c], std::min(b, r.end), std::min(b + step, r.end));
+                }
+            });
+            bins.reset(bins_);
+            for (const auto& part : partial) {
+                bins.merge(part, bins_);
+            }
+        } else {
+            fill(bins, r.begin, r.end);
         }
         float best_cost = std::numeric_limits<float>::infinity();
         int best_axis = -1, best_bin = 0;
-        // Deliberately uninitialised: only the first bins_ entries of each axis are set and used.
-        Bin bins[3][kMaxBins];
-        const Vec3f cext = r.cbox.extent();
-        for (int axis = 0; axis < 3; ++axis) {
-            const auto a = static_cast<std::size_t>(axis);
+        for (std::size_t a = 0; a < 3; ++a) {
             if (!(cext[a] > 0.0f)) {
                 continue;
             }
-            Bin* b = bins[a];
-            for (int k = 0; k < bins_; ++k) {
-                b[k].box = Aabb{};
-                b[k].cbox = Aabb{};
-                b[k].count = 0;
-            }
-            const float scale = static_cast<float>(bins_) / cext[a];
-            for (std::uint32_t i = r.begin; i < r.end; ++i) {
-                const PrimInfo& p = prims_[i];
-                Bin& bin = b[bin_of(p.centroid[a], r.cbox.lo[a], scale)];
-                bin.box.extend(p.box);
-                bin.cbox.extend(p.centroid);
-                ++bin.count;
-            }
+            const Bin* b = bins.bins[a];
             std::array<float, kMaxBins> right_cost{};
             Aabb acc;
             std::uint32_t n = 0;
@@ -95,7 +140,7 @@ class SplitFinder {
                                    right_cost[static_cast<std::size_t>(k) + 1];
                 if (n > 0 && n < count && cost < best_cost) {
                     best_cost = cost;
-                    best_axis = axis;
+                    best_axis = static_cast<int>(a);
                     best_bin = k;
                 }
             }
@@ -112,21 +157,25 @@ class SplitFinder {
         if (!must_split && split_cost >= leaf_cost) {
             return s;
         }
+        // Partition in place, collecting the children's centroid bounds on the way.
         const auto a = static_cast<std::size_t>(best_axis);
-        const float scale = static_cast<float>(bins_) / cext[a];
-        const float lo = r.cbox.lo[a];
-        auto* first = prims_.data() + r.begin;
-        auto* mid = std::partition(first, prims_.data() + r.end, [&](const PrimInfo& p) {
-            return bin_of(p.centroid[a], lo, scale) <= best_bin;
-        });
-        s.mid = static_cast<std::uint32_t>(mid - prims_.data());
-        s.left = {r.begin, s.mid, {}, {}, r.depth + 1};
-        s.right = {s.mid, r.end, {}, {}, r.depth + 1};
+        s.left = {r.begin, 0, {}, {}, r.depth + 1};
+        s.right = {0, r.end, {}, {}, r.depth + 1};
+        std::uint32_t i = r.begin, j = r.end;
+        while (i < j) {
+            if (bin_of(prims_[i].centroid[a], lo[a], scale[a]) <= best_bin) {
+                s.left.cbox.extend(prims_[i].centroid);
+                ++i;
+            } else {
+                --j;
+                std::swap(prims_[i], prims_[j]);
+                s.right.cbox.extend(prims_[j].centroid);
+            }
+        }
+        s.mid = i;
+        s.left.end = s.right.begin = s.mid;
         for (int k = 0; k < bins_; ++k) {
-            const Bin& bin = bins[a][k];
-            Range& side = k <= best_bin ? s.left : s.right;
-            side.box.extend(bin.box);
-            side.cbox.extend(bin.cbox);
+            (k <= best_bin ? s.left : s.right).box.extend(bins.bins[a][k].box);
         }
         return s;
     }
@@ -156,6 +205,7 @@ class SplitFinder {
     std::vector<PrimInfo>& prims_;
     const BvhBuildConfig& config_;
     int bins_;
+    ThreadPool* pool_;
 };
 
 void set_bounds(BvhNode& n, const Aabb& box) {
@@ -221,20 +271,24 @@ Bvh build_bvh(const TriangleMesh& mesh, const BvhBuildConfig& config, ThreadPool
             prims[i].id = static_cast<std::uint32_t>(i);
         }
     });
-    const SplitFinder finder(prims, config);
-    const Range root = finder.bounds_of(0, static_cast<std::uint32_t>(n), 1);
-    bvh.nodes.reserve(2 * n / static_cast<std::size_t>(std::max(1, config.max_leaf_size / 2)) + 1);
+    const SplitFinder top_finder(prims, config, &pool);
+    const SplitFinder finder(prims, config, nullptr);
+    const Range root = top_finder.bounds_of(0, static_cast<std::uint32_t>(n), 1);
+    bvh.nodes.reserve(2 * n / static_cast<std::size_t>(std::max(1, config.min_leaf_size)) + 1);
     bvh.nodes.emplace_back();
 
     // The top levels serially, then the subtrees below in parallel (disjoint prim ranges), each
     // into its own node array, spliced in a fixed order: the result never depends on threads.
     const int defer_depth = n > 100000 ? 4 : kMaxDepth + 1;
     std::vector<std::pair<std::uint32_t, Range>> deferred;
-    build_subtree(finder, root, bvh.nodes, 0, bvh.depth, defer_depth, &deferred);
+    build_subtree(top_finder, root, bvh.nodes, 0, bvh.depth, defer_depth, &deferred);
     std::vector<std::vector<BvhNode>> parts(deferred.size());
     std::vector<int> depths(deferred.size(), 0);
     pool.parallel_for(deferred.size(), 1, [&](std::size_t b, std::size_t e) {
         for (std::size_t k = b; k < e; ++k) {
+            const std::uint32_t faces = deferred[k].second.end - deferred[k].second.begin;
+            parts[k].reserve(
+                2 * faces / static_cast<std::uint32_t>(std::max(1, config.min_leaf_size)) + 1);
             parts[k].emplace_back();
             build_subtree(finder, deferred[k].second, parts[k], 0, depths[k], 0, nullptr);
         }

@@ -60,23 +60,23 @@ class KdBuilder {
         right_bounds.lo[a] = c.pos;
         const int next_axis = (c.axis + 1) % 3;
 
-        tree_.nodes[node_index].axis = static_cast<std::uint32_t>(c.axis);
-        tree_.nodes[node_index].split = c.pos;
+        tree_.nodes[node_index] = KdNode::inner(c.axis, c.pos);
         const auto left_index = static_cast<std::uint32_t>(tree_.nodes.size());
         tree_.nodes.emplace_back();
         build(left_index, std::move(left), left_bounds, depth + 1, next_axis);
         const auto right_index = static_cast<std::uint32_t>(tree_.nodes.size());
         tree_.nodes.emplace_back();
-        tree_.nodes[node_index].index = right_index;
+        tree_.nodes[node_index].set_right(right_index);
         build(right_index, std::move(right), right_bounds, depth + 1, next_axis);
     }
 
   private:
     void make_leaf(std::uint32_t node_index, const std::vector<std::uint32_t>& faces) {
-        KdNode& node = tree_.nodes[node_index];
-        node.axis = 3;
-        node.index = static_cast<std::uint32_t>(tree_.prim_ids.size());
-        node.count = static_cast<std::uint32_t>(faces.size());
+        if (faces.size() >= (1u << 30) || tree_.prim_ids.size() + faces.size() >= (1ull << 32)) {
+            throw ConfigError("k-d tree: too many face references (degenerate input?)");
+        }
+        tree_.nodes[node_index] = KdNode::leaf(static_cast<std::uint32_t>(tree_.prim_ids.size()),
+                                               static_cast<std::uint32_t>(faces.size()));
         tree_.prim_ids.insert(tree_.prim_ids.end(), faces.begin(), faces.end());
     }
 

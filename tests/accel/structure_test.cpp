@@ -94,15 +94,15 @@ TEST(KdTree, FollowsTheReportRules) {
         stack.pop_back();
         const KdNode& n = tree.nodes[it.node];
         if (n.is_leaf()) {
-            EXPECT_TRUE(n.count <= 30 || it.depth >= 25) << "leaf of " << n.count;
-            for (std::uint32_t k = n.index; k < n.index + n.count; ++k) {
+            EXPECT_TRUE(n.count() <= 30 || it.depth >= 25) << "leaf of " << n.count();
+            for (std::uint32_t k = n.first(); k < n.first() + n.count(); ++k) {
                 seen[tree.prim_ids[k]] = 1;
             }
         } else {
-            EXPECT_EQ(n.axis, static_cast<std::uint32_t>((it.depth - 1) % 3))
+            EXPECT_EQ(n.axis(), static_cast<std::uint32_t>((it.depth - 1) % 3))
                 << "axes cycle x, y, z";
             stack.push_back({it.node + 1, it.depth + 1});
-            stack.push_back({n.index, it.depth + 1});
+            stack.push_back({n.right(), it.depth + 1});
         }
     }
     EXPECT_TRUE(std::all_of(seen.begin(), seen.end(), [](int s) { return s == 1; }))
@@ -116,7 +116,7 @@ TEST(KdTree, SahTreeHoldsEveryFaceAndRespectsItsDepth) {
     std::vector<int> seen(mesh.triangle_count(), 0);
     for (const auto& n : tree.nodes) {
         if (n.is_leaf()) {
-            for (std::uint32_t k = n.index; k < n.index + n.count; ++k) {
+            for (std::uint32_t k = n.first(); k < n.first() + n.count(); ++k) {
                 seen[tree.prim_ids[k]] = 1;
             }
         }

@@ -29,6 +29,7 @@ struct Bvh {
 
 struct BvhBuildConfig {
     int bin_count = 16;              ///< SAH bins per axis
+    int min_leaf_size = 4;           ///< a node with at most this many faces is a leaf
     int max_leaf_size = 8;           ///< a node with more faces is always split (if it can be)
     float traversal_cost = 1.0f;     ///< SAH cost of visiting a node, relative to...
     float intersection_cost = 1.0f;  ///< ...the cost of one ray/triangle test

@@ -6,6 +6,7 @@
 // origin nudge.
 #pragma once
 
+#include <bit>
 #include <cstdint>
 #include <vector>
 
@@ -14,16 +15,36 @@
 
 namespace beamtrace {
 
-struct KdNode {
-    float split = 0.0f;       ///< inner: split-plane position along `axis`
-    std::uint32_t index = 0;  ///< inner: right child (the left child is the next node); leaf: first
-                              ///< entry in prim_ids
-    std::uint32_t count = 0;  ///< leaf: number of faces
-    std::uint32_t axis = 3;   ///< 0, 1, 2 for x, y, z; 3 for a leaf
+/// An 8-byte k-d node. Inner: split position, axis and right child (the left child is the next
+/// node). Leaf: first entry in prim_ids and face count.
+class KdNode {
+  public:
+    [[nodiscard]] static KdNode leaf(std::uint32_t first, std::uint32_t count) {
+        KdNode n;
+        n.word_ = first;
+        n.bits_ = (count << 2) | 3u;
+        return n;
+    }
+    [[nodiscard]] static KdNode inner(int axis, float split) {
+        KdNode n;
+        n.word_ = std::bit_cast<std::uint32_t>(split);
+        n.bits_ = static_cast<std::uint32_t>(axis);
+        return n;
+    }
+    void set_right(std::uint32_t right) { bits_ = (right << 2) | (bits_ & 3u); }
 
-    [[nodiscard]] bool is_leaf() const { return axis == 3; }
+    [[nodiscard]] bool is_leaf() const { return (bits_ & 3u) == 3u; }
+    [[nodiscard]] std::uint32_t axis() const { return bits_ & 3u; }  ///< 0, 1, 2; 3 for a leaf
+    [[nodiscard]] float split() const { return std::bit_cast<float>(word_); }
+    [[nodiscard]] std::uint32_t right() const { return bits_ >> 2; }
+    [[nodiscard]] std::uint32_t first() const { return word_; }
+    [[nodiscard]] std::uint32_t count() const { return bits_ >> 2; }
+
+  private:
+    std::uint32_t word_ = 0;
+    std::uint32_t bits_ = 3;  // an empty leaf
 };
-static_assert(sizeof(KdNode) == 16, "k-d nodes are 16 bytes");
+static_assert(sizeof(KdNode) == 8, "k-d nodes are 8 bytes");
 
 struct KdTree {
     Aabb bounds;                          ///< the scene's bounds (the root's region)
@@ -49,10 +70,10 @@ struct KdTreeBuildConfig {
     /// Nodes at this depth become leaves (root = 1). 0 = automatic: 8 + 1.3 log2(triangles),
     /// the usual choice for SAH trees. At most 60.
     int max_depth = 0;
-    int max_leaf_size = 2;           ///< nodes with at most this many triangles become leaves
+    int max_leaf_size = 8;           ///< nodes with at most this many triangles become leaves
     float traversal_cost = 1.0f;     ///< SAH cost of a traversal step, relative to...
-    float intersection_cost = 1.5f;  ///< ...one ray/triangle test
-    float empty_bonus = 0.2f;        ///< sah: cost reduction when one side is empty
+    float intersection_cost = 2.0f;  ///< ...one ray/triangle test
+    float empty_bonus = 0.0f;        ///< sah: cost reduction when one side is empty
     int bin_count = 32;              ///< sah: candidate planes per axis (+1)
 
     /// The report's settings: rule report, maxD 25, maxN 30, cTrav 1, cIntersect 10.

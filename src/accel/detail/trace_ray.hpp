@@ -30,11 +30,11 @@ struct TraceRay {
     return r;
 }
 
-/// Robust slab test (Ize 2013: far distance padded by 2*gamma(3)). Rays parallel to a slab
-/// whose origin lies exactly on its plane produce NaN, which the operand order ignores. Returns
-/// true and the entry distance in `entry` when the box is met within [tmin, tmax].
-[[nodiscard]] inline bool slab_entry(const TraceRay& r, const float lo[3], const float hi[3],
-                                     float tmin, float tmax, float& entry) {
+/// The interval [entry, exit] of the ray inside the box, within [tmin, tmax], padded outward
+/// (Ize 2013: 2*gamma(3)) so that it never loses a hit. NaN from rays parallel to a slab whose
+/// origin lies exactly on its plane is ignored by the operand order. False when the box is missed.
+[[nodiscard]] inline bool slab_interval(const TraceRay& r, const float lo[3], const float hi[3],
+                                        float tmin, float tmax, float& entry, float& exit) {
     constexpr float kPad = 2.0f * 3.0f * std::numeric_limits<float>::epsilon();
     float tnear = tmin, tfar = tmax;
     for (int a = 0; a < 3; ++a) {
@@ -50,7 +50,15 @@ struct TraceRay {
     }
     // The entry distance is lowered by the same margin, so culling a node by it is conservative.
     entry = tnear - std::fabs(tnear) * kPad;
+    exit = tfar;
     return tnear <= tfar;
+}
+
+/// The entry distance only (see slab_interval).
+[[nodiscard]] inline bool slab_entry(const TraceRay& r, const float lo[3], const float hi[3],
+                                     float tmin, float tmax, float& entry) {
+    float exit = 0.0f;
+    return slab_interval(r, lo, hi, tmin, tmax, entry, exit);
 }
 
 }  // namespace beamtrace::detail
