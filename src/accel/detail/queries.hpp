@@ -16,7 +16,10 @@
 
 namespace beamtrace::detail {
 
-inline constexpr std::size_t kRayGrain = 1024;
+/// Rays per work item: 1024 for large batches, smaller so small batches still use every thread.
+[[nodiscard]] inline std::size_t ray_grain(std::size_t rays, const ThreadPool& pool) {
+    return std::clamp<std::size_t>(rays / (8 * std::size_t{pool.size()}), 16, 1024);
+}
 
 class NearestVisitor {
   public:
@@ -128,37 +131,40 @@ class QueryBackend final : public Backend {
 
     void intersect(const RayBatch& rays, std::size_t begin, std::size_t end, HitBatch& hits,
                    ThreadPool& pool) const override {
-        pool.parallel_for(end - begin, kRayGrain, [&](std::size_t b, std::size_t e) {
-            for (std::size_t i = begin + b; i < begin + e; ++i) {
-                const TraceRay r = make_trace_ray(rays, i);
-                NearestVisitor vis(mesh_, r);
-                traverser_.traverse(r, vis);
-                vis.store(hits, i);
-            }
-        });
+        pool.parallel_for(end - begin, ray_grain(end - begin, pool),
+                          [&](std::size_t b, std::size_t e) {
+                              for (std::size_t i = begin + b; i < begin + e; ++i) {
+                                  const TraceRay r = make_trace_ray(rays, i);
+                                  NearestVisitor vis(mesh_, r);
+                                  traverser_.traverse(r, vis);
+                                  vis.store(hits, i);
+                              }
+                          });
     }
 
     void occluded(const RayBatch& rays, std::size_t begin, std::size_t end,
                   std::vector<std::uint8_t>& occluded, ThreadPool& pool) const override {
         occluded.resize(rays.size());
-        pool.parallel_for(end - begin, kRayGrain, [&](std::size_t b, std::size_t e) {
-            for (std::size_t i = begin + b; i < begin + e; ++i) {
-                const TraceRay r = make_trace_ray(rays, i);
-                AnyVisitor vis(mesh_, r);
-                traverser_.traverse(r, vis);
-                occluded[i] = vis.hit() ? 1 : 0;
-            }
-        });
+        pool.parallel_for(end - begin, ray_grain(end - begin, pool),
+                          [&](std::size_t b, std::size_t e) {
+                              for (std::size_t i = begin + b; i < begin + e; ++i) {
+                                  const TraceRay r = make_trace_ray(rays, i);
+                                  AnyVisitor vis(mesh_, r);
+                                  traverser_.traverse(r, vis);
+                                  occluded[i] = vis.hit() ? 1 : 0;
+                              }
+                          });
     }
 
     void intersect_all(const RayBatch& rays, Facing facing, AllHits& hits,
                        ThreadPool& pool) const override {
         const std::size_t n = rays.size();
-        const std::size_t chunks = (n + kRayGrain - 1) / kRayGrain;
+        const std::size_t grain = ray_grain(n, pool);
+        const std::size_t chunks = (n + grain - 1) / grain;
         std::vector<std::vector<AllHit>> per_chunk(chunks);
         std::vector<std::uint32_t> counts(n, 0);
-        pool.parallel_for(n, kRayGrain, [&](std::size_t b, std::size_t e) {
-            auto& out = per_chunk[b / kRayGrain];
+        pool.parallel_for(n, grain, [&](std::size_t b, std::size_t e) {
+            auto& out = per_chunk[b / grain];
             for (std::size_t i = b; i < e; ++i) {
                 const TraceRay r = make_trace_ray(rays, i);
                 const std::size_t before = out.size();
