@@ -50,6 +50,7 @@ struct ScanOptions {
     std::optional<double> hfov, vfov;
     std::string rays;
     std::string backend = "bvh";
+    std::string kdtree_rules = "sah";
     unsigned threads = 0;
     std::string output;
     std::string exclude_faces;
@@ -65,6 +66,11 @@ int run(const ScanOptions& o) {
     c.demo = o.demo;
     c.pattern = parse_pattern_kind(o.pattern);
     c.backend = parse_backend_kind(o.backend);
+    if (o.kdtree_rules == "report") {
+        c.backend_config.kdtree = KdTreeBuildConfig::report();
+    } else if (o.kdtree_rules != "sah") {
+        throw ConfigError("--kdtree-rules: expected sah or report, got '" + o.kdtree_rules + "'");
+    }
     c.threads = o.threads;
     c.output_dir = o.output;
     c.rays_file = o.rays;
@@ -135,6 +141,9 @@ std::function<int()> add_scan_command(CLI::App& app) {
     cmd->add_option("--rays", opts->rays, "Rays file for --pattern rays: CSV ox,oy,oz,dx,dy,dz")
         ->check(CLI::ExistingFile);
     cmd->add_option("--backend", opts->backend, "bvh | kdtree | brute")->capture_default_str();
+    cmd->add_option("--kdtree-rules", opts->kdtree_rules,
+                    "k-d tree build: sah (binned SAH) or report (the ladar report's rules)")
+        ->capture_default_str();
     cmd->add_option("--threads", opts->threads, "Worker threads (0 = all cores)")
         ->capture_default_str();
     cmd->add_option("--output", opts->output, "Output directory")->required();

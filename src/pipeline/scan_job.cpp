@@ -144,7 +144,7 @@ ScanResult run_scan(const ScanJobConfig& config, const ProgressFn& progress) {
     result.rays = rays.size();
 
     t0 = Clock::now();
-    const auto backend = make_backend(config.backend, scene.mesh, pool);
+    const auto backend = make_backend(config.backend, scene.mesh, pool, config.backend_config);
     result.build_s = seconds_since(t0);
 
     t0 = Clock::now();

@@ -58,6 +58,21 @@ RayBatch vertex_and_edge_rays(const TriangleMesh& mesh, std::size_t max_rays, un
     return rays;
 }
 
+struct NamedBackend {
+    BackendKind kind;
+    BackendConfig config;
+    const char* name;
+};
+
+/// Every accelerated backend and build rule set.
+std::vector<NamedBackend> accelerated_backends() {
+    BackendConfig report;
+    report.kdtree = KdTreeBuildConfig::report();
+    return {{BackendKind::kdtree, {}, "kdtree"},
+            {BackendKind::kdtree, report, "kdtree-report-rules"},
+            {BackendKind::bvh, {}, "bvh"}};
+}
+
 void expect_agreement(const TriangleMesh& mesh, const RayBatch& rays, const char* what) {
     ThreadPool pool(0);
     const auto brute = make_backend(BackendKind::brute, mesh, pool);
@@ -67,8 +82,8 @@ void expect_agreement(const TriangleMesh& mesh, const RayBatch& rays, const char
         hits += oracle.hit(i) ? 1 : 0;
     }
     EXPECT_GT(hits, rays.size() / 10) << what << ": the test rays should hit something";
-    for (BackendKind kind : {BackendKind::kdtree, BackendKind::bvh}) {
-        const auto backend = make_backend(kind, mesh, pool);
+    for (const auto& [kind, config, name] : accelerated_backends()) {
+        const auto backend = make_backend(kind, mesh, pool, config);
         const HitBatch got = backend->intersect(rays, pool);
         std::size_t bad = 0;
         for (std::size_t i = 0; i < rays.size(); ++i) {
@@ -78,18 +93,18 @@ void expect_agreement(const TriangleMesh& mesh, const RayBatch& rays, const char
                 std::abs(double(got.t[i]) - double(oracle.t[i])) <= 1e-6 * double(oracle.t[i]);
             if (!same_face && !same_range) {
                 if (++bad <= 5) {
-                    ADD_FAILURE() << what << " " << to_string(kind) << " ray " << i << ": face "
-                                  << got.face[i] << " t " << got.t[i] << " vs brute face "
-                                  << oracle.face[i] << " t " << oracle.t[i];
+                    ADD_FAILURE() << what << " " << name << " ray " << i << ": face " << got.face[i]
+                                  << " t " << got.t[i] << " vs brute face " << oracle.face[i]
+                                  << " t " << oracle.t[i];
                 }
             }
         }
-        EXPECT_EQ(bad, 0u) << what << " " << to_string(kind);
+        EXPECT_EQ(bad, 0u) << what << " " << name;
         // Occlusion agrees with the nearest-hit query.
         std::vector<std::uint8_t> occ;
         backend->occluded(rays, 0, rays.size(), occ, pool);
         for (std::size_t i = 0; i < rays.size(); ++i) {
-            ASSERT_EQ(occ[i] != 0, oracle.hit(i)) << what << " " << to_string(kind) << " ray " << i;
+            ASSERT_EQ(occ[i] != 0, oracle.hit(i)) << what << " " << name << " ray " << i;
         }
     }
 }
@@ -138,15 +153,17 @@ void expect_no_leaks(const TriangleMesh& mesh, const Vec3d& inside, const char* 
         }
     }
     ThreadPool pool(0);
-    for (BackendKind kind : {BackendKind::brute, BackendKind::kdtree, BackendKind::bvh}) {
-        const auto backend = make_backend(kind, mesh, pool);
+    auto backends = accelerated_backends();
+    backends.push_back({BackendKind::brute, {}, "brute"});
+    for (const auto& [kind, config, name] : backends) {
+        const auto backend = make_backend(kind, mesh, pool, config);
         const HitBatch hits = backend->intersect(rays, pool);
         std::size_t leaks = 0;
         for (std::size_t i = 0; i < rays.size(); ++i) {
             leaks += hits.hit(i) ? 0 : 1;
         }
-        EXPECT_EQ(leaks, 0u) << what << " " << to_string(kind) << ": " << leaks << " of "
-                             << rays.size() << " rays escaped";
+        EXPECT_EQ(leaks, 0u) << what << " " << name << ": " << leaks << " of " << rays.size()
+                             << " rays escaped";
     }
 }
 
@@ -187,11 +204,13 @@ TEST(CrossCheck, AxisAlignedRaysThroughGridVerticesAndEdges) {
         }
     }
     ThreadPool pool(2);
-    for (BackendKind kind : {BackendKind::brute, BackendKind::kdtree, BackendKind::bvh}) {
-        const auto backend = make_backend(kind, grid, pool);
+    auto backends = accelerated_backends();
+    backends.push_back({BackendKind::brute, {}, "brute"});
+    for (const auto& [kind, config, name] : backends) {
+        const auto backend = make_backend(kind, grid, pool, config);
         const HitBatch hits = backend->intersect(rays, pool);
         for (std::size_t i = 0; i < rays.size(); ++i) {
-            ASSERT_TRUE(hits.hit(i)) << to_string(kind) << " ray " << i << " leaked";
+            ASSERT_TRUE(hits.hit(i)) << name << " ray " << i << " leaked";
             EXPECT_EQ(hits.t[i], 10.0f);
         }
     }

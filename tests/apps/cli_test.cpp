@@ -96,6 +96,10 @@ TEST(Cli, OutputsAreIdenticalForAnyThreadCountAndBackend) {
     ASSERT_EQ(run(common + "--threads 3 --output " + (dir / "t3").string()).exit_code, 0);
     ASSERT_EQ(run(common + "--backend kdtree --output " + (dir / "kd").string()).exit_code, 0);
     ASSERT_EQ(run(common + "--backend brute --output " + (dir / "bf").string()).exit_code, 0);
+    ASSERT_EQ(
+        run(common + "--backend kdtree --kdtree-rules report --output " + (dir / "kr").string())
+            .exit_code,
+        0);
     for (const char* f : {"hits.csv", "points.ply", "range.npy", "range.png"}) {
         const std::string ref = test::read_file(dir / "t1" / f);
         EXPECT_FALSE(ref.empty());
@@ -103,6 +107,7 @@ TEST(Cli, OutputsAreIdenticalForAnyThreadCountAndBackend) {
         if (std::string(f) != "points.ply") {  // the PLY comment names the backend
             EXPECT_EQ(ref, test::read_file(dir / "kd" / f)) << f;
             EXPECT_EQ(ref, test::read_file(dir / "bf" / f)) << f;
+            EXPECT_EQ(ref, test::read_file(dir / "kr" / f)) << f;
         }
     }
 }
@@ -117,6 +122,7 @@ TEST(Cli, BadInputsGiveOneLineErrorExitCode2AndNoOutputs) {
         {"scan --demo --output " + out + " --width 0", "width"},
         {"scan --demo --output " + out + " --pattern fisheye", "fisheye"},
         {"scan --demo --output " + out + " --backend embree9", "embree9"},
+        {"scan --demo --output " + out + " --kdtree-rules best", "--kdtree-rules"},
         {"scan --demo --output " + out + " --position 1,2", "--position"},
         {"scan --demo --output " + out + " --exclude-faces 5-2", "5-2"},
         {"scan --mesh " + (dir / "nope.obj").string() + " --output " + out, "nope.obj"},
@@ -134,6 +140,18 @@ TEST(Cli, BadInputsGiveOneLineErrorExitCode2AndNoOutputs) {
         EXPECT_EQ(count_lines(r.out), 1u) << args << "\n" << r.out;
         EXPECT_FALSE(std::filesystem::exists(dir / "out" / "hits.csv")) << args;
     }
+}
+
+TEST(Cli, ProgressBarAndSummary) {
+    test::TempDir dir;
+    const auto r = run("scan --demo --progress --output " + dir.path().string());
+    ASSERT_EQ(r.exit_code, 0) << r.out;
+    EXPECT_NE(r.out.find("tracing ["), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("100.0%"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("faces 80180-80181: occluder"), std::string::npos) << r.out;
+    const auto q = run("scan --demo --quiet --progress --output " + (dir / "q").string());
+    ASSERT_EQ(q.exit_code, 0);
+    EXPECT_TRUE(q.out.empty()) << q.out;
 }
 
 TEST(Cli, RaysFileWithImageShape) {

@@ -30,7 +30,8 @@ struct ScanJobConfig {
     /// For rays: write range images of this width x height (must equal the ray count).
     std::optional<int> image_width, image_height;
     BackendKind backend = BackendKind::bvh;
-    unsigned threads = 0;  ///< 0 = all hardware threads
+    BackendConfig backend_config;  ///< build settings (e.g. the k-d tree's rules)
+    unsigned threads = 0;          ///< 0 = all hardware threads
     std::filesystem::path output_dir;
     std::vector<FaceRange> exclude_faces;  ///< hits on these faces are left out of points.ply
 
