@@ -9,13 +9,21 @@
 namespace beamtrace {
 
 void Scene::add_part(std::string name, const TriangleMesh& part) {
+    ScenePart meta;
+    meta.name = std::move(name);
+    meta.part_id = static_cast<std::uint16_t>(std::min<std::size_t>(parts.size() + 1, 65535));
+    add_part(std::move(meta), part);
+}
+
+void Scene::add_part(ScenePart meta, const TriangleMesh& part) {
     const std::size_t total = mesh.triangle_count() + part.triangle_count();
     if (total >= std::numeric_limits<std::uint32_t>::max() ||
         mesh.vertices.size() + part.vertices.size() >= std::numeric_limits<std::uint32_t>::max()) {
-        throw InputError(name, "the scene would exceed 2^32 - 1 triangles or vertices");
+        throw InputError(meta.name, "the scene would exceed 2^32 - 1 triangles or vertices");
     }
-    parts.push_back({std::move(name), static_cast<std::uint32_t>(mesh.triangle_count()),
-                     static_cast<std::uint32_t>(part.triangle_count())});
+    meta.first_face = static_cast<std::uint32_t>(mesh.triangle_count());
+    meta.face_count = static_cast<std::uint32_t>(part.triangle_count());
+    parts.push_back(std::move(meta));
     mesh.append(part);
 }
 

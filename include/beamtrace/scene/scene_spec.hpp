@@ -1,0 +1,71 @@
+// A scene described in a file (YAML): parts with transforms, materials and labels. Parsed and
+// validated here; turned into a triangle Scene by build_scene().
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "beamtrace/core/quat.hpp"
+#include "beamtrace/core/vec3.hpp"
+
+namespace beamtrace {
+
+/// Scale, then rotate, then translate: p' = translate_m + R (scale * p).
+struct PartTransform {
+    Vec3d translate_m{0, 0, 0};
+    /// Attitude in the report's convention (radians): the part's +x axis ends up where a sensor
+    /// with this [roll pitch yaw] would look. Files give `rotate_deg: [roll, pitch, yaw]`.
+    RollPitchYaw rotate;
+    Vec3d scale{1, 1, 1};
+
+    [[nodiscard]] Vec3d apply(const Vec3d& p) const {
+        return translate_m +
+               Quat::from_rpy(rotate).rotate({p.x * scale.x, p.y * scale.y, p.z * scale.z});
+    }
+};
+
+struct MaterialSpec {
+    std::string name;
+    double reflectance = 0.5;         ///< albedo at the laser wavelength, [0, 1]
+    double specular_weight = 0.0;     ///< s of the phenomenological specular term, [0, 1]
+    double specular_exponent = 10.0;  ///< n, > 0
+};
+
+enum class PartKind : std::uint8_t { mesh, raster, sphere, plane };
+
+struct PartSpec {
+    std::string name;  ///< defaults to the file name or the kind and index
+    PartKind kind = PartKind::mesh;
+    std::filesystem::path file;   ///< mesh or raster file, relative to the scene file
+    Vec3d center_m{0, 0, 0};      ///< sphere centre
+    double radius_m = 1.0;        ///< sphere radius
+    int sphere_subdivisions = 4;  ///< icosphere refinement (20 * 4^n triangles)
+    Vec3d point_m{0, 0, 0};       ///< plane: a point on it (the centre of the square)
+    Vec3d normal{0, 0, 1};        ///< plane: its normal (need not be unit)
+    double size_m = 100.0;        ///< plane: side of the square patch
+    PartTransform transform;
+    std::string material = "default";
+    std::uint8_t label = 1;     ///< LAS classification written for hits on this part
+    std::uint16_t part_id = 0;  ///< LAS point source ID; defaults to the part's index + 1
+};
+
+struct SceneSpec {
+    std::filesystem::path source;  ///< the scene file (for messages and relative paths)
+    Vec3d origin_m{0, 0, 0};       ///< subtracted from raster coordinates (keeps floats precise)
+    std::vector<MaterialSpec> materials;
+    std::vector<PartSpec> parts;
+
+    [[nodiscard]] const MaterialSpec* find_material(const std::string& name) const;
+};
+
+/// Parses a scene file. Throws ConfigError listing every problem as `file:line: key: what`.
+[[nodiscard]] SceneSpec load_scene_spec(const std::filesystem::path& path);
+
+/// The same from YAML text (`source` names it in messages and anchors relative paths).
+[[nodiscard]] SceneSpec parse_scene_spec(const std::string& yaml_text,
+                                         const std::filesystem::path& source);
+
+}  // namespace beamtrace

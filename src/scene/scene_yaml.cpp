@@ -1,0 +1,332 @@
+// Scene files in YAML: every problem is collected (file, line, key) and reported at once.
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+#include <fstream>
+#include <numbers>
+#include <set>
+#include <sstream>
+
+#include "beamtrace/core/error.hpp"
+#include "beamtrace/scene/scene_spec.hpp"
+
+namespace beamtrace {
+namespace {
+
+class Checker {
+  public:
+    explicit Checker(std::filesystem::path source) : source_(std::move(source)) {}
+
+    void error(const YAML::Node& node, const std::string& key, const std::string& what) {
+        std::string where = source_.string();
+        if (node.IsDefined() && node.Mark().line >= 0) {
+            where += ":" + std::to_string(node.Mark().line + 1);
+        }
+        errors_.push_back(where + ": " + key + ": " + what);
+    }
+    [[nodiscard]] const std::vector<std::string>& errors() const { return errors_; }
+
+    /// Complains about keys of `map` that are not in `known`.
+    void only_keys(const YAML::Node& map, const std::string& key,
+                   std::initializer_list<const char*> known) {
+        for (const auto& kv : map) {
+            const auto name = kv.first.as<std::string>();
+            bool ok = false;
+            for (const char* k : known) {
+                ok = ok || name == k;
+            }
+            if (!ok) {
+                std::string list;
+                for (const char* k : known) {
+                    list += (list.empty() ? "" : ", ") + std::string(k);
+                }
+                error(kv.first, key.empty() ? name : key + "." + name,
+                      "unknown key (expected one of: " + list + ")");
+            }
+        }
+    }
+
+    bool number(const YAML::Node& node, const std::string& key, double& out) {
+        if (!node.IsScalar()) {
+            error(node, key, "expected a number");
+            return false;
+        }
+        try {
+            const double v = node.as<double>();
+            if (!std::isfinite(v)) {
+                error(node, key, "expected a finite number");
+                return false;
+            }
+            out = v;
+            return true;
+        } catch (const YAML::Exception&) {
+            error(node, key, "expected a number, got '" + node.Scalar() + "'");
+            return false;
+        }
+    }
+
+    bool vec3(const YAML::Node& node, const std::string& key, Vec3d& out) {
+        if (!node.IsSequence() || node.size() != 3) {
+            error(node, key, "expected three numbers [x, y, z]");
+            return false;
+        }
+        Vec3d v;
+        bool ok = true;
+        for (std::size_t i = 0; i < 3; ++i) {
+            ok = number(node[i], key + "[" + std::to_string(i) + "]", v[i]) && ok;
+        }
+        if (ok) {
+            out = v;
+        }
+        return ok;
+    }
+
+    bool integer(const YAML::Node& node, const std::string& key, long lo, long hi, long& out) {
+        double v = 0;
+        if (!number(node, key, v)) {
+            return false;
+        }
+        if (v != std::floor(v) || v < static_cast<double>(lo) || v > static_cast<double>(hi)) {
+            error(
+                node, key,
+                "expected an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+            return false;
+        }
+        out = static_cast<long>(v);
+        return true;
+    }
+
+  private:
+    std::filesystem::path source_;
+    std::vector<std::string> errors_;
+};
+
+void parse_transform(Checker& c, const YAML::Node& n, const std::string& key, PartTransform& t) {
+    if (!n.IsMap()) {
+        c.error(n, key, "expected a map with translate_m, rotate_deg, scale");
+        return;
+    }
+    c.only_keys(n, key, {"translate_m", "rotate_deg", "scale"});
+    if (n["translate_m"]) {
+        c.vec3(n["translate_m"], key + ".translate_m", t.translate_m);
+    }
+    if (n["rotate_deg"]) {
+        Vec3d r;
+        if (c.vec3(n["rotate_deg"], key + ".rotate_deg", r)) {
+            const double k = std::numbers::pi / 180.0;
+            t.rotate = {r.x * k, r.y * k, r.z * k};
+        }
+    }
+    if (const auto s = n["scale"]) {
+        double uniform = 1;
+        if (s.IsScalar() && c.number(s, key + ".scale", uniform)) {
+            t.scale = {uniform, uniform, uniform};
+        } else if (!s.IsScalar()) {
+            c.vec3(s, key + ".scale", t.scale);
+        }
+        if (!(t.scale.x > 0 && t.scale.y > 0 && t.scale.z > 0)) {
+            c.error(s, key + ".scale", "scale factors must be positive");
+        }
+    }
+}
+
+void parse_part(Checker& c, const YAML::Node& n, std::size_t index, SceneSpec& spec) {
+    const std::string key = "parts[" + std::to_string(index) + "]";
+    if (!n.IsMap()) {
+        c.error(n, key, "expected a map");
+        return;
+    }
+    c.only_keys(
+        n, key,
+        {"name", "mesh", "raster", "sphere", "plane", "transform", "material", "label", "part_id"});
+    PartSpec p;
+    p.part_id = static_cast<std::uint16_t>(std::min<std::size_t>(index + 1, 65535));
+    int kinds = 0;
+    const auto dir = spec.source.parent_path();
+    for (const char* k : {"mesh", "raster"}) {
+        if (const auto f = n[k]) {
+            ++kinds;
+            p.kind = std::string(k) == "mesh" ? PartKind::mesh : PartKind::raster;
+            if (!f.IsScalar() || f.Scalar().empty()) {
+                c.error(f, key + "." + k, "expected a file name");
+            } else {
+                p.file = dir / f.Scalar();
+                if (!std::filesystem::exists(p.file)) {
+                    c.error(f, key + "." + k, "file not found: " + p.file.string());
+                }
+            }
+        }
+    }
+    if (const auto s = n["sphere"]) {
+        ++kinds;
+        p.kind = PartKind::sphere;
+        const std::string sk = key + ".sphere";
+        if (!s.IsMap()) {
+            c.error(s, sk, "expected a map with center_m, radius_m");
+        } else {
+            c.only_keys(s, sk, {"center_m", "radius_m", "subdivisions"});
+            if (s["center_m"]) {
+                c.vec3(s["center_m"], sk + ".center_m", p.center_m);
+            }
+            if (s["radius_m"] && c.number(s["radius_m"], sk + ".radius_m", p.radius_m) &&
+                !(p.radius_m > 0)) {
+                c.error(s["radius_m"], sk + ".radius_m", "must be positive");
+            }
+            long sub = p.sphere_subdivisions;
+            if (s["subdivisions"] &&
+                c.integer(s["subdivisions"], sk + ".subdivisions", 0, 8, sub)) {
+                p.sphere_subdivisions = static_cast<int>(sub);
+            }
+        }
+    }
+    if (const auto s = n["plane"]) {
+        ++kinds;
+        p.kind = PartKind::plane;
+        const std::string pk = key + ".plane";
+        if (!s.IsMap()) {
+            c.error(s, pk, "expected a map with point_m, normal, size_m");
+        } else {
+            c.only_keys(s, pk, {"point_m", "normal", "size_m"});
+            if (s["point_m"]) {
+                c.vec3(s["point_m"], pk + ".point_m", p.point_m);
+            }
+            if (s["normal"] && c.vec3(s["normal"], pk + ".normal", p.normal) &&
+                length(p.normal) == 0.0) {
+                c.error(s["normal"], pk + ".normal", "must not be zero");
+            }
+            if (s["size_m"] && c.number(s["size_m"], pk + ".size_m", p.size_m) && !(p.size_m > 0)) {
+                c.error(s["size_m"], pk + ".size_m", "must be positive");
+            }
+        }
+    }
+    if (kinds != 1) {
+        c.error(n, key, "needs exactly one of mesh, raster, sphere, plane");
+    }
+    if (const auto nm = n["name"]) {
+        p.name = nm.IsScalar() ? nm.Scalar() : "";
+        if (p.name.empty()) {
+            c.error(nm, key + ".name", "expected a non-empty string");
+        }
+    } else {
+        p.name = !p.file.empty() ? p.file.filename().string() : "part-" + std::to_string(index + 1);
+    }
+    if (const auto t = n["transform"]) {
+        parse_transform(c, t, key + ".transform", p.transform);
+    }
+    if (const auto m = n["material"]) {
+        p.material = m.IsScalar() ? m.Scalar() : "";
+        if (spec.find_material(p.material) == nullptr) {
+            c.error(m, key + ".material", "unknown material '" + p.material + "'");
+        }
+    }
+    long v = 0;
+    if (n["label"] && c.integer(n["label"], key + ".label", 0, 255, v)) {
+        p.label = static_cast<std::uint8_t>(v);
+    }
+    if (n["part_id"] && c.integer(n["part_id"], key + ".part_id", 0, 65535, v)) {
+        p.part_id = static_cast<std::uint16_t>(v);
+    }
+    spec.parts.push_back(std::move(p));
+}
+
+void parse_material(Checker& c, const YAML::Node& n, std::size_t index, SceneSpec& spec,
+                    std::set<std::string>& names) {
+    const std::string key = "materials[" + std::to_string(index) + "]";
+    if (!n.IsMap()) {
+        c.error(n, key, "expected a map");
+        return;
+    }
+    c.only_keys(n, key, {"name", "reflectance", "specular_weight", "specular_exponent"});
+    MaterialSpec m;
+    if (!n["name"] || !n["name"].IsScalar() || n["name"].Scalar().empty()) {
+        c.error(n, key + ".name", "every material needs a name");
+    } else {
+        m.name = n["name"].Scalar();
+        if (!names.insert(m.name).second) {
+            c.error(n["name"], key + ".name", "duplicate material '" + m.name + "'");
+        }
+    }
+    const auto unit = [&](const char* k, double& out) {
+        if (n[k] && c.number(n[k], key + "." + k, out) && !(out >= 0.0 && out <= 1.0)) {
+            c.error(n[k], key + "." + k, "must be in [0, 1]");
+        }
+    };
+    unit("reflectance", m.reflectance);
+    unit("specular_weight", m.specular_weight);
+    if (n["specular_exponent"] &&
+        c.number(n["specular_exponent"], key + ".specular_exponent", m.specular_exponent) &&
+        !(m.specular_exponent > 0)) {
+        c.error(n["specular_exponent"], key + ".specular_exponent", "must be positive");
+    }
+    spec.materials.push_back(m);
+}
+
+}  // namespace
+
+const MaterialSpec* SceneSpec::find_material(const std::string& name) const {
+    for (const auto& m : materials) {
+        if (m.name == name) {
+            return &m;
+        }
+    }
+    return nullptr;
+}
+
+SceneSpec parse_scene_spec(const std::string& yaml_text, const std::filesystem::path& source) {
+    YAML::Node root;
+    try {
+        root = YAML::Load(yaml_text);
+    } catch (const YAML::ParserException& e) {
+        throw ConfigError(source.string() + ":" + std::to_string(e.mark.line + 1) +
+                          ": not valid YAML: " + e.msg);
+    }
+    Checker c(source);
+    SceneSpec spec;
+    spec.source = source;
+    spec.materials.push_back(MaterialSpec{"default"});
+    if (!root.IsMap()) {
+        throw ConfigError(source.string() + ": expected a map with 'parts' at the top level");
+    }
+    c.only_keys(root, "", {"origin_m", "materials", "parts"});
+    if (root["origin_m"]) {
+        c.vec3(root["origin_m"], "origin_m", spec.origin_m);
+    }
+    std::set<std::string> names{"default"};
+    if (const auto ms = root["materials"]) {
+        if (!ms.IsSequence()) {
+            c.error(ms, "materials", "expected a list");
+        } else {
+            for (std::size_t i = 0; i < ms.size(); ++i) {
+                parse_material(c, ms[i], i, spec, names);
+            }
+        }
+    }
+    const auto ps = root["parts"];
+    if (!ps || !ps.IsSequence() || ps.size() == 0) {
+        c.error(ps ? ps : root, "parts", "expected a non-empty list of parts");
+    } else {
+        for (std::size_t i = 0; i < ps.size(); ++i) {
+            parse_part(c, ps[i], i, spec);
+        }
+    }
+    if (!c.errors().empty()) {
+        std::string msg = std::to_string(c.errors().size()) + " problem(s) in the scene file:";
+        for (const auto& e : c.errors()) {
+            msg += "\n  " + e;
+        }
+        throw ConfigError(msg);
+    }
+    return spec;
+}
+
+SceneSpec load_scene_spec(const std::filesystem::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) {
+        throw InputError(path.string(), "cannot open the scene file");
+    }
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return parse_scene_spec(ss.str(), path);
+}
+
+}  // namespace beamtrace
