@@ -1,0 +1,127 @@
+#include "beamtrace/sensor/line_scanner.hpp"
+
+#include <cmath>
+#include <numbers>
+#include <utility>
+
+#include "beamtrace/core/error.hpp"
+
+namespace beamtrace {
+namespace {
+
+constexpr double kDegToRad = std::numbers::pi / 180.0;
+
+/// The fractional part of x, in [0, 1).
+double frac(double x) {
+    return x - std::floor(x);
+}
+
+}  // namespace
+
+std::string_view to_string(ScanWaveform waveform) {
+    switch (waveform) {
+        case ScanWaveform::sawtooth:
+            return "sawtooth";
+        case ScanWaveform::sinusoid:
+            return "sinusoid";
+        case ScanWaveform::triangle:
+            return "triangle";
+    }
+    return "unknown";
+}
+
+ScanWaveform parse_scan_waveform(std::string_view name) {
+    for (const ScanWaveform w :
+         {ScanWaveform::sawtooth, ScanWaveform::sinusoid, ScanWaveform::triangle}) {
+        if (name == to_string(w)) {
+            return w;
+        }
+    }
+    throw ConfigError("unknown scan waveform '" + std::string(name) +
+                      "' (expected sawtooth, sinusoid or triangle)");
+}
+
+std::vector<std::string> LineScannerConfig::validate() const {
+    std::vector<std::string> p;
+    const bool rate_ok = pulse_rate_hz > 0.0 && std::isfinite(pulse_rate_hz);
+    if (!rate_ok) {
+        p.push_back("pulse_rate_hz must be positive (got " + std::to_string(pulse_rate_hz) + ")");
+    }
+    if (!(scan_rate_hz > 0.0 && std::isfinite(scan_rate_hz))) {
+        p.push_back("scan_rate_hz must be positive (got " + std::to_string(scan_rate_hz) + ")");
+    } else if (rate_ok && !(2.0 * scan_rate_hz <= pulse_rate_hz)) {
+        p.push_back("scan_rate_hz (" + std::to_string(scan_rate_hz) +
+                    ") must leave at least two pulses per line (pulse_rate_hz " +
+                    std::to_string(pulse_rate_hz) + ")");
+    }
+    if (!(scan_angle_max_deg > 0.0 && scan_angle_max_deg < 90.0)) {
+        p.push_back("scan_angle_max_deg must be in (0, 90) (got " +
+                    std::to_string(scan_angle_max_deg) + ")");
+    }
+    if (waveform != ScanWaveform::sawtooth && waveform != ScanWaveform::sinusoid &&
+        waveform != ScanWaveform::triangle) {
+        p.push_back("waveform must be sawtooth, sinusoid or triangle");
+    }
+    if (!(duration_s > 0.0 && std::isfinite(duration_s))) {
+        p.push_back("duration_s must be positive (got " + std::to_string(duration_s) + ")");
+    } else if (rate_ok) {
+        const double pulses = duration_s * pulse_rate_hz;
+        if (!(pulses <= 9.0e15)) {
+            p.push_back("duration_s x pulse_rate_hz must be below 9e15 pulses");
+        } else if (whole_count(pulses) == 0) {
+            p.push_back("duration_s (" + std::to_string(duration_s) +
+                        ") is shorter than one pulse");
+        }
+    }
+    if (!std::isfinite(start_time_s)) {
+        p.push_back("start_time_s must be finite");
+    }
+    return p;
+}
+
+LineScanner::LineScanner(LineScannerConfig config) : config_(std::move(config)) {
+    throw_if_problems("line scanner", config_.validate());
+    pulse_count_ = whole_count(config_.duration_s * config_.pulse_rate_hz);
+}
+
+double LineScanner::angle_at_lines(double lines) const {
+    const double a = config_.scan_angle_max_deg;
+    switch (config_.waveform) {
+        case ScanWaveform::sawtooth:
+            return -a + 2.0 * a * frac(lines);
+        case ScanWaveform::triangle:
+            return a * (1.0 - 4.0 * std::abs(frac(0.5 * lines) - 0.5));
+        case ScanWaveform::sinusoid:
+            return -a * std::cos(2.0 * std::numbers::pi * frac(0.5 * lines));
+    }
+    return 0.0;
+}
+
+double LineScanner::scan_angle_deg_at(double time_s) const {
+    return angle_at_lines((time_s - config_.start_time_s) * config_.scan_rate_hz);
+}
+
+std::uint64_t LineScanner::line_of_pulse(std::uint64_t i) const {
+    return static_cast<std::uint64_t>(
+        std::floor(static_cast<double>(i) * config_.scan_rate_hz / config_.pulse_rate_hz));
+}
+
+double LineScanner::line_start_time_s(std::uint64_t n) const {
+    return config_.start_time_s + static_cast<double>(n) / config_.scan_rate_hz;
+}
+
+void LineScanner::generate_pulses(std::uint64_t first, std::size_t count, PulseBatch& out) const {
+    for (std::size_t j = 0; j < count; ++j) {
+        const std::uint64_t i = first + j;
+        // The same expression as line_of_pulse, so a pulse's angle and line always agree.
+        const double lines = static_cast<double>(i) * config_.scan_rate_hz / config_.pulse_rate_hz;
+        const double s_deg = angle_at_lines(lines);
+        const double s = s_deg * kDegToRad;
+        out.time_s[j] = pulse_time_s(i);
+        out.direction[j] = {std::cos(s), std::sin(s), 0.0};
+        out.channel[j] = 0;
+        out.scan_angle_deg[j] = static_cast<float>(s_deg);
+    }
+}
+
+}  // namespace beamtrace

@@ -1,0 +1,164 @@
+#include "beamtrace/sensor/rotating_scanner.hpp"
+
+#include <cmath>
+#include <numbers>
+#include <utility>
+
+namespace beamtrace {
+namespace {
+
+constexpr double kDegToRad = std::numbers::pi / 180.0;
+
+/// n evenly spaced values from lo to hi inclusive.
+std::vector<double> evenly(double lo, double hi, int n) {
+    std::vector<double> v(static_cast<std::size_t>(n));
+    for (int i = 0; i < n; ++i) {
+        v[static_cast<std::size_t>(i)] =
+            i == n - 1 ? hi : lo + (hi - lo) * static_cast<double>(i) / static_cast<double>(n - 1);
+    }
+    return v;
+}
+
+RotatingScannerConfig preset(std::vector<double> elevations_deg, double resolution_deg) {
+    RotatingScannerConfig c;
+    c.beam_elevations_deg = std::move(elevations_deg);
+    c.rotation_rate_hz = 10.0;
+    c.azimuth_resolution_deg = resolution_deg;
+    c.duration_s = 0.1;  // one revolution
+    return c;
+}
+
+/// `deg` wrapped into [-180, 180).
+double wrap_deg(double deg) {
+    double w = std::fmod(deg + 180.0, 360.0);
+    if (w < 0.0) {
+        w += 360.0;
+    }
+    return w - 180.0;
+}
+
+}  // namespace
+
+std::vector<std::string> RotatingScannerConfig::validate() const {
+    std::vector<std::string> p;
+    const std::size_t beams = beam_elevations_deg.size();
+    if (beams == 0) {
+        p.push_back("beam_elevations_deg must list at least one beam");
+    }
+    if (beams > std::size_t{65536}) {
+        p.push_back("at most 65536 beams (channels are 16-bit), got " + std::to_string(beams));
+    }
+    for (std::size_t b = 0; b < beams; ++b) {
+        const double e = beam_elevations_deg[b];
+        if (!(e >= -90.0 && e <= 90.0)) {
+            p.push_back("beam_elevations_deg[" + std::to_string(b) +
+                        "] must be in [-90, 90] (got " + std::to_string(e) + ")");
+        }
+    }
+    if (!beam_azimuth_offsets_deg.empty() && beam_azimuth_offsets_deg.size() != beams) {
+        p.push_back("beam_azimuth_offsets_deg must be empty or have one value per beam (" +
+                    std::to_string(beams) + "), got " +
+                    std::to_string(beam_azimuth_offsets_deg.size()));
+    }
+    for (std::size_t b = 0; b < beam_azimuth_offsets_deg.size(); ++b) {
+        if (!std::isfinite(beam_azimuth_offsets_deg[b])) {
+            p.push_back("beam_azimuth_offsets_deg[" + std::to_string(b) + "] must be finite");
+        }
+    }
+    if (!(rotation_rate_hz > 0.0 && std::isfinite(rotation_rate_hz))) {
+        p.push_back("rotation_rate_hz must be positive (got " + std::to_string(rotation_rate_hz) +
+                    ")");
+    }
+    if (!(azimuth_resolution_deg > 0.0 && azimuth_resolution_deg <= 360.0)) {
+        p.push_back("azimuth_resolution_deg must be in (0, 360] (got " +
+                    std::to_string(azimuth_resolution_deg) + ")");
+    }
+    if (!std::isfinite(start_azimuth_deg)) {
+        p.push_back("start_azimuth_deg must be finite");
+    }
+    if (!(duration_s > 0.0 && std::isfinite(duration_s))) {
+        p.push_back("duration_s must be positive (got " + std::to_string(duration_s) + ")");
+    }
+    if (!std::isfinite(start_time_s)) {
+        p.push_back("start_time_s must be finite");
+    }
+    if (p.empty()) {
+        const double pulses = duration_s * pulse_rate_hz();
+        if (!(pulses <= 9.0e15)) {
+            p.push_back("duration_s x pulse rate must be below 9e15 pulses");
+        } else if (firing_count() == 0) {
+            p.push_back("duration_s (" + std::to_string(duration_s) +
+                        ") is shorter than one firing (" + std::to_string(1.0 / firing_rate_hz()) +
+                        " s)");
+        }
+    }
+    return p;
+}
+
+std::uint64_t RotatingScannerConfig::firing_count() const {
+    return whole_count(duration_s * firing_rate_hz());
+}
+
+RotatingScannerConfig vlp16() {
+    return preset({-15, 1, -13, 3, -11, 5, -9, 7, -7, 9, -5, 11, -3, 13, -1, 15}, 0.2);
+}
+
+RotatingScannerConfig hdl32() {
+    return preset(evenly(-30.67, 10.67, 32), 0.16);
+}
+
+RotatingScannerConfig hdl64() {
+    return preset(evenly(-24.9, 2.0, 64), 0.18);
+}
+
+RotatingScannerConfig os128() {
+    return preset(evenly(-22.5, 22.5, 128), 360.0 / 1024.0);
+}
+
+RotatingScanner::RotatingScanner(RotatingScannerConfig config) : config_(std::move(config)) {
+    throw_if_problems("rotating scanner", config_.validate());
+    const std::size_t beams = beam_count();
+    pulse_count_ = config_.firing_count() * beams;
+    pulse_rate_hz_ = config_.pulse_rate_hz();
+    const double per_rev = 360.0 / config_.azimuth_resolution_deg;
+    const double rounded = std::round(per_rev);
+    if (std::abs(per_rev - rounded) <= 1e-9 * rounded) {
+        firings_per_revolution_ = static_cast<std::uint64_t>(rounded);
+    }
+    if (config_.beam_azimuth_offsets_deg.empty()) {
+        config_.beam_azimuth_offsets_deg.assign(beams, 0.0);
+    }
+    cos_elevation_.resize(beams);
+    sin_elevation_.resize(beams);
+    for (std::size_t b = 0; b < beams; ++b) {
+        const double e = config_.beam_elevations_deg[b] * kDegToRad;
+        cos_elevation_[b] = std::cos(e);
+        sin_elevation_[b] = std::sin(e);
+    }
+}
+
+void RotatingScanner::generate_pulses(std::uint64_t first, std::size_t count,
+                                      PulseBatch& out) const {
+    const std::uint64_t beams = beam_count();
+    const double res = config_.azimuth_resolution_deg;
+    const double sign = config_.spin_clockwise ? -1.0 : 1.0;
+    for (std::size_t j = 0; j < count; ++j) {
+        const std::uint64_t i = first + j;
+        const std::uint64_t k = i / beams;
+        const std::size_t b = static_cast<std::size_t>(i % beams);
+        const double head_deg = firings_per_revolution_ > 0
+                                    ? static_cast<double>(k % firings_per_revolution_) * res
+                                    : std::fmod(static_cast<double>(k) * res, 360.0);
+        const double within_deg = res * static_cast<double>(b) / static_cast<double>(beams);
+        const double az_deg = wrap_deg(config_.start_azimuth_deg + sign * (head_deg + within_deg) +
+                                       config_.beam_azimuth_offsets_deg[b]);
+        const double az = az_deg * kDegToRad;
+        out.time_s[j] = pulse_time_s(i);
+        out.direction[j] = {cos_elevation_[b] * std::cos(az), cos_elevation_[b] * std::sin(az),
+                            sin_elevation_[b]};
+        out.channel[j] = static_cast<std::uint16_t>(b);
+        out.scan_angle_deg[j] = static_cast<float>(az_deg);
+    }
+}
+
+}  // namespace beamtrace

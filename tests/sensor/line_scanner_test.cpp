@@ -1,0 +1,209 @@
+// Airborne line scanner: waveforms, timing, chunking, and an analytic flight over the plane
+// z = 0 (swath width, line spacing, motion distortion).
+#include "beamtrace/sensor/line_scanner.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "beamtrace/core/error.hpp"
+#include "beamtrace/sensor/trajectory.hpp"
+
+namespace beamtrace {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+constexpr double kDegToRad = kPi / 180.0;
+
+LineScannerConfig config(ScanWaveform waveform) {
+    LineScannerConfig c;
+    c.pulse_rate_hz = 100'000.0;
+    c.scan_rate_hz = 100.0;  // 1000 pulses per line
+    c.scan_angle_max_deg = 20.0;
+    c.waveform = waveform;
+    c.duration_s = 0.05;  // 5 lines
+    return c;
+}
+
+PulseBatch all_pulses(const ScanPattern& pattern) {
+    PulseBatch out;
+    pattern.generate(0, static_cast<std::size_t>(pattern.pulse_count()), out);
+    return out;
+}
+
+/// The beam's angle from the sensor x axis towards +y, in degrees.
+double beam_angle_deg(const Vec3d& d) {
+    return std::atan2(d.y, d.x) / kDegToRad;
+}
+
+TEST(LineScanner, SawtoothRampsFromMinusToPlusMaxEveryLine) {
+    const LineScanner scanner(config(ScanWaveform::sawtooth));
+    ASSERT_EQ(scanner.pulse_count(), 5000u);
+    const PulseBatch p = all_pulses(scanner);
+    double lo = 1e9, hi = -1e9;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+        const double j = static_cast<double>(i % 1000);
+        const double expected = -20.0 + 40.0 * j / 1000.0;
+        ASSERT_NEAR(beam_angle_deg(p.direction[i]), expected, 1e-9) << i;
+        ASSERT_NEAR(p.scan_angle_deg[i], expected, 1e-5);
+        ASSERT_EQ(p.direction[i].z, 0.0);
+        ASSERT_NEAR(length(p.direction[i]), 1.0, 1e-15);
+        ASSERT_EQ(p.channel[i], 0);
+        ASSERT_EQ(scanner.line_of_pulse(i), i / 1000);
+        lo = std::min(lo, beam_angle_deg(p.direction[i]));
+        hi = std::max(hi, beam_angle_deg(p.direction[i]));
+    }
+    EXPECT_NEAR(lo, -20.0, 1e-12);              // reached at each line's start
+    EXPECT_NEAR(hi, 20.0 - 40.0 / 1000, 1e-9);  // one step short of +max, then fly back
+    EXPECT_NEAR(scanner.scan_angle_deg_at(0.01 - 1e-9), 20.0, 1e-4);
+}
+
+TEST(LineScanner, TriangleIsSymmetricAndLinear) {
+    const LineScanner scanner(config(ScanWaveform::triangle));
+    const PulseBatch p = all_pulses(scanner);
+    auto angle = [&](std::size_t i) { return beam_angle_deg(p.direction[i]); };
+    EXPECT_NEAR(angle(0), -20.0, 1e-12);
+    EXPECT_NEAR(angle(1000), 20.0, 1e-12);  // turning point at the end of line 0
+    EXPECT_NEAR(angle(2000), -20.0, 1e-12);
+    for (std::size_t j = 1; j < 1000; ++j) {
+        ASSERT_NEAR(angle(1000 - j), angle(1000 + j), 1e-9) << j;   // symmetric about +max
+        ASSERT_NEAR(angle(2000 + j), angle(j), 1e-9);               // periodic over 2 lines
+        ASSERT_NEAR(angle(j) - angle(j - 1), 40.0 / 1000.0, 1e-9);  // linear ramp up
+        ASSERT_NEAR(angle(1000 + j) - angle(1000 + j - 1), -40.0 / 1000.0, 1e-9);  // and down
+    }
+}
+
+TEST(LineScanner, SinusoidHasTheScanAmplitude) {
+    const LineScanner scanner(config(ScanWaveform::sinusoid));
+    const PulseBatch p = all_pulses(scanner);
+    double max_abs = 0.0, sum = 0.0;
+    for (std::size_t i = 0; i < 4000; ++i) {  // two whole mirror periods
+        const double a = beam_angle_deg(p.direction[i]);
+        const double expected = -20.0 * std::cos(kPi * static_cast<double>(i) / 1000.0);
+        ASSERT_NEAR(a, expected, 1e-9) << i;
+        max_abs = std::max(max_abs, std::abs(a));
+        sum += a;
+    }
+    EXPECT_NEAR(max_abs, 20.0, 1e-12);  // the half-angle is scan_angle_max
+    EXPECT_NEAR(sum / 4000.0, 0.0, 1e-9);
+}
+
+TEST(LineScanner, TimesComeFromThePulseRateAndChunkingDoesNotMatter) {
+    LineScannerConfig c = config(ScanWaveform::sinusoid);
+    c.start_time_s = 86400.25;
+    c.pulse_rate_hz = 33'333.0;  // not a multiple of the line rate
+    c.scan_rate_hz = 71.0;
+    c.duration_s = 0.3;
+    const LineScanner scanner(c);
+    EXPECT_EQ(scanner.pulse_count(), 9999u);
+    const PulseBatch whole = all_pulses(scanner);
+    for (std::size_t i = 0; i < whole.size(); ++i) {
+        ASSERT_EQ(whole.time_s[i], 86400.25 + static_cast<double>(i) / 33'333.0);
+    }
+    for (const std::size_t chunk : {std::size_t{1}, std::size_t{13}, std::size_t{4096}}) {
+        PulseBatch part;
+        for (std::uint64_t first = 0; first < scanner.pulse_count(); first += chunk) {
+            const auto n = static_cast<std::size_t>(
+                std::min<std::uint64_t>(chunk, scanner.pulse_count() - first));
+            scanner.generate(first, n, part);
+            for (std::size_t j = 0; j < n; ++j) {
+                const auto i = static_cast<std::size_t>(first + j);
+                ASSERT_EQ(part.time_s[j], whole.time_s[i]);
+                ASSERT_EQ(part.direction[j], whole.direction[i]);
+                ASSERT_EQ(part.scan_angle_deg[j], whole.scan_angle_deg[i]);
+            }
+        }
+    }
+}
+
+/// A nadir line scanner flown along +x at height H and speed v over the plane z = 0.
+struct Flight {
+    static constexpr double kHeight = 500.0, kSpeed = 60.0;
+    LinearLegs legs{{{{0.0, 0.0, kHeight}, {1000.0, 0.0, kHeight}}, {}, kSpeed, 0.0}};
+    Mount mount = Mount::from_lever_arm({0.0, 0.0, 0.0}, {0.0, -kPi / 2, 0.0});
+
+    /// Where pulse j of `p` meets the ground: t = H / -d_z along the world direction.
+    [[nodiscard]] Vec3d ground(const PulseBatch& p, std::size_t j) const {
+        const Pose pose = sensor_pose(legs, mount, p.time_s[j]);
+        const Vec3d o = pose.apply_point({0.0, 0.0, 0.0});
+        const Vec3d d = pose.apply_direction(p.direction[j]);
+        EXPECT_LT(d.z, 0.0);
+        return o + d * (o.z / -d.z);
+    }
+};
+
+TEST(LineScanner, NadirFlightSwathIsTwoHTanMaxAndCrossTrackIsHTanScanAngle) {
+    const Flight flight;
+    const double h = Flight::kHeight;
+    for (const ScanWaveform w : {ScanWaveform::triangle, ScanWaveform::sinusoid}) {
+        const LineScanner scanner(config(w));
+        const PulseBatch p = all_pulses(scanner);
+        double y_min = 1e9, y_max = -1e9;
+        for (std::size_t j = 0; j < p.size(); ++j) {
+            const Vec3d g = flight.ground(p, j);
+            const double s = beam_angle_deg(p.direction[j]) * kDegToRad;
+            ASSERT_NEAR(g.z, 0.0, 1e-9);
+            ASSERT_NEAR(g.y, h * std::tan(s), 1e-9) << "positive scan angle lands left (+y)";
+            y_min = std::min(y_min, g.y);
+            y_max = std::max(y_max, g.y);
+        }
+        const double swath = 2.0 * h * std::tan(20.0 * kDegToRad);
+        EXPECT_NEAR(y_max - y_min, swath, 1e-9) << to_string(w);
+        EXPECT_NEAR(y_max, -y_min, 1e-9);
+    }
+}
+
+TEST(LineScanner, SawtoothLinesAreVOverScanRateApartWithMotionDistortion) {
+    const Flight flight;
+    const LineScanner scanner(config(ScanWaveform::sawtooth));
+    const PulseBatch p = all_pulses(scanner);
+    const double v = Flight::kSpeed, spacing = v / 100.0;
+    for (std::size_t line = 0; line < 5; ++line) {
+        const std::size_t first = line * 1000;
+        const Vec3d start = flight.ground(p, first);
+        EXPECT_NEAR(start.x, static_cast<double>(line) * spacing, 1e-9);  // lines v / rate apart
+        EXPECT_NEAR(start.y, -Flight::kHeight * std::tan(20.0 * kDegToRad), 1e-9);
+        const double line_start_s = scanner.line_start_time_s(line);
+        EXPECT_NEAR(line_start_s, p.time_s[first], 1e-15);
+        for (std::size_t j = first; j < first + 1000; ++j) {
+            // Constant velocity: the along-track offset within a line is v (t - t_line).
+            ASSERT_NEAR(flight.ground(p, j).x - start.x, v * (p.time_s[j] - line_start_s), 1e-9);
+        }
+    }
+}
+
+TEST(LineScanner, WaveformNamesRoundTrip) {
+    for (const ScanWaveform w :
+         {ScanWaveform::sawtooth, ScanWaveform::sinusoid, ScanWaveform::triangle}) {
+        EXPECT_EQ(parse_scan_waveform(to_string(w)), w);
+    }
+    EXPECT_THROW(static_cast<void>(parse_scan_waveform("square")), ConfigError);
+}
+
+TEST(LineScanner, ValidationListsEveryProblem) {
+    LineScannerConfig c;
+    c.pulse_rate_hz = 0.0;
+    c.scan_rate_hz = -5.0;
+    c.scan_angle_max_deg = 90.0;
+    c.duration_s = std::nan("");
+    c.start_time_s = INFINITY;
+    EXPECT_EQ(c.validate().size(), 5u);
+    try {
+        LineScanner scanner(c);
+        FAIL() << "expected ConfigError";
+    } catch (const ConfigError& e) {
+        const std::string msg = e.what();
+        for (const char* key : {"pulse_rate_hz", "scan_rate_hz", "scan_angle_max_deg", "duration_s",
+                                "start_time_s"}) {
+            EXPECT_NE(msg.find(key), std::string::npos) << msg;
+        }
+    }
+    LineScannerConfig fast = config(ScanWaveform::sawtooth);
+    fast.scan_rate_hz = 60'000.0;  // fewer than two pulses per line
+    EXPECT_EQ(fast.validate().size(), 1u);
+}
+
+}  // namespace
+}  // namespace beamtrace
