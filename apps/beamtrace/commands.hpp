@@ -10,4 +10,7 @@ namespace beamtrace::cli {
 /// Registers `scan`; the returned function runs it after parsing and returns the exit code.
 std::function<int()> add_scan_command(CLI::App& app);
 
+/// Registers `info FILE`: prints a LAS file's header summary and VLR list.
+std::function<int()> add_info_command(CLI::App& app);
+
 }  // namespace beamtrace::cli

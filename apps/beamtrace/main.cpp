@@ -13,6 +13,7 @@ int main(int argc, char** argv) {
     app.require_subcommand(1);
     app.failure_message([](const CLI::App*, const CLI::Error& e) { return std::string(e.what()); });
     const auto run_scan = beamtrace::cli::add_scan_command(app);
+    const auto run_info = beamtrace::cli::add_info_command(app);
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {
@@ -28,6 +29,9 @@ int main(int argc, char** argv) {
     try {
         if (app.got_subcommand("scan")) {
             return run_scan();
+        }
+        if (app.got_subcommand("info")) {
+            return run_info();
         }
     } catch (const beamtrace::Error& e) {
         std::fprintf(stderr, "beamtrace: error: %s\n", e.what());

@@ -9,97 +9,12 @@
 
 #include "beamtrace/core/error.hpp"
 #include "beamtrace/scene/scene_spec.hpp"
+#include "io/detail/yaml_checker.hpp"
 
 namespace beamtrace {
 namespace {
 
-class Checker {
-  public:
-    explicit Checker(std::filesystem::path source) : source_(std::move(source)) {}
-
-    void error(const YAML::Node& node, const std::string& key, const std::string& what) {
-        std::string where = source_.string();
-        if (node.IsDefined() && node.Mark().line >= 0) {
-            where += ":" + std::to_string(node.Mark().line + 1);
-        }
-        errors_.push_back(where + ": " + key + ": " + what);
-    }
-    [[nodiscard]] const std::vector<std::string>& errors() const { return errors_; }
-
-    /// Complains about keys of `map` that are not in `known`.
-    void only_keys(const YAML::Node& map, const std::string& key,
-                   std::initializer_list<const char*> known) {
-        for (const auto& kv : map) {
-            const auto name = kv.first.as<std::string>();
-            bool ok = false;
-            for (const char* k : known) {
-                ok = ok || name == k;
-            }
-            if (!ok) {
-                std::string list;
-                for (const char* k : known) {
-                    list += (list.empty() ? "" : ", ") + std::string(k);
-                }
-                error(kv.first, key.empty() ? name : key + "." + name,
-                      "unknown key (expected one of: " + list + ")");
-            }
-        }
-    }
-
-    bool number(const YAML::Node& node, const std::string& key, double& out) {
-        if (!node.IsScalar()) {
-            error(node, key, "expected a number");
-            return false;
-        }
-        try {
-            const double v = node.as<double>();
-            if (!std::isfinite(v)) {
-                error(node, key, "expected a finite number");
-                return false;
-            }
-            out = v;
-            return true;
-        } catch (const YAML::Exception&) {
-            error(node, key, "expected a number, got '" + node.Scalar() + "'");
-            return false;
-        }
-    }
-
-    bool vec3(const YAML::Node& node, const std::string& key, Vec3d& out) {
-        if (!node.IsSequence() || node.size() != 3) {
-            error(node, key, "expected three numbers [x, y, z]");
-            return false;
-        }
-        Vec3d v;
-        bool ok = true;
-        for (std::size_t i = 0; i < 3; ++i) {
-            ok = number(node[i], key + "[" + std::to_string(i) + "]", v[i]) && ok;
-        }
-        if (ok) {
-            out = v;
-        }
-        return ok;
-    }
-
-    bool integer(const YAML::Node& node, const std::string& key, long lo, long hi, long& out) {
-        double v = 0;
-        if (!number(node, key, v)) {
-            return false;
-        }
-        if (v != std::floor(v) || v < static_cast<double>(lo) || v > static_cast<double>(hi)) {
-            error(
-                node, key,
-                "expected an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
-            return false;
-        }
-        out = static_cast<long>(v);
-        return true;
-    }
-
-  private:
-    std::filesystem::path source_;
-    std::vector<std::string> errors_;
-};
+using Checker = detail::YamlChecker;
 
 void parse_transform(Checker& c, const YAML::Node& n, const std::string& key, PartTransform& t) {
     if (!n.IsMap()) {
@@ -309,13 +224,7 @@ SceneSpec parse_scene_spec(const std::string& yaml_text, const std::filesystem::
             parse_part(c, ps[i], i, spec);
         }
     }
-    if (!c.errors().empty()) {
-        std::string msg = std::to_string(c.errors().size()) + " problem(s) in the scene file:";
-        for (const auto& e : c.errors()) {
-            msg += "\n  " + e;
-        }
-        throw ConfigError(msg);
-    }
+    c.throw_if_any("scene file");
     return spec;
 }
 

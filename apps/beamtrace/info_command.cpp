@@ -1,0 +1,119 @@
+// `beamtrace info FILE.las`: a human-readable summary of a LAS file's header and VLRs.
+#include <charconv>
+#include <cstdio>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "beamtrace/io/las_reader.hpp"
+#include "commands.hpp"
+
+namespace beamtrace::cli {
+namespace {
+
+struct InfoOptions {
+    std::string file;
+    std::size_t points = 0;
+};
+
+/// The shortest text that reads back as `v`, without an exponent for everyday magnitudes.
+template <typename T>
+std::string shortest(T v) {
+    char buf[64];
+    const T a = v < 0 ? -v : v;
+    const bool fixed = a == 0 || (a >= T(1e-9) && a < T(1e15));
+    const auto [end, ec] = fixed ? std::to_chars(buf, buf + sizeof buf, v, std::chars_format::fixed)
+                                 : std::to_chars(buf, buf + sizeof buf, v);
+    return ec == std::errc() ? std::string(buf, end) : std::string("?");
+}
+
+std::string triple(const Vec3d& v) {
+    return shortest(v.x) + " " + shortest(v.y) + " " + shortest(v.z);
+}
+
+void print_point(std::size_t index, const LasPoint& p, const LasHeader& h) {
+    std::printf("  #%zu: xyz %s, intensity %u, return %u of %u, class %u%s%s%s%s", index,
+                triple({p.x, p.y, p.z}).c_str(), p.intensity, p.return_number, p.number_of_returns,
+                p.classification, p.synthetic ? " synthetic" : "", p.key_point ? " key-point" : "",
+                p.withheld ? " withheld" : "", p.overlap ? " overlap" : "");
+    std::printf(", scan angle %s deg, source %u", shortest(p.scan_angle_deg).c_str(),
+                p.point_source_id);
+    if (las_format_has_gps_time(h.point_format)) {
+        std::printf(", gps time %s", shortest(p.gps_time).c_str());
+    }
+    if (las_format_has_rgb(h.point_format)) {
+        std::printf(", rgb %u %u %u", p.red, p.green, p.blue);
+    }
+    if (las_format_has_nir(h.point_format)) {
+        std::printf(", nir %u", p.nir);
+    }
+    std::printf("\n");
+}
+
+int run(const InfoOptions& o) {
+    LasReader reader(o.file);
+    const LasHeader& h = reader.header();
+    std::printf("file:                %s\n", o.file.c_str());
+    std::printf("LAS version:         %d.%d\n", h.version_major, h.version_minor);
+    std::printf("point format:        %d (record length %u bytes, %zu extra)\n", h.point_format,
+                h.point_record_length, h.extra_bytes_per_point());
+    std::printf("point count:         %llu\n", static_cast<unsigned long long>(h.point_count));
+    if (h.version_minor >= 4) {
+        std::printf("legacy point count:  %u\n", h.legacy_point_count);
+    }
+    const std::size_t returns = h.version_minor >= 4 ? 15 : 5;
+    std::string by_return;
+    for (std::size_t i = 0; i < returns; ++i) {
+        by_return += (i ? " " : "") + std::to_string(h.points_by_return[i]);
+    }
+    std::printf("points by return:    %s\n", by_return.c_str());
+    std::printf("scale:               %s\n", triple(h.scale).c_str());
+    std::printf("offset:              %s\n", triple(h.offset).c_str());
+    std::printf("min:                 %s\n", triple(h.min).c_str());
+    std::printf("max:                 %s\n", triple(h.max).c_str());
+    std::printf("global encoding:     0x%04x (GPS time: %s%s)\n", h.global_encoding,
+                h.gps_time_is_standard() ? "adjusted standard GPS time" : "GPS week time",
+                h.crs_is_wkt() ? ", CRS: WKT" : "");
+    std::printf("system identifier:   \"%s\"\n", h.system_identifier.c_str());
+    std::printf("generating software: \"%s\"\n", h.generating_software.c_str());
+    std::printf("created:             day %u of %u\n", h.creation_day_of_year, h.creation_year);
+    std::printf("file source id:      %u\n", h.file_source_id);
+    std::printf("header size:         %u bytes; point data at byte %u\n", h.header_size,
+                h.offset_to_point_data);
+    std::size_t n_vlr = 0;
+    for (const auto& v : reader.vlrs()) {
+        n_vlr += v.extended ? 0 : 1;
+    }
+    std::printf("VLRs:                %zu\n", n_vlr);
+    for (const auto& v : reader.vlrs()) {
+        if (v.extended && &v == &reader.vlrs()[n_vlr]) {
+            std::printf("EVLRs:               %u (from byte %llu)\n", h.number_of_evlrs,
+                        static_cast<unsigned long long>(h.start_of_first_evlr));
+        }
+        std::printf("  %-16s %5u  %8llu bytes  \"%s\"\n", v.user_id.c_str(), v.record_id,
+                    static_cast<unsigned long long>(v.length), v.description.c_str());
+    }
+    if (o.points > 0) {
+        std::vector<LasPoint> points(o.points);
+        const std::size_t n = reader.read(points);
+        std::printf("first %zu point(s):\n", n);
+        for (std::size_t i = 0; i < n; ++i) {
+            print_point(i, points[i], h);
+        }
+    }
+    return 0;
+}
+
+}  // namespace
+
+std::function<int()> add_info_command(CLI::App& app) {
+    auto opts = std::make_shared<InfoOptions>();
+    CLI::App* cmd =
+        app.add_subcommand("info", "Print the header, VLRs and EVLRs of a LAS file (1.0-1.4)");
+    cmd->add_option("file", opts->file, "LAS file")->required();
+    cmd->add_option("--points", opts->points, "Also print the first N points")
+        ->capture_default_str();
+    return [opts] { return run(*opts); };
+}
+
+}  // namespace beamtrace::cli

@@ -1,0 +1,106 @@
+// Streaming writer for LAS 1.4 files with point data record formats 6, 7 and 8.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "beamtrace/core/aabb.hpp"
+#include "beamtrace/core/vec3.hpp"
+#include "beamtrace/io/las.hpp"
+
+namespace beamtrace {
+
+class AtomicFile;
+
+/// What LasWriter writes besides the points. Defaults give a valid LAS 1.4 / format 6 file with
+/// millimetre coordinates around the origin (±2147 km); use las_config_for_extent() for data
+/// elsewhere.
+struct LasWriterConfig {
+    int point_format = 6;  ///< 6 (GPS time), 7 (+ RGB) or 8 (+ RGB + NIR)
+    Vec3d scale{0.001, 0.001, 0.001};
+    Vec3d offset{0.0, 0.0, 0.0};
+    std::string system_identifier = "beamtrace";                       ///< <= 32 characters
+    std::string generating_software = "beamtrace " BEAMTRACE_VERSION;  ///< <= 32 characters
+    /// Written in order: those with `extended` set as EVLRs after the points, the others as VLRs
+    /// (payload < 64 KiB) before them.
+    std::vector<LasVlr> vlrs;
+    /// Global encoding bit 0: GPS times are adjusted standard GPS time (else GPS week seconds).
+    bool gps_time_is_standard = true;
+    std::uint16_t file_source_id = 0;
+    /// File creation date; both 0 (the default) means today (UTC).
+    std::uint16_t creation_day_of_year = 0;
+    std::uint16_t creation_year = 0;
+    /// Bytes appended to every record; each point's extra_bytes must have exactly this size.
+    /// Describe them with an Extra Bytes VLR (LASF_Spec / 4) in `vlrs`.
+    std::uint16_t extra_bytes_per_point = 0;
+
+    /// Every problem with these settings (empty when they are usable).
+    [[nodiscard]] std::vector<std::string> validate() const;
+};
+
+/// A config whose offset is the rounded centre of [lo, hi] and whose scale is `resolution_m`, or
+/// the next coarser 1-2-5 step where the extent would not fit in 32-bit integers at that
+/// resolution. Throws ConfigError for non-finite or inverted bounds or a resolution <= 0.
+[[nodiscard]] LasWriterConfig las_config_for_extent(const Vec3d& lo, const Vec3d& hi,
+                                                    double resolution_m = 0.001);
+[[nodiscard]] LasWriterConfig las_config_for_extent(const Aabb& box, double resolution_m = 0.001);
+
+/// Writes a LAS 1.4 file through AtomicFile: points are streamed to disk chunk by chunk (memory
+/// stays bounded), and close() writes the EVLRs, seeks back to finalize the header (bounds,
+/// counts, counts by return) and renames the file into place. Until close() succeeds nothing
+/// appears under `path`; a writer destroyed without close() (or after an error) leaves nothing.
+///
+/// Coordinates are quantized to the nearest integer step; one that does not fit in int32 with
+/// the configured scale and offset throws OutputError naming the point and the value, as do
+/// fields out of their range (return number > 15, scanner channel > 3, |scan angle| > 180 deg,
+/// extra bytes of the wrong size). After any exception the writer accepts nothing more.
+///
+/// Legacy (32-bit) point counts are written as 0, as LAS 1.4 R15 requires for formats 6-10; the
+/// global encoding has the WKT bit set, which those formats also require.
+class LasWriter {
+  public:
+    /// Throws ConfigError listing every problem of `config`, OutputError if the file cannot be
+    /// created.
+    LasWriter(std::filesystem::path path, LasWriterConfig config);
+    ~LasWriter();
+    LasWriter(const LasWriter&) = delete;
+    LasWriter& operator=(const LasWriter&) = delete;
+    LasWriter(LasWriter&&) = delete;
+    LasWriter& operator=(LasWriter&&) = delete;
+
+    /// Appends points (any number per call).
+    void write(std::span<const LasPoint> points);
+
+    /// Finalizes the header and commits the file. The writer accepts nothing afterwards.
+    void close();
+
+    /// Points accepted so far.
+    [[nodiscard]] std::uint64_t point_count() const { return header_.point_count + chunk_points_; }
+    /// The header; its point count, bounds and EVLR start are final only after close().
+    [[nodiscard]] const LasHeader& header() const { return header_; }
+    [[nodiscard]] const std::filesystem::path& path() const { return path_; }
+
+  private:
+    void encode(const LasPoint& p, std::uint64_t index, std::uint8_t* record);
+    void flush_chunk();
+    void write_header();
+    [[noreturn]] void fail(const std::string& what);
+
+    std::filesystem::path path_;
+    LasWriterConfig config_;
+    LasHeader header_;
+    std::unique_ptr<AtomicFile> file_;
+    std::vector<std::uint8_t> chunk_;
+    std::size_t chunk_points_ = 0;
+    std::int32_t lo_[3] = {0, 0, 0};  ///< integer bounds of the points written so far
+    std::int32_t hi_[3] = {0, 0, 0};
+    bool failed_ = false;
+    bool closed_ = false;
+};
+
+}  // namespace beamtrace

@@ -1,0 +1,117 @@
+// Reading YAML config files: collects every problem with file, line and key.
+#pragma once
+
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+#include <filesystem>
+#include <initializer_list>
+#include <string>
+#include <vector>
+
+#include "beamtrace/core/error.hpp"
+#include "beamtrace/core/vec3.hpp"
+
+namespace beamtrace::detail {
+
+class YamlChecker {
+  public:
+    explicit YamlChecker(std::filesystem::path source) : source_(std::move(source)) {}
+
+    void error(const YAML::Node& node, const std::string& key, const std::string& what) {
+        std::string where = source_.string();
+        if (node.IsDefined() && node.Mark().line >= 0) {
+            where += ":" + std::to_string(node.Mark().line + 1);
+        }
+        errors_.push_back(where + ": " + key + ": " + what);
+    }
+    [[nodiscard]] const std::vector<std::string>& errors() const { return errors_; }
+
+    /// Complains about keys of `map` that are not in `known`.
+    void only_keys(const YAML::Node& map, const std::string& key,
+                   std::initializer_list<const char*> known) {
+        for (const auto& kv : map) {
+            const auto name = kv.first.as<std::string>();
+            bool ok = false;
+            for (const char* k : known) {
+                ok = ok || name == k;
+            }
+            if (!ok) {
+                std::string list;
+                for (const char* k : known) {
+                    list += (list.empty() ? "" : ", ") + std::string(k);
+                }
+                error(kv.first, key.empty() ? name : key + "." + name,
+                      "unknown key (expected one of: " + list + ")");
+            }
+        }
+    }
+
+    bool number(const YAML::Node& node, const std::string& key, double& out) {
+        if (!node.IsScalar()) {
+            error(node, key, "expected a number");
+            return false;
+        }
+        try {
+            const double v = node.as<double>();
+            if (!std::isfinite(v)) {
+                error(node, key, "expected a finite number");
+                return false;
+            }
+            out = v;
+            return true;
+        } catch (const YAML::Exception&) {
+            error(node, key, "expected a number, got '" + node.Scalar() + "'");
+            return false;
+        }
+    }
+
+    bool vec3(const YAML::Node& node, const std::string& key, Vec3d& out) {
+        if (!node.IsSequence() || node.size() != 3) {
+            error(node, key, "expected three numbers [x, y, z]");
+            return false;
+        }
+        Vec3d v;
+        bool ok = true;
+        for (std::size_t i = 0; i < 3; ++i) {
+            ok = number(node[i], key + "[" + std::to_string(i) + "]", v[i]) && ok;
+        }
+        if (ok) {
+            out = v;
+        }
+        return ok;
+    }
+
+    bool integer(const YAML::Node& node, const std::string& key, long lo, long hi, long& out) {
+        double v = 0;
+        if (!number(node, key, v)) {
+            return false;
+        }
+        if (v != std::floor(v) || v < static_cast<double>(lo) || v > static_cast<double>(hi)) {
+            error(
+                node, key,
+                "expected an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+            return false;
+        }
+        out = static_cast<long>(v);
+        return true;
+    }
+
+    /// Throws ConfigError listing every problem, if there are any.
+    void throw_if_any(const std::string& what) const {
+        if (errors_.empty()) {
+            return;
+        }
+        std::string msg = std::to_string(errors_.size()) + " problem(s) in the " + what + ":";
+        for (const auto& e : errors_) {
+            msg += "\n  " + e;
+        }
+        throw ConfigError(msg);
+    }
+
+  private:
+    std::filesystem::path source_;
+    std::vector<std::string> errors_;
+};
+
+}  // namespace beamtrace::detail

@@ -1,0 +1,370 @@
+#include "beamtrace/io/las_writer.hpp"
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <ctime>
+#include <limits>
+#include <string_view>
+
+#include "beamtrace/core/error.hpp"
+#include "beamtrace/io/atomic_file.hpp"
+
+namespace beamtrace {
+
+static_assert(std::endian::native == std::endian::little,
+              "the LAS writer encodes little-endian records with memcpy");
+
+namespace {
+
+constexpr std::size_t kChunkPoints = std::size_t{1} << 16;
+constexpr std::size_t kHeaderBytes = 375;
+constexpr std::size_t kVlrHeaderBytes = 54;
+constexpr std::size_t kEvlrHeaderBytes = 60;
+constexpr double kScanAngleStepDeg = 0.006;
+
+template <typename T>
+void store(std::uint8_t* p, T value) {
+    std::memcpy(p, &value, sizeof(T));
+}
+
+/// Copies `text` into a fixed-size, NUL-padded character field (validate() checked the length).
+void store_text(std::uint8_t* p, std::string_view text, std::size_t size) {
+    std::memset(p, 0, size);
+    std::memcpy(p, text.data(), std::min(text.size(), size));
+}
+
+[[nodiscard]] std::string number(double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.17g", v);
+    return buf;
+}
+
+}  // namespace
+
+std::vector<std::string> LasWriterConfig::validate() const {
+    std::vector<std::string> problems;
+    if (point_format < 6 || point_format > 8) {
+        problems.push_back("point_format: " + std::to_string(point_format) +
+                           " is not supported (expected 6, 7 or 8)");
+    }
+    for (std::size_t k = 0; k < 3; ++k) {
+        const std::string axis(1, "xyz"[k]);
+        if (!std::isfinite(scale[k]) || scale[k] <= 0.0) {
+            problems.push_back("scale." + axis + ": " + number(scale[k]) +
+                               " must be finite and > 0");
+        }
+        if (!std::isfinite(offset[k])) {
+            problems.push_back("offset." + axis + ": " + number(offset[k]) + " must be finite");
+        }
+    }
+    if (system_identifier.size() > 32) {
+        problems.push_back("system_identifier: '" + system_identifier + "' is longer than 32");
+    }
+    if (generating_software.size() > 32) {
+        problems.push_back("generating_software: '" + generating_software + "' is longer than 32");
+    }
+    if ((creation_year == 0) != (creation_day_of_year == 0) || creation_day_of_year > 366) {
+        problems.push_back("creation date: day " + std::to_string(creation_day_of_year) +
+                           " of year " + std::to_string(creation_year) +
+                           " (set both, day 1-366, or neither)");
+    }
+    for (std::size_t i = 0; i < vlrs.size(); ++i) {
+        const LasVlr& v = vlrs[i];
+        const std::string where = "vlrs[" + std::to_string(i) + "] (" + v.user_id + "/" +
+                                  std::to_string(v.record_id) + ")";
+        if (v.user_id.size() > 16) {
+            problems.push_back(where + ": user_id is longer than 16 characters");
+        }
+        if (v.description.size() > 32) {
+            problems.push_back(where + ": description is longer than 32 characters");
+        }
+        if (!v.extended && v.data.size() > std::numeric_limits<std::uint16_t>::max()) {
+            problems.push_back(where + ": " + std::to_string(v.data.size()) +
+                               " bytes do not fit in a VLR (max 65535); mark it extended");
+        }
+    }
+    return problems;
+}
+
+LasWriterConfig las_config_for_extent(const Vec3d& lo, const Vec3d& hi, double resolution_m) {
+    if (!std::isfinite(resolution_m) || resolution_m <= 0.0) {
+        throw ConfigError("las_config_for_extent: resolution " + number(resolution_m) +
+                          " m must be finite and > 0");
+    }
+    LasWriterConfig config;
+    constexpr double kMaxSteps = static_cast<double>(std::numeric_limits<std::int32_t>::max()) - 1;
+    for (std::size_t k = 0; k < 3; ++k) {
+        if (!std::isfinite(lo[k]) || !std::isfinite(hi[k]) || lo[k] > hi[k]) {
+            throw ConfigError("las_config_for_extent: bounds " + std::string(1, "xyz"[k]) + " [" +
+                              number(lo[k]) + ", " + number(hi[k]) +
+                              "] must be finite with min <= max");
+        }
+        const double centre = 0.5 * (lo[k] + hi[k]);
+        const double offset = resolution_m <= 1.0
+                                  ? std::round(centre)
+                                  : std::round(centre / resolution_m) * resolution_m;
+        const double half = std::max(hi[k] - offset, offset - lo[k]);
+        // 1-2-5 steps: resolution, 2x, 5x, 10x, 20x, ...
+        double scale = resolution_m;
+        for (int step = 0; half / scale > kMaxSteps; ++step) {
+            scale *= step % 3 == 1 ? 2.5 : 2.0;
+        }
+        config.offset[k] = offset;
+        config.scale[k] = scale;
+    }
+    return config;
+}
+
+LasWriterConfig las_config_for_extent(const Aabb& box, double resolution_m) {
+    if (box.empty()) {
+        throw ConfigError("las_config_for_extent: the bounding box is empty");
+    }
+    return las_config_for_extent(Vec3d(box.lo), Vec3d(box.hi), resolution_m);
+}
+
+LasWriter::LasWriter(std::filesystem::path path, LasWriterConfig config)
+    : path_(std::move(path)), config_(std::move(config)) {
+    const auto problems = config_.validate();
+    if (!problems.empty()) {
+        std::string message = path_.string() + ": LAS writer settings:";
+        for (const auto& p : problems) {
+            message += "\n  " + p;
+        }
+        throw ConfigError(message);
+    }
+    LasHeader& h = header_;
+    h.version_major = 1;
+    h.version_minor = 4;
+    h.file_source_id = config_.file_source_id;
+    h.global_encoding = kLasGlobalEncodingWkt;
+    if (config_.gps_time_is_standard) {
+        h.global_encoding |= kLasGlobalEncodingStandardGpsTime;
+    }
+    h.system_identifier = config_.system_identifier;
+    h.generating_software = config_.generating_software;
+    h.creation_day_of_year = config_.creation_day_of_year;
+    h.creation_year = config_.creation_year;
+    if (h.creation_year == 0) {
+        const std::time_t now = std::time(nullptr);
+        std::tm utc{};
+        ::gmtime_r(&now, &utc);
+        h.creation_day_of_year = static_cast<std::uint16_t>(utc.tm_yday + 1);
+        h.creation_year = static_cast<std::uint16_t>(utc.tm_year + 1900);
+    }
+    h.header_size = static_cast<std::uint16_t>(kHeaderBytes);
+    std::uint64_t offset = kHeaderBytes;
+    for (const auto& v : config_.vlrs) {
+        if (!v.extended) {
+            offset += kVlrHeaderBytes + v.data.size();
+            ++h.number_of_vlrs;
+        } else {
+            ++h.number_of_evlrs;
+        }
+    }
+    if (offset > std::numeric_limits<std::uint32_t>::max()) {
+        throw ConfigError(path_.string() + ": LAS writer settings: the VLRs are too large");
+    }
+    h.offset_to_point_data = static_cast<std::uint32_t>(offset);
+    h.point_format = config_.point_format;
+    h.point_record_length = static_cast<std::uint16_t>(las_point_record_size(h.point_format) +
+                                                       config_.extra_bytes_per_point);
+    h.scale = config_.scale;
+    h.offset = config_.offset;
+
+    file_ = std::make_unique<AtomicFile>(path_);
+    write_header();  // a placeholder until close() knows the counts and bounds
+    std::vector<std::uint8_t> b(kVlrHeaderBytes);
+    for (const auto& v : config_.vlrs) {
+        if (v.extended) {
+            continue;
+        }
+        std::fill(b.begin(), b.end(), std::uint8_t{0});
+        store_text(b.data() + 2, v.user_id, 16);
+        store<std::uint16_t>(b.data() + 18, v.record_id);
+        store<std::uint16_t>(b.data() + 20, static_cast<std::uint16_t>(v.data.size()));
+        store_text(b.data() + 22, v.description, 32);
+        file_->write(b.data(), b.size());
+        file_->write(v.data.data(), v.data.size());
+    }
+    chunk_.resize(kChunkPoints * h.point_record_length);
+}
+
+LasWriter::~LasWriter() = default;
+
+void LasWriter::fail(const std::string& what) {
+    failed_ = true;
+    file_.reset();  // removes the temporary file
+    throw OutputError(path_.string() + ": " + what);
+}
+
+void LasWriter::write_header() {
+    const LasHeader& h = header_;
+    std::uint8_t b[kHeaderBytes] = {};
+    std::memcpy(b, "LASF", 4);
+    store<std::uint16_t>(b + 4, h.file_source_id);
+    store<std::uint16_t>(b + 6, h.global_encoding);
+    std::memcpy(b + 8, h.project_guid.data(), 16);
+    b[24] = 1;
+    b[25] = 4;
+    store_text(b + 26, h.system_identifier, 32);
+    store_text(b + 58, h.generating_software, 32);
+    store<std::uint16_t>(b + 90, h.creation_day_of_year);
+    store<std::uint16_t>(b + 92, h.creation_year);
+    store<std::uint16_t>(b + 94, h.header_size);
+    store<std::uint32_t>(b + 96, h.offset_to_point_data);
+    store<std::uint32_t>(b + 100, h.number_of_vlrs);
+    b[104] = static_cast<std::uint8_t>(h.point_format);
+    store<std::uint16_t>(b + 105, h.point_record_length);
+    // 107-130: legacy point counts stay 0 for formats 6-10.
+    for (std::size_t k = 0; k < 3; ++k) {
+        store<double>(b + 131 + 8 * k, h.scale[k]);
+        store<double>(b + 155 + 8 * k, h.offset[k]);
+        store<double>(b + 179 + 16 * k, h.max[k]);
+        store<double>(b + 187 + 16 * k, h.min[k]);
+    }
+    store<std::uint64_t>(b + 227, h.start_of_waveform_data);
+    store<std::uint64_t>(b + 235, h.start_of_first_evlr);
+    store<std::uint32_t>(b + 243, h.number_of_evlrs);
+    store<std::uint64_t>(b + 247, h.point_count);
+    for (std::size_t i = 0; i < 15; ++i) {
+        store<std::uint64_t>(b + 255 + 8 * i, h.points_by_return[i]);
+    }
+    file_->write(b, sizeof b);
+}
+
+void LasWriter::encode(const LasPoint& p, std::uint64_t index, std::uint8_t* r) {
+    const double xyz[3] = {p.x, p.y, p.z};
+    std::int32_t q[3];
+    for (std::size_t k = 0; k < 3; ++k) {
+        const double steps = std::round((xyz[k] - header_.offset[k]) / header_.scale[k]);
+        if (!(steps >= std::numeric_limits<std::int32_t>::min() &&
+              steps <= std::numeric_limits<std::int32_t>::max())) {
+            fail("point " + std::to_string(index) + ": " + "xyz"[k] + " = " + number(xyz[k]) +
+                 " does not fit in a 32-bit LAS coordinate with scale " + number(header_.scale[k]) +
+                 " and offset " + number(header_.offset[k]) + " (see las_config_for_extent)");
+        }
+        q[k] = static_cast<std::int32_t>(steps);
+    }
+    if (p.return_number > 15 || p.number_of_returns > 15) {
+        fail("point " + std::to_string(index) + ": return " + std::to_string(p.return_number) +
+             " of " + std::to_string(p.number_of_returns) + " exceeds 15");
+    }
+    if (p.scanner_channel > 3) {
+        fail("point " + std::to_string(index) + ": scanner channel " +
+             std::to_string(p.scanner_channel) + " exceeds 3");
+    }
+    const double angle_steps =
+        std::round(static_cast<double>(p.scan_angle_deg) / kScanAngleStepDeg);
+    if (!(std::fabs(angle_steps) <= 30000.0)) {
+        fail("point " + std::to_string(index) + ": scan angle " + number(p.scan_angle_deg) +
+             " deg is outside [-180, 180]");
+    }
+    if (p.extra_bytes.size() != config_.extra_bytes_per_point) {
+        fail("point " + std::to_string(index) + ": " + std::to_string(p.extra_bytes.size()) +
+             " extra bytes, expected " + std::to_string(config_.extra_bytes_per_point));
+    }
+    std::memcpy(r, q, sizeof q);
+    store<std::uint16_t>(r + 12, p.intensity);
+    r[14] = static_cast<std::uint8_t>(p.return_number | (p.number_of_returns << 4));
+    r[15] = static_cast<std::uint8_t>((p.synthetic ? 0x01 : 0) | (p.key_point ? 0x02 : 0) |
+                                      (p.withheld ? 0x04 : 0) | (p.overlap ? 0x08 : 0) |
+                                      (p.scanner_channel << 4) | (p.scan_direction ? 0x40 : 0) |
+                                      (p.edge_of_flight_line ? 0x80 : 0));
+    r[16] = p.classification;
+    r[17] = p.user_data;
+    store<std::int16_t>(r + 18, static_cast<std::int16_t>(angle_steps));
+    store<std::uint16_t>(r + 20, p.point_source_id);
+    store<double>(r + 22, p.gps_time);
+    std::size_t pos = 30;
+    if (header_.point_format >= 7) {
+        store<std::uint16_t>(r + 30, p.red);
+        store<std::uint16_t>(r + 32, p.green);
+        store<std::uint16_t>(r + 34, p.blue);
+        pos = 36;
+    }
+    if (header_.point_format == 8) {
+        store<std::uint16_t>(r + 36, p.nir);
+        pos = 38;
+    }
+    if (!p.extra_bytes.empty()) {
+        std::memcpy(r + pos, p.extra_bytes.data(), p.extra_bytes.size());
+    }
+
+    for (std::size_t k = 0; k < 3; ++k) {
+        if (header_.point_count == 0 && chunk_points_ == 0) {
+            lo_[k] = hi_[k] = q[k];
+        } else {
+            lo_[k] = std::min(lo_[k], q[k]);
+            hi_[k] = std::max(hi_[k], q[k]);
+        }
+    }
+    if (p.return_number >= 1) {
+        ++header_.points_by_return[p.return_number - 1u];
+    }
+}
+
+void LasWriter::flush_chunk() {
+    file_->write(chunk_.data(), chunk_points_ * header_.point_record_length);
+    header_.point_count += chunk_points_;
+    chunk_points_ = 0;
+}
+
+void LasWriter::write(std::span<const LasPoint> points) {
+    if (failed_ || closed_ || !file_) {
+        throw OutputError(path_.string() + ": LAS writer used after " +
+                          (closed_ ? "close()" : "an error"));
+    }
+    for (const LasPoint& p : points) {
+        encode(p, header_.point_count + chunk_points_,
+               chunk_.data() + chunk_points_ * header_.point_record_length);
+        if (++chunk_points_ == kChunkPoints) {
+            flush_chunk();
+        }
+    }
+}
+
+void LasWriter::close() {
+    if (failed_ || closed_ || !file_) {
+        throw OutputError(path_.string() + ": LAS writer closed after " +
+                          (closed_ ? "close()" : "an error"));
+    }
+    try {
+        flush_chunk();
+        LasHeader& h = header_;
+        for (std::size_t k = 0; k < 3; ++k) {
+            h.min[k] = h.point_count == 0 ? 0.0 : lo_[k] * h.scale[k] + h.offset[k];
+            h.max[k] = h.point_count == 0 ? 0.0 : hi_[k] * h.scale[k] + h.offset[k];
+        }
+        const std::uint64_t points_end =
+            h.offset_to_point_data + h.point_count * std::uint64_t{h.point_record_length};
+        h.start_of_first_evlr = h.number_of_evlrs > 0 ? points_end : 0;
+        std::uint8_t b[kEvlrHeaderBytes];
+        for (const auto& v : config_.vlrs) {
+            if (!v.extended) {
+                continue;
+            }
+            std::memset(b, 0, sizeof b);
+            store_text(b + 2, v.user_id, 16);
+            store<std::uint16_t>(b + 18, v.record_id);
+            store<std::uint64_t>(b + 20, v.data.size());
+            store_text(b + 28, v.description, 32);
+            file_->write(b, sizeof b);
+            file_->write(v.data.data(), v.data.size());
+        }
+        if (::fseeko(file_->stream(), 0, SEEK_SET) != 0) {
+            fail("cannot seek back to the header");
+        }
+        write_header();
+        file_->commit();
+        closed_ = true;
+    } catch (...) {
+        failed_ = true;
+        file_.reset();
+        throw;
+    }
+}
+
+}  // namespace beamtrace

@@ -1,0 +1,455 @@
+// LasWriter round trips through LasReader, and the reader's checks on deliberately broken files.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <iterator>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "beamtrace/core/error.hpp"
+#include "beamtrace/io/las_reader.hpp"
+#include "beamtrace/io/las_writer.hpp"
+#include "test_support.hpp"
+
+namespace beamtrace {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::size_t entry_count(const fs::path& dir) {
+    return static_cast<std::size_t>(
+        std::distance(fs::directory_iterator(dir), fs::directory_iterator()));
+}
+
+/// `n` points with every field of `format` set to varied in-range values (fields the format does
+/// not store are left 0, as the reader returns them).
+std::vector<LasPoint> make_points(std::size_t n, int format, std::size_t extra_bytes = 0) {
+    std::vector<LasPoint> points(n);
+    std::mt19937 rng(42);
+    std::uniform_real_distribution<double> coord(-500.0, 500.0);
+    for (std::size_t i = 0; i < n; ++i) {
+        LasPoint& p = points[i];
+        p.x = 635000.0 + coord(rng);
+        p.y = 4850000.0 + coord(rng);
+        p.z = 100.0 + coord(rng) * 0.1;
+        p.intensity = static_cast<std::uint16_t>(i * 7919);
+        p.number_of_returns = static_cast<std::uint8_t>(1 + i % 15);
+        p.return_number = static_cast<std::uint8_t>(1 + (i * 7) % p.number_of_returns);
+        p.classification = static_cast<std::uint8_t>(i % 256);
+        p.synthetic = (i & 1) != 0;
+        p.key_point = (i & 2) != 0;
+        p.withheld = (i & 4) != 0;
+        p.overlap = (i & 8) != 0;
+        p.scanner_channel = static_cast<std::uint8_t>((i >> 4) % 4);
+        p.scan_direction = (i & 64) != 0;
+        p.edge_of_flight_line = (i & 128) != 0;
+        const int angle_steps = static_cast<int>((i * 37) % 60001) - 30000;
+        p.scan_angle_deg = static_cast<float>(angle_steps * 0.006);
+        p.user_data = static_cast<std::uint8_t>(i * 3);
+        p.point_source_id = static_cast<std::uint16_t>(i * 11);
+        p.gps_time = 1.3e9 + static_cast<double>(i) * 1.25e-5;
+        if (las_format_has_rgb(format)) {
+            p.red = static_cast<std::uint16_t>(i * 13);
+            p.green = static_cast<std::uint16_t>(i * 17);
+            p.blue = static_cast<std::uint16_t>(i * 19);
+        }
+        if (las_format_has_nir(format)) {
+            p.nir = static_cast<std::uint16_t>(i * 23);
+        }
+        for (std::size_t k = 0; k < extra_bytes; ++k) {
+            p.extra_bytes.push_back(static_cast<std::uint8_t>(i + k));
+        }
+    }
+    return points;
+}
+
+double quantized(double v, double scale, double offset) {
+    return std::round((v - offset) / scale) * scale + offset;
+}
+
+/// Expects `got` to equal `want` field by field, xyz within half a scale step.
+void expect_same_point(const LasPoint& got, const LasPoint& want, const Vec3d& scale,
+                       std::size_t i) {
+    EXPECT_NEAR(got.x, want.x, 0.5 * scale.x + 1e-9) << i;
+    EXPECT_NEAR(got.y, want.y, 0.5 * scale.y + 1e-9) << i;
+    EXPECT_NEAR(got.z, want.z, 0.5 * scale.z + 1e-9) << i;
+    LasPoint a = got;
+    a.x = want.x;
+    a.y = want.y;
+    a.z = want.z;
+    EXPECT_EQ(a, want) << "point " << i;
+}
+
+class LasWriterTest : public test::TempDirTest {};
+
+class LasWriterFormat : public LasWriterTest, public ::testing::WithParamInterface<int> {};
+
+TEST_P(LasWriterFormat, RoundTripsEveryFieldAndFinalizesTheHeader) {
+    const int format = GetParam();
+    // More than one 64k chunk, written in uneven pieces.
+    const auto points = make_points(150001, format, format == 8 ? 3 : 0);
+    LasWriterConfig config = las_config_for_extent({634000, 4849000, 0}, {636000, 4851000, 200});
+    config.point_format = format;
+    config.extra_bytes_per_point = format == 8 ? 3 : 0;
+    config.gps_time_is_standard = format != 7;
+    config.creation_day_of_year = 42;
+    config.creation_year = 2024;
+    config.vlrs.push_back({"beamtrace", 1, "scene description", {1, 2, 3, 4, 5}, false, 0});
+    config.vlrs.push_back(
+        {"beamtrace", 2, "a big record", std::vector<std::uint8_t>(70000, 7), true, 0});
+    const fs::path path = dir_ / "out.las";
+    {
+        LasWriter writer(path, config);
+        std::size_t done = 0;
+        for (std::size_t piece = 1; done < points.size(); piece *= 3) {
+            const std::size_t n = std::min(piece, points.size() - done);
+            writer.write(std::span(points).subspan(done, n));
+            done += n;
+        }
+        EXPECT_FALSE(fs::exists(path));
+        EXPECT_EQ(writer.point_count(), points.size());
+        writer.close();
+    }
+    ASSERT_TRUE(fs::exists(path));
+    EXPECT_EQ(entry_count(dir_.path()), 1u);
+
+    LasReader reader(path);
+    const LasHeader& h = reader.header();
+    EXPECT_EQ(h.version_major, 1);
+    EXPECT_EQ(h.version_minor, 4);
+    EXPECT_EQ(h.header_size, 375);
+    EXPECT_EQ(h.point_format, format);
+    EXPECT_EQ(h.point_record_length, las_point_record_size(format) + config.extra_bytes_per_point);
+    EXPECT_EQ(h.point_count, points.size());
+    EXPECT_EQ(h.legacy_point_count, 0u);  // required for formats 6-10
+    EXPECT_EQ(h.gps_time_is_standard(), format != 7);
+    EXPECT_TRUE(h.crs_is_wkt());
+    EXPECT_EQ(h.system_identifier, "beamtrace");
+    EXPECT_EQ(h.generating_software, "beamtrace " BEAMTRACE_VERSION);
+    EXPECT_EQ(h.creation_day_of_year, 42);
+    EXPECT_EQ(h.creation_year, 2024);
+    EXPECT_EQ(h.scale, config.scale);
+    EXPECT_EQ(h.offset, config.offset);
+    EXPECT_EQ(h.number_of_vlrs, 1u);
+    EXPECT_EQ(h.number_of_evlrs, 1u);
+    EXPECT_EQ(h.offset_to_point_data, 375u + 54u + 5u);
+
+    std::array<std::uint64_t, 15> by_return{};
+    Vec3d lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
+    for (const auto& p : points) {
+        ++by_return[p.return_number - 1u];
+        const Vec3d q{quantized(p.x, h.scale.x, h.offset.x), quantized(p.y, h.scale.y, h.offset.y),
+                      quantized(p.z, h.scale.z, h.offset.z)};
+        lo = min(lo, q);
+        hi = max(hi, q);
+    }
+    EXPECT_EQ(h.points_by_return, by_return);
+    for (std::size_t k = 0; k < 3; ++k) {
+        EXPECT_DOUBLE_EQ(h.min[k], lo[k]) << k;
+        EXPECT_DOUBLE_EQ(h.max[k], hi[k]) << k;
+    }
+
+    ASSERT_EQ(reader.vlrs().size(), 2u);
+    for (std::size_t i = 0; i < 2; ++i) {
+        const LasVlr& got = reader.vlrs()[i];
+        EXPECT_EQ(got.user_id, config.vlrs[i].user_id);
+        EXPECT_EQ(got.record_id, config.vlrs[i].record_id);
+        EXPECT_EQ(got.description, config.vlrs[i].description);
+        EXPECT_EQ(got.data, config.vlrs[i].data);
+        EXPECT_EQ(got.extended, config.vlrs[i].extended);
+        EXPECT_EQ(got.length, config.vlrs[i].data.size());
+    }
+
+    // Stream back in chunks that do not divide the reader's.
+    std::vector<LasPoint> chunk(9999);
+    std::size_t index = 0;
+    while (const std::size_t n = reader.read(chunk)) {
+        for (std::size_t i = 0; i < n; ++i, ++index) {
+            expect_same_point(chunk[i], points[index], h.scale, index);
+            if (HasFailure()) {
+                return;
+            }
+        }
+    }
+    EXPECT_EQ(index, points.size());
+    EXPECT_EQ(reader.points_remaining(), 0u);
+
+    // Seeking restarts anywhere.
+    reader.seek(123456);
+    ASSERT_EQ(reader.read(std::span(chunk).first(2)), 2u);
+    expect_same_point(chunk[0], points[123456], h.scale, 123456);
+    expect_same_point(chunk[1], points[123457], h.scale, 123457);
+}
+
+INSTANTIATE_TEST_SUITE_P(Las, LasWriterFormat, ::testing::Values(6, 7, 8));
+
+TEST_F(LasWriterTest, ZeroPointsGiveAValidEmptyFile) {
+    const fs::path path = dir_ / "empty.las";
+    LasWriter writer(path, {});
+    writer.close();
+    LasReader reader(path);
+    EXPECT_EQ(reader.header().point_count, 0u);
+    EXPECT_EQ(reader.header().min, Vec3d(0, 0, 0));
+    EXPECT_EQ(reader.header().max, Vec3d(0, 0, 0));
+    EXPECT_EQ(reader.header().points_by_return, (std::array<std::uint64_t, 15>{}));
+    EXPECT_TRUE(reader.vlrs().empty());
+    std::vector<LasPoint> chunk(10);
+    EXPECT_EQ(reader.read(chunk), 0u);
+    EXPECT_EQ(fs::file_size(path), 375u);
+}
+
+TEST_F(LasWriterTest, OutOfRangeCoordinateThrowsAndLeavesNoFile) {
+    const fs::path path = dir_ / "far.las";
+    std::vector<LasPoint> points(3);
+    points[0].return_number = points[0].number_of_returns = 1;
+    points[2].y = 1e7;  // 1e10 millimetre steps
+    LasWriter writer(path, {});
+    try {
+        writer.write(points);
+        FAIL() << "expected OutputError";
+    } catch (const OutputError& e) {
+        const std::string message = e.what();
+        EXPECT_NE(message.find(path.string()), std::string::npos) << message;
+        EXPECT_NE(message.find("point 2: y = 10000000"), std::string::npos) << message;
+    }
+    EXPECT_THROW(writer.close(), OutputError);
+    EXPECT_EQ(entry_count(dir_.path()), 0u);
+}
+
+TEST_F(LasWriterTest, NaNCoordinateAndBadFieldsThrow) {
+    const auto attempt = [&](auto&& change, const char* fragment) {
+        std::vector<LasPoint> points(1);
+        change(points[0]);
+        LasWriter writer(dir_ / "bad.las", {});
+        try {
+            writer.write(points);
+            ADD_FAILURE() << "expected OutputError with " << fragment;
+        } catch (const OutputError& e) {
+            EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
+        }
+    };
+    attempt([](LasPoint& p) { p.z = std::nan(""); }, "z = nan");
+    attempt([](LasPoint& p) { p.return_number = 16; }, "return 16 of 0");
+    attempt([](LasPoint& p) { p.scanner_channel = 4; }, "scanner channel 4");
+    attempt([](LasPoint& p) { p.scan_angle_deg = 181.0f; }, "scan angle 181");
+    attempt([](LasPoint& p) { p.extra_bytes = {1}; }, "1 extra bytes, expected 0");
+    EXPECT_EQ(entry_count(dir_.path()), 0u);
+}
+
+TEST_F(LasWriterTest, UnclosedWriterLeavesNothing) {
+    const auto points = make_points(1000, 6);
+    {
+        LasWriter writer(dir_ / "abandoned.las",
+                         las_config_for_extent({634000, 4849000, 0}, {636000, 4851000, 200}));
+        writer.write(points);
+    }
+    EXPECT_EQ(entry_count(dir_.path()), 0u);
+}
+
+TEST_F(LasWriterTest, InvalidConfigListsEveryProblem) {
+    LasWriterConfig config;
+    config.point_format = 3;
+    config.scale.y = 0.0;
+    config.system_identifier = std::string(33, 'a');
+    config.vlrs.push_back(
+        {"an-overlong-user-id", 1, "", std::vector<std::uint8_t>(70000), false, 0});
+    try {
+        LasWriter writer(dir_ / "x.las", config);
+        FAIL() << "expected ConfigError";
+    } catch (const ConfigError& e) {
+        const std::string message = e.what();
+        for (const char* fragment : {"point_format: 3", "scale.y", "system_identifier",
+                                     "user_id is longer", "mark it extended"}) {
+            EXPECT_NE(message.find(fragment), std::string::npos) << fragment << "\n" << message;
+        }
+    }
+    EXPECT_EQ(entry_count(dir_.path()), 0u);
+}
+
+TEST(LasConfigForExtent, CentresTheOffsetAndCoarsensTheScaleOnlyWhenNeeded) {
+    const auto small = las_config_for_extent({500000.2, 5000000.7, -10}, {501000, 5001000, 90});
+    EXPECT_EQ(small.offset, Vec3d(500500, 5000500, 40));
+    EXPECT_EQ(small.scale, Vec3d(0.001, 0.001, 0.001));
+    // 10 000 km at 1 mm needs 5e9 steps each side: 2 mm (2.5e9) is still too fine, 5 mm fits.
+    const auto huge = las_config_for_extent({-5e6, 0, 0}, {5e6, 1, 1});
+    EXPECT_DOUBLE_EQ(huge.scale.x, 0.005);
+    EXPECT_EQ(huge.scale.y, 0.001);
+    EXPECT_THROW(static_cast<void>(las_config_for_extent({1, 0, 0}, {0, 1, 1})), ConfigError);
+    EXPECT_THROW(static_cast<void>(las_config_for_extent({0, 0, 0}, {1, 1, 1}, 0.0)), ConfigError);
+    EXPECT_THROW(static_cast<void>(las_config_for_extent(Aabb{})), ConfigError);
+    Aabb box;
+    box.extend(Vec3f(-1, -2, -3));
+    box.extend(Vec3f(3, 2, 1));
+    EXPECT_EQ(las_config_for_extent(box, 0.01).offset, Vec3d(1, 0, -1));
+}
+
+TEST_F(LasWriterTest, ExtentConfigFitsPointsAtTheCorners) {
+    const Vec3d lo{-5e6, -3e6, -1000}, hi{5e6, 3e6, 9000};
+    const LasWriterConfig config = las_config_for_extent(lo, hi);
+    std::vector<LasPoint> points(2);
+    points[0].x = lo.x, points[0].y = lo.y, points[0].z = lo.z;
+    points[1].x = hi.x, points[1].y = hi.y, points[1].z = hi.z;
+    LasWriter writer(dir_ / "corners.las", config);
+    writer.write(points);
+    writer.close();
+    const auto back = read_las_points(dir_ / "corners.las");
+    ASSERT_EQ(back.size(), 2u);
+    EXPECT_NEAR(back[0].x, lo.x, 0.5 * config.scale.x);
+    EXPECT_NEAR(back[1].y, hi.y, 0.5 * config.scale.y);
+}
+
+// --- reader checks on broken files made from a valid one -----------------------------------
+
+/// A small valid LAS 1.4 file (format 6, 10 points, one VLR) as bytes.
+std::string valid_las_bytes(const fs::path& dir) {
+    LasWriterConfig config = las_config_for_extent({634000, 4849000, 0}, {636000, 4851000, 200});
+    config.vlrs.push_back({"test", 7, "seven", {1, 2, 3}, false, 0});
+    const fs::path path = dir / "valid.las";
+    LasWriter writer(path, config);
+    writer.write(make_points(10, 6));
+    writer.close();
+    std::string bytes = test::read_file(path);
+    fs::remove(path);
+    return bytes;
+}
+
+template <typename T>
+void patch(std::string& bytes, std::size_t offset, T value) {
+    std::memcpy(bytes.data() + offset, &value, sizeof(T));
+}
+
+class LasReaderBroken : public test::TempDirTest {
+  protected:
+    void SetUp() override { good_ = valid_las_bytes(dir_.path()); }
+    void expect_error(const std::string& bytes, const std::string& fragment) {
+        const fs::path path = write("broken.las", bytes);
+        test::expect_input_error([](const fs::path& p) { return LasReader(p).header(); }, path,
+                                 fragment);
+    }
+    std::string good_;
+};
+
+TEST_F(LasReaderBroken, ValidFileReads) {
+    const auto points = read_las_points(write("ok.las", good_));
+    EXPECT_EQ(points.size(), 10u);
+}
+
+TEST_F(LasReaderBroken, BadSignature) {
+    std::string b = good_;
+    b[0] = 'X';
+    expect_error(b, "bad file signature");
+    expect_error("LAS", "too short");
+    expect_error(good_.substr(0, 100), "shorter than the 227-byte LAS header");
+}
+
+TEST_F(LasReaderBroken, UnsupportedVersion) {
+    std::string b = good_;
+    b[24] = 2;
+    b[25] = 0;
+    expect_error(b, "unsupported LAS version 2.0");
+    b[24] = 1;
+    b[25] = 5;
+    expect_error(b, "unsupported LAS version 1.5");
+}
+
+TEST_F(LasReaderBroken, UnknownOrCompressedPointFormat) {
+    std::string b = good_;
+    b[104] = 11;
+    expect_error(b, "unknown point data record format 11");
+    b[104] = static_cast<char>(6 | 0x80);
+    expect_error(b, "LAZ compression is not supported");
+}
+
+TEST_F(LasReaderBroken, LaszipVlr) {
+    std::string b = good_;
+    std::memset(b.data() + 375 + 2, 0, 16);
+    std::memcpy(b.data() + 375 + 2, "laszip encoded", 14);
+    patch<std::uint16_t>(b, 375 + 18, 22204);
+    expect_error(b, "LAZ compression is not supported");
+}
+
+TEST_F(LasReaderBroken, RecordLengthTooSmall) {
+    std::string b = good_;
+    patch<std::uint16_t>(b, 105, 29);
+    expect_error(b, "point record length 29 is smaller than the 30 bytes of point format 6");
+}
+
+TEST_F(LasReaderBroken, PointDataInsideHeader) {
+    std::string b = good_;
+    patch<std::uint32_t>(b, 96, 120);
+    expect_error(b, "header: point data offset 120 is inside the header (size 375)");
+}
+
+TEST_F(LasReaderBroken, HeaderTooSmallForVersion) {
+    std::string b = good_;
+    patch<std::uint16_t>(b, 94, 227);
+    expect_error(b, "header size 227 is smaller than the 375 bytes of LAS 1.4");
+}
+
+TEST_F(LasReaderBroken, VlrsRunIntoThePoints) {
+    std::string b = good_;
+    patch<std::uint32_t>(b, 100, 2);
+    expect_error(b, "VLR 2 of 2: its header at byte 432 runs past the start of the point data");
+    b = good_;
+    patch<std::uint16_t>(b, 375 + 20, 4);
+    expect_error(b, "VLR 1 of 1 (test/7): its 4 bytes of data");
+}
+
+TEST_F(LasReaderBroken, TruncatedPointsNameBothCounts) {
+    expect_error(good_.substr(0, good_.size() - 1),
+                 "point data: header says 10 points but the file holds only 9");
+    std::string b = good_;
+    patch<std::uint64_t>(b, 247, ~std::uint64_t{0});  // no overflow on absurd counts
+    expect_error(b, "header says 18446744073709551615 points");
+}
+
+TEST_F(LasReaderBroken, EvlrOutsideTheFile) {
+    std::string b = good_ + std::string(20, 'e');
+    patch<std::uint32_t>(b, 243, 1);
+    patch<std::uint64_t>(b, 235, good_.size());
+    expect_error(b, "EVLR 1 of 1: its header at byte");
+    patch<std::uint64_t>(b, 235, 400);
+    expect_error(b, "first EVLR at byte 400 starts before the end of the point data");
+}
+
+TEST_F(LasReaderBroken, ExtraHeaderBytesAndUserBytesAreSkipped) {
+    // 16 extra header bytes, and 8 bytes between the VLRs and the points.
+    std::string b = good_.substr(0, 375) + std::string(16, 'h') + good_.substr(375, 54 + 3) +
+                    std::string(8, 'u') + good_.substr(375 + 57);
+    patch<std::uint16_t>(b, 94, 375 + 16);
+    patch<std::uint32_t>(b, 96, 375 + 16 + 57 + 8);
+    const fs::path path = write("padded.las", b);
+    LasReader reader(path);
+    ASSERT_EQ(reader.vlrs().size(), 1u);
+    EXPECT_EQ(reader.vlrs()[0].data, (std::vector<std::uint8_t>{1, 2, 3}));
+    const auto want = read_las_points(write("ok.las", good_));
+    std::vector<LasPoint> got(20);
+    ASSERT_EQ(reader.read(got), 10u);
+    for (std::size_t i = 0; i < 10; ++i) {
+        EXPECT_EQ(got[i], want[i]) << i;
+    }
+}
+
+TEST_F(LasReaderBroken, EveryTruncationAndRandomByteFlipsFailCleanly) {
+    const fs::path path = dir_ / "fuzz.las";
+    const auto load = [&](const std::string& bytes) {
+        test::write_file(path, bytes);
+        static_cast<void>(read_las_points(path));
+    };
+    test::load_every_truncation(good_, load);
+    std::mt19937 rng(7);
+    test::load_random_byte_flips(good_, rng, 300, load);
+}
+
+TEST_F(LasReaderBroken, MissingFileAndDirectory) {
+    test::expect_input_error([](const fs::path& p) { return LasReader(p).header(); },
+                             dir_ / "missing.las", "cannot open");
+    test::expect_input_error([](const fs::path& p) { return LasReader(p).header(); }, dir_.path(),
+                             "is a directory");
+}
+
+}  // namespace
+}  // namespace beamtrace
