@@ -4,6 +4,7 @@
 #include <string>
 
 #include "beamtrace/core/error.hpp"
+#include "beamtrace/scene/gltf_loader.hpp"
 
 namespace beamtrace {
 
@@ -23,8 +24,11 @@ TriangleMesh load_mesh(const std::filesystem::path& path) {
     if (ext == ".stl") {
         return load_stl(path);
     }
+    if (ext == ".gltf" || ext == ".glb") {
+        return load_gltf(path);
+    }
     throw InputError(path.string(), "unknown mesh format '" + path.extension().string() +
-                                        "' (expected .obj, .ply or .stl)");
+                                        "' (expected .obj, .ply, .stl, .gltf or .glb)");
 }
 
 }  // namespace beamtrace

@@ -1,4 +1,5 @@
-// Triangle-mesh loaders for OBJ, PLY and STL files.
+// Triangle-mesh loaders for OBJ, PLY and STL files, and the dispatcher that also reads glTF
+// (see gltf_loader.hpp).
 //
 // Every loader returns an indexed triangle set whose face IDs follow the file order: a polygon
 // with n > 3 vertices becomes the fan (v0, vi, vi+1), i = 1..n-2, and each triangle takes the next
@@ -24,7 +25,8 @@ namespace beamtrace {
 /// every facet gets three new vertices (vertices are not welded).
 [[nodiscard]] TriangleMesh load_stl(const std::filesystem::path& path);
 
-/// Chooses by extension (.obj, .ply, .stl; case-insensitive); throws InputError for others.
+/// Chooses by extension (.obj, .ply, .stl, .gltf, .glb; case-insensitive); throws InputError for
+/// others.
 [[nodiscard]] TriangleMesh load_mesh(const std::filesystem::path& path);
 
 }  // namespace beamtrace

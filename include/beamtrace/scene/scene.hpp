@@ -31,6 +31,9 @@ struct Scene {
     TriangleMesh mesh;
     std::vector<ScenePart> parts;
     std::vector<SceneMaterial> materials{SceneMaterial{}};
+    /// World position of the local origin: triangles are stored relative to it (float precision
+    /// for UTM-sized coordinates) and outputs add it back.
+    Vec3d origin_m{0, 0, 0};
 
     /// Appends a part; its faces get the next IDs.
     void add_part(std::string name, const TriangleMesh& part);

@@ -1,0 +1,292 @@
+// Single-band GeoTIFF elevation rasters through libtiff (strips or tiles, any codec it has).
+#include <tiffio.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdarg>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <limits>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "beamtrace/core/error.hpp"
+#include "beamtrace/scene/raster_terrain.hpp"
+
+namespace beamtrace {
+namespace {
+
+constexpr ttag_t kModelPixelScaleTag = 33550;
+constexpr ttag_t kModelTiepointTag = 33922;
+constexpr ttag_t kModelTransformationTag = 34264;
+constexpr ttag_t kGeoKeyDirectoryTag = 34735;
+constexpr ttag_t kGdalNodataTag = 42113;
+constexpr std::uint16_t kGTRasterTypeGeoKey = 1025;
+constexpr std::uint16_t kRasterPixelIsPoint = 2;
+
+/// libtiff's messages for this file, collected by per-handle handlers (no global state).
+struct TiffMessages {
+    std::string last_error;
+};
+
+int on_tiff_error(TIFF*, void* user, const char* module, const char* fmt, va_list ap) {
+    std::array<char, 512> buffer{};
+    std::vsnprintf(buffer.data(), buffer.size(), fmt, ap);
+    auto* messages = static_cast<TiffMessages*>(user);
+    messages->last_error =
+        std::string(module != nullptr ? module : "libtiff") + ": " + buffer.data();
+    return 1;
+}
+
+int on_tiff_warning(TIFF*, void*, const char*, const char*, va_list) {
+    return 1;  // unknown GeoTIFF tags and the like: not our concern
+}
+
+struct TiffCloser {
+    void operator()(TIFF* tif) const { TIFFClose(tif); }
+};
+using TiffHandle = std::unique_ptr<TIFF, TiffCloser>;
+
+/// The values of a tag that libtiff passes with a count (custom and unknown tags).
+template <typename T>
+[[nodiscard]] std::optional<std::vector<T>> counted_tag(TIFF* tif, ttag_t tag, TIFFDataType type) {
+    const TIFFField* field = TIFFFindField(tif, tag, TIFF_ANY);
+    if (field == nullptr || !TIFFFieldPassCount(field) || TIFFFieldDataType(field) != type) {
+        return std::nullopt;
+    }
+    const T* data = nullptr;
+    std::size_t count = 0;
+    if (TIFFFieldReadCount(field) == TIFF_VARIABLE2) {
+        std::uint32_t n = 0;
+        if (TIFFGetField(tif, tag, &n, &data) != 1) {
+            return std::nullopt;
+        }
+        count = n;
+    } else {
+        std::uint16_t n = 0;
+        if (TIFFGetField(tif, tag, &n, &data) != 1) {
+            return std::nullopt;
+        }
+        count = n;
+    }
+    if (data == nullptr) {
+        return std::nullopt;
+    }
+    return std::vector<T>(data, data + count);
+}
+
+/// GTRasterTypeGeoKey from the GeoKey directory: PixelIsArea (1, the default) or PixelIsPoint.
+[[nodiscard]] bool pixel_is_point(TIFF* tif) {
+    const auto keys = counted_tag<std::uint16_t>(tif, kGeoKeyDirectoryTag, TIFF_SHORT);
+    if (!keys || keys->size() < 4) {
+        return false;
+    }
+    const std::size_t n = (*keys)[3];
+    for (std::size_t k = 0; k < n && 4 * k + 7 < keys->size(); ++k) {
+        const std::uint16_t* entry = keys->data() + 4 + 4 * k;
+        if (entry[0] == kGTRasterTypeGeoKey && entry[1] == 0) {
+            return entry[3] == kRasterPixelIsPoint;
+        }
+    }
+    return false;
+}
+
+void read_georeferencing(TIFF* tif, const std::string& path, Raster& r) {
+    const double centre = pixel_is_point(tif) ? 0.0 : 0.5;
+    const auto scale = counted_tag<double>(tif, kModelPixelScaleTag, TIFF_DOUBLE);
+    const auto tie = counted_tag<double>(tif, kModelTiepointTag, TIFF_DOUBLE);
+    if (scale && tie && scale->size() >= 2 && tie->size() >= 6) {
+        const double sx = (*scale)[0], sy = (*scale)[1];
+        if (!(sx > 0.0) || !(sy > 0.0) || !std::isfinite(sx) || !std::isfinite(sy)) {
+            throw InputError(path, "ModelPixelScaleTag (" + std::to_string(sx) + ", " +
+                                       std::to_string(sy) + ") is not positive");
+        }
+        r.cell_x_m = sx;
+        r.cell_y_m = -sy;
+        r.x0_m = (*tie)[3] + (centre - (*tie)[0]) * sx;
+        r.y0_m = (*tie)[4] - (centre - (*tie)[1]) * sy;
+        return;
+    }
+    const auto m = counted_tag<double>(tif, kModelTransformationTag, TIFF_DOUBLE);
+    if (m && m->size() >= 16) {
+        if ((*m)[1] != 0.0 || (*m)[4] != 0.0) {
+            throw InputError(path, "ModelTransformationTag has a rotation or shear (" +
+                                       std::to_string((*m)[1]) + ", " + std::to_string((*m)[4]) +
+                                       "), which is not supported");
+        }
+        r.cell_x_m = (*m)[0];
+        r.cell_y_m = (*m)[5];
+        r.x0_m = (*m)[3] + centre * r.cell_x_m;
+        r.y0_m = (*m)[7] + centre * r.cell_y_m;
+        return;
+    }
+    r.cell_x_m = 1.0;  // no georeferencing: pixel units, north up, top-left corner at 0
+    r.cell_y_m = -1.0;
+    r.x0_m = 0.5;
+    r.y0_m = -0.5;
+}
+
+[[nodiscard]] std::optional<float> read_nodata(TIFF* tif) {
+    const auto text = counted_tag<char>(tif, kGdalNodataTag, TIFF_ASCII);
+    if (!text || text->empty()) {
+        return std::nullopt;
+    }
+    const std::string s(text->begin(), text->end());
+    char* end = nullptr;
+    const double v = std::strtod(s.c_str(), &end);
+    if (end == s.c_str()) {
+        return std::nullopt;
+    }
+    if (std::isnan(v)) {
+        return std::numeric_limits<float>::quiet_NaN();
+    }
+    constexpr double kMax = std::numeric_limits<float>::max();
+    return static_cast<float>(std::fmax(-kMax, std::fmin(kMax, v)));
+}
+
+/// Sample type: SampleFormat (1 uint, 2 int, 3 float) and BitsPerSample.
+struct SampleType {
+    std::uint16_t format = SAMPLEFORMAT_UINT;
+    std::uint16_t bits = 1;
+
+    [[nodiscard]] bool supported() const {
+        if (format == SAMPLEFORMAT_IEEEFP) {
+            return bits == 32 || bits == 64;
+        }
+        return (format == SAMPLEFORMAT_UINT || format == SAMPLEFORMAT_INT) &&
+               (bits == 8 || bits == 16 || bits == 32);
+    }
+    [[nodiscard]] std::size_t bytes() const { return bits / 8u; }
+
+    [[nodiscard]] float decode(const unsigned char* p) const {
+        auto get = [p](auto v) {
+            std::memcpy(&v, p, sizeof(v));
+            return static_cast<float>(v);
+        };
+        if (format == SAMPLEFORMAT_IEEEFP) {
+            return bits == 32 ? get(float{}) : get(double{});
+        }
+        if (format == SAMPLEFORMAT_INT) {
+            return bits == 8 ? get(std::int8_t{})
+                             : (bits == 16 ? get(std::int16_t{}) : get(std::int32_t{}));
+        }
+        return bits == 8 ? get(std::uint8_t{})
+                         : (bits == 16 ? get(std::uint16_t{}) : get(std::uint32_t{}));
+    }
+};
+
+/// Copies a block of `block_rows` x `block_cols` samples (row stride `stride` samples) to the
+/// raster at (col0, row0), clipped to the raster.
+void copy_block(const std::vector<unsigned char>& buffer, const SampleType& type,
+                std::size_t stride, std::size_t col0, std::size_t row0, std::size_t block_cols,
+                std::size_t block_rows, Raster& r) {
+    const auto cols = static_cast<std::size_t>(r.cols);
+    const auto rows = static_cast<std::size_t>(r.rows);
+    const std::size_t nr = std::min(block_rows, rows - row0);
+    const std::size_t nc = std::min(block_cols, cols - col0);
+    for (std::size_t i = 0; i < nr; ++i) {
+        const unsigned char* src = buffer.data() + i * stride * type.bytes();
+        float* dst = r.z.data() + (row0 + i) * cols + col0;
+        for (std::size_t j = 0; j < nc; ++j) {
+            dst[j] = type.decode(src + j * type.bytes());
+        }
+    }
+}
+
+}  // namespace
+
+Raster load_geotiff(const std::filesystem::path& path) {
+    const std::string p = path.string();
+    TiffMessages messages;
+    TIFFOpenOptions* options = TIFFOpenOptionsAlloc();
+    TIFFOpenOptionsSetErrorHandlerExtR(options, on_tiff_error, &messages);
+    TIFFOpenOptionsSetWarningHandlerExtR(options, on_tiff_warning, &messages);
+    TiffHandle tif(TIFFOpenExt(p.c_str(), "r", options));
+    TIFFOpenOptionsFree(options);
+    if (!tif) {
+        throw InputError(p, "cannot open as TIFF (" + messages.last_error + ")");
+    }
+    auto fail = [&](const std::string& what) -> InputError {
+        return InputError(
+            p, messages.last_error.empty() ? what : what + " (" + messages.last_error + ")");
+    };
+    std::uint32_t width = 0, height = 0;
+    if (TIFFGetField(tif.get(), TIFFTAG_IMAGEWIDTH, &width) != 1 ||
+        TIFFGetField(tif.get(), TIFFTAG_IMAGELENGTH, &height) != 1 || width == 0 || height == 0) {
+        throw fail("no ImageWidth/ImageLength");
+    }
+    std::uint16_t samples = 1;
+    SampleType type;
+    TIFFGetFieldDefaulted(tif.get(), TIFFTAG_SAMPLESPERPIXEL, &samples);
+    TIFFGetFieldDefaulted(tif.get(), TIFFTAG_BITSPERSAMPLE, &type.bits);
+    TIFFGetFieldDefaulted(tif.get(), TIFFTAG_SAMPLEFORMAT, &type.format);
+    if (samples != 1) {
+        throw InputError(p, "SamplesPerPixel " + std::to_string(samples) +
+                                ": only single-band rasters are supported");
+    }
+    if (!type.supported()) {
+        throw InputError(p, "SampleFormat " + std::to_string(type.format) + " with BitsPerSample " +
+                                std::to_string(type.bits) +
+                                " is not supported (expected float32/64 or (u)int8/16/32)");
+    }
+    const std::size_t cells = static_cast<std::size_t>(width) * height;
+    if (width > static_cast<std::uint32_t>(std::numeric_limits<int>::max()) ||
+        height > static_cast<std::uint32_t>(std::numeric_limits<int>::max()) ||
+        cells >= std::numeric_limits<std::uint32_t>::max()) {
+        throw InputError(
+            p, std::to_string(width) + " x " + std::to_string(height) + " cells is too large");
+    }
+    Raster r;
+    r.cols = static_cast<int>(width);
+    r.rows = static_cast<int>(height);
+    r.z.assign(cells, 0.0f);
+    if (TIFFIsTiled(tif.get())) {
+        std::uint32_t tile_w = 0, tile_h = 0;
+        TIFFGetField(tif.get(), TIFFTAG_TILEWIDTH, &tile_w);
+        TIFFGetField(tif.get(), TIFFTAG_TILELENGTH, &tile_h);
+        if (tile_w == 0 || tile_h == 0) {
+            throw InputError(p, "TileWidth " + std::to_string(tile_w) + " / TileLength " +
+                                    std::to_string(tile_h) + " is not valid");
+        }
+        const auto tile_bytes = static_cast<std::size_t>(TIFFTileSize64(tif.get()));
+        if (tile_bytes < std::size_t{tile_w} * tile_h * type.bytes()) {
+            throw fail("tile size " + std::to_string(tile_bytes) + " bytes is too small");
+        }
+        std::vector<unsigned char> buffer(tile_bytes);
+        for (std::uint32_t y = 0; y < height; y += tile_h) {
+            for (std::uint32_t x = 0; x < width; x += tile_w) {
+                const ttile_t tile = TIFFComputeTile(tif.get(), x, y, 0, 0);
+                if (TIFFReadEncodedTile(tif.get(), tile, buffer.data(),
+                                        static_cast<tmsize_t>(tile_bytes)) < 0) {
+                    throw fail("cannot read tile " + std::to_string(tile));
+                }
+                copy_block(buffer, type, tile_w, x, y, tile_w, tile_h, r);
+            }
+        }
+    } else {
+        std::uint32_t rows_per_strip = 0;
+        TIFFGetFieldDefaulted(tif.get(), TIFFTAG_ROWSPERSTRIP, &rows_per_strip);
+        rows_per_strip = std::max<std::uint32_t>(1, std::min(rows_per_strip, height));
+        const std::size_t row_bytes = std::size_t{width} * type.bytes();
+        std::vector<unsigned char> buffer(row_bytes * rows_per_strip);
+        for (std::uint32_t y = 0; y < height; y += rows_per_strip) {
+            const std::uint32_t n = std::min(rows_per_strip, height - y);
+            const tstrip_t strip = TIFFComputeStrip(tif.get(), y, 0);
+            const tmsize_t want = static_cast<tmsize_t>(row_bytes * n);
+            if (TIFFReadEncodedStrip(tif.get(), strip, buffer.data(), want) < want) {
+                throw fail("cannot read strip " + std::to_string(strip));
+            }
+            copy_block(buffer, type, width, 0, y, width, n, r);
+        }
+    }
+    read_georeferencing(tif.get(), p, r);
+    r.nodata = read_nodata(tif.get());
+    return r;
+}
+
+}  // namespace beamtrace

@@ -1,0 +1,363 @@
+#include "beamtrace/scene/raster_terrain.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "beamtrace/core/error.hpp"
+#include "beamtrace/scene/mesh_loader.hpp"
+#include "test_support.hpp"
+
+namespace beamtrace {
+namespace {
+
+class RasterTerrainTest : public test::TempDirTest {
+  protected:
+    /// Loading `text` as an .asc must throw InputError naming the file, with `fragment`.
+    void expect_asc_error(const std::string& text, const std::string& fragment) const {
+        test::expect_input_error(load_esri_ascii_grid, write("broken.asc", text), fragment);
+    }
+};
+
+// ---- a minimal little-endian TIFF writer for hand-made fixtures ---------------------------
+
+struct TiffEntry {
+    std::uint16_t tag = 0;
+    std::uint16_t type = 0;  // 2 ASCII, 3 SHORT, 4 LONG, 12 DOUBLE
+    std::uint32_t count = 0;
+    std::string data;  // little-endian values
+};
+
+[[nodiscard]] TiffEntry shorts(std::uint16_t tag, std::vector<std::uint16_t> values) {
+    TiffEntry e{tag, 3, static_cast<std::uint32_t>(values.size()), {}};
+    for (auto v : values) {
+        test::append_bytes(e.data, v);
+    }
+    return e;
+}
+
+[[nodiscard]] TiffEntry longs(std::uint16_t tag, std::uint32_t value) {
+    TiffEntry e{tag, 4, 1, {}};
+    test::append_bytes(e.data, value);
+    return e;
+}
+
+[[nodiscard]] TiffEntry doubles(std::uint16_t tag, std::vector<double> values) {
+    TiffEntry e{tag, 12, static_cast<std::uint32_t>(values.size()), {}};
+    for (auto v : values) {
+        test::append_bytes(e.data, v);
+    }
+    return e;
+}
+
+[[nodiscard]] TiffEntry ascii(std::uint16_t tag, const std::string& text) {
+    return {tag, 2, static_cast<std::uint32_t>(text.size() + 1), text + '\0'};
+}
+
+/// One strip of `pixels` right after the header; `entries` must not hold the strip tags.
+[[nodiscard]] std::string make_tiff(std::vector<TiffEntry> entries, std::uint32_t width,
+                                    std::uint32_t height, const std::string& pixels) {
+    std::string padded = pixels;
+    if (padded.size() % 2 != 0) {
+        padded.push_back('\0');
+    }
+    entries.push_back(longs(256, width));
+    entries.push_back(longs(257, height));
+    entries.push_back(longs(273, 8));
+    entries.push_back(longs(278, height));
+    entries.push_back(longs(279, static_cast<std::uint32_t>(pixels.size())));
+    std::sort(entries.begin(), entries.end(),
+              [](const TiffEntry& a, const TiffEntry& b) { return a.tag < b.tag; });
+    std::string out = "II";
+    test::append_bytes(out, std::uint16_t{42});
+    test::append_bytes(out, std::uint32_t{8 + static_cast<std::uint32_t>(padded.size())});
+    out += padded;
+    const std::size_t ifd_size = 2 + 12 * entries.size() + 4;
+    std::string overflow;
+    test::append_bytes(out, static_cast<std::uint16_t>(entries.size()));
+    for (const auto& e : entries) {
+        test::append_bytes(out, e.tag);
+        test::append_bytes(out, e.type);
+        test::append_bytes(out, e.count);
+        if (e.data.size() <= 4) {
+            std::string inline_value = e.data;
+            inline_value.resize(4, '\0');
+            out += inline_value;
+        } else {
+            const std::size_t offset = 8 + padded.size() + ifd_size + overflow.size();
+            test::append_bytes(out, static_cast<std::uint32_t>(offset));
+            overflow += e.data;
+            if (overflow.size() % 2 != 0) {
+                overflow.push_back('\0');
+            }
+        }
+    }
+    test::append_bytes(out, std::uint32_t{0});
+    return out + overflow;
+}
+
+/// 3 x 2 int16 cells {1, 2, 3; 4, -9999, 6}, 25 m, top-left corner at (1000, 2000).
+[[nodiscard]] std::string small_int16_tiff(std::vector<TiffEntry> extra = {}) {
+    std::string pixels;
+    for (std::int16_t v : std::initializer_list<std::int16_t>{1, 2, 3, 4, -9999, 6}) {
+        test::append_bytes(pixels, v);
+    }
+    std::vector<TiffEntry> entries{shorts(258, {16}),
+                                   shorts(259, {1}),
+                                   shorts(262, {1}),
+                                   shorts(277, {1}),
+                                   shorts(339, {2}),
+                                   doubles(33550, {25, 25, 0}),
+                                   doubles(33922, {0, 0, 0, 1000, 2000, 0}),
+                                   ascii(42113, "-9999")};
+    for (auto& e : extra) {
+        const auto it = std::find_if(entries.begin(), entries.end(),
+                                     [&](const TiffEntry& x) { return x.tag == e.tag; });
+        if (it != entries.end()) {
+            *it = e;
+        } else {
+            entries.push_back(e);
+        }
+    }
+    return make_tiff(entries, 3, 2, pixels);
+}
+
+[[nodiscard]] Vec3f normal(const TriangleMesh& m, const Face& f) {
+    return cross(m.vertices[f[1]] - m.vertices[f[0]], m.vertices[f[2]] - m.vertices[f[0]]);
+}
+
+// ---- the shared DEM ----------------------------------------------------------------------
+
+TEST(RasterTerrain, AsciiGridAndGeoTiffAreTheSameDem) {
+    const auto asc_path = test::shared_mesh("terrain/dem_hd.asc");
+    const auto tif_path = test::shared_mesh("terrain/dem_hd.tif");
+    BEAMTRACE_REQUIRE_FILE(asc_path);
+    BEAMTRACE_REQUIRE_FILE(tif_path);
+    const Raster asc = load_raster(asc_path);
+    const Raster tif = load_raster(tif_path);
+    ASSERT_EQ(asc.cols, 1041);
+    ASSERT_EQ(asc.rows, 713);
+    EXPECT_EQ(tif.cols, asc.cols);
+    EXPECT_EQ(tif.rows, asc.rows);
+    EXPECT_NEAR(tif.x0_m, asc.x0_m, 1e-6);
+    EXPECT_NEAR(tif.y0_m, asc.y0_m, 1e-6);
+    EXPECT_NEAR(tif.cell_x_m, 25.0, 1e-9);
+    EXPECT_NEAR(tif.cell_y_m, -25.0, 1e-9);
+    EXPECT_NEAR(asc.cell_x_m, 25.0, 1e-9);
+    EXPECT_NEAR(asc.cell_y_m, -25.0, 1e-9);
+    // Pixel centre of the top-left cell: xllcorner + 12.5, yllcorner + 713 * 25 - 12.5.
+    EXPECT_NEAR(asc.x0_m, 465322.625829136115 + 12.5, 1e-6);
+    EXPECT_NEAR(asc.y0_m, 5464975.390295740217 + 713 * 25.0 - 12.5, 1e-6);
+    ASSERT_EQ(asc.z.size(), tif.z.size());
+    float worst = 0.0f;
+    for (std::size_t i = 0; i < asc.z.size(); ++i) {
+        worst = std::max(worst, std::fabs(asc.z[i] - tif.z[i]));
+    }
+    EXPECT_LE(worst, 0.005f);
+    ASSERT_TRUE(asc.nodata && tif.nodata);
+    EXPECT_EQ(*asc.nodata, *tif.nodata);
+    EXPECT_EQ(*tif.nodata, -std::numeric_limits<float>::max());
+    const auto [lo, hi] = std::minmax_element(tif.z.begin(), tif.z.end());
+    EXPECT_NEAR(*lo, 34.0f, 0.5f);  // SOURCES.md: z 34-581 m
+    EXPECT_NEAR(*hi, 581.0f, 0.5f);
+}
+
+TEST(RasterTerrain, StripTiffSubsetMatchesTheTiledDem) {
+    const auto sub_path = test::shared_mesh("terrain/dem_hd_sub.tif");
+    const auto tif_path = test::shared_mesh("terrain/dem_hd.tif");
+    BEAMTRACE_REQUIRE_FILE(sub_path);
+    BEAMTRACE_REQUIRE_FILE(tif_path);
+    const Raster sub = load_geotiff(sub_path);
+    EXPECT_EQ(sub.cols, 198);
+    EXPECT_EQ(sub.rows, 119);
+    EXPECT_NEAR(sub.cell_x_m, 25.0, 1e-9);
+    const Raster dem = load_geotiff(tif_path);
+    const double col0 = (sub.x0_m - dem.x0_m) / dem.cell_x_m;
+    const double row0 = (sub.y0_m - dem.y0_m) / dem.cell_y_m;
+    ASSERT_NEAR(col0, std::round(col0), 1e-3);
+    ASSERT_NEAR(row0, std::round(row0), 1e-3);
+    const int c0 = static_cast<int>(std::lround(col0)), r0 = static_cast<int>(std::lround(row0));
+    int differing = 0;
+    for (int r = 0; r < sub.rows; ++r) {
+        for (int c = 0; c < sub.cols; ++c) {
+            differing += sub.at(c, r) != dem.at(c0 + c, r0 + r) ? 1 : 0;
+        }
+    }
+    EXPECT_EQ(differing, 0);
+}
+
+TEST(RasterTerrain, DemHeightFieldMatchesThePly) {
+    const auto tif_path = test::shared_mesh("terrain/dem_hd.tif");
+    const auto ply_path = test::shared_mesh("large/dem_hd_heightfield.ply");
+    BEAMTRACE_REQUIRE_FILE(tif_path);
+    // The PLY's comment: add (465335.125829136, 5464987.890295740) for UTM coordinates.
+    const TriangleMesh m =
+        raster_to_mesh(load_geotiff(tif_path), {465335.125829136, 5464987.890295740, 0.0});
+    EXPECT_EQ(m.triangle_count(), 2u * 1040u * 712u);
+    EXPECT_EQ(m.vertices.size(), 1041u * 713u);
+    for (std::size_t f = 0; f < m.triangle_count(); f += 9973) {
+        EXPECT_GT(normal(m, m.faces[f]).z, 0.0f) << f;
+    }
+    BEAMTRACE_REQUIRE_FILE(ply_path);
+    const TriangleMesh ply = load_ply(ply_path);
+    EXPECT_EQ(m.triangle_count(), ply.triangle_count());
+    const Aabb a = m.bounds(), b = ply.bounds();
+    for (std::size_t k = 0; k < 3; ++k) {
+        EXPECT_NEAR(a.lo[k], b.lo[k], 1e-3) << k;
+        EXPECT_NEAR(a.hi[k], b.hi[k], 1e-3) << k;
+    }
+}
+
+// ---- hand-written grids ------------------------------------------------------------------
+
+TEST_F(RasterTerrainTest, TinyGridGivesExactVerticesAndUpwardFaces) {
+    const Raster r = load_raster(write("tiny.asc",
+                                       "ncols 3\nNROWS 2\nxllcorner 100\nYllCorner 200\n"
+                                       "cellsize 10\n1 2 3\n4 5 6\n"));
+    EXPECT_EQ(r.x0_m, 105.0);
+    EXPECT_EQ(r.y0_m, 215.0);
+    EXPECT_FALSE(r.nodata.has_value());
+    const TriangleMesh m = raster_to_mesh(r, {100.0, 200.0, 0.5});
+    const std::vector<Vec3f> vertices{{5, 15, 0.5f}, {15, 15, 1.5f}, {25, 15, 2.5f},
+                                      {5, 5, 3.5f},  {15, 5, 4.5f},  {25, 5, 5.5f}};
+    EXPECT_EQ(m.vertices, vertices);
+    const std::vector<Face> faces{{3, 4, 1}, {3, 1, 0}, {4, 5, 2}, {4, 2, 1}};
+    EXPECT_EQ(m.faces, faces);
+    for (const Face& f : m.faces) {
+        EXPECT_GT(normal(m, f).z, 0.0f);
+    }
+}
+
+TEST_F(RasterTerrainTest, HeaderKeysInAnyOrderWithCentresAndDxDy) {
+    const Raster r = load_esri_ascii_grid(
+        write("centre.asc",
+              "DY 5\nnodata_value -1\nyllcenter 0\r\nxllcenter 0\ndx 2\nnrows 2\nncols 2\n"
+              "1 -1\n3 4\n"));
+    EXPECT_EQ(r.cell_x_m, 2.0);
+    EXPECT_EQ(r.cell_y_m, -5.0);
+    EXPECT_EQ(r.x0_m, 0.0);
+    EXPECT_EQ(r.y0_m, 5.0);
+    ASSERT_TRUE(r.nodata.has_value());
+    EXPECT_EQ(*r.nodata, -1.0f);
+    EXPECT_FALSE(r.valid(r.at(1, 0)));
+    EXPECT_TRUE(r.valid(r.at(0, 1)));
+}
+
+TEST_F(RasterTerrainTest, NodataCellRemovesExactlyTheTrianglesTouchingIt) {
+    std::string text = "ncols 5\nnrows 4\nxllcorner 0\nyllcorner 0\ncellsize 1\n";
+    const std::string full = text + "1 2 3 4 5\n6 7 8 9 10\n11 12 13 14 15\n16 17 18 19 20\n";
+    const std::string holed =
+        text + "NODATA_value -9999\n1 2 3 4 5\n6 7 -9999 9 10\n11 12 13 14 15\n16 17 18 19 20\n";
+    const TriangleMesh a = raster_to_mesh(load_esri_ascii_grid(write("full.asc", full)));
+    const TriangleMesh b = raster_to_mesh(load_esri_ascii_grid(write("holed.asc", holed)));
+    EXPECT_EQ(a.triangle_count(), 2u * 4u * 3u);
+    EXPECT_EQ(b.vertices.size(), a.vertices.size() - 1);
+    const Vec3f hole = a.vertices[1 * 5 + 2];  // col 2, row 1
+    std::vector<std::array<Vec3f, 3>> kept;
+    for (const Face& f : a.faces) {
+        const std::array<Vec3f, 3> t{a.vertices[f[0]], a.vertices[f[1]], a.vertices[f[2]]};
+        if (t[0] != hole && t[1] != hole && t[2] != hole) {
+            kept.push_back(t);
+        }
+    }
+    EXPECT_EQ(kept.size(), a.triangle_count() - 6);  // an interior vertex has six triangles
+    ASSERT_EQ(b.triangle_count(), kept.size());
+    for (std::size_t i = 0; i < kept.size(); ++i) {
+        for (std::size_t c = 0; c < 3; ++c) {
+            EXPECT_EQ(b.vertices[b.faces[i][c]], kept[i][c]) << i << " " << c;
+        }
+    }
+}
+
+TEST_F(RasterTerrainTest, NanCellsAndFlippedAxesKeepFacesUp) {
+    Raster r;
+    r.cols = 3;
+    r.rows = 3;
+    r.x0_m = 0.0;
+    r.y0_m = 0.0;
+    r.cell_x_m = 1.0;
+    r.cell_y_m = 1.0;  // rows go north
+    r.z = {0, 0, 0, 0, std::numeric_limits<float>::quiet_NaN(), 0, 0, 0, 0};
+    const TriangleMesh m = raster_to_mesh(r);
+    EXPECT_EQ(m.vertices.size(), 8u);
+    EXPECT_EQ(m.triangle_count(), 2u);  // the centre touches 6 of the 8 triangles
+    for (const Face& f : m.faces) {
+        EXPECT_GT(normal(m, f).z, 0.0f);
+    }
+    r.z.pop_back();
+    EXPECT_THROW(static_cast<void>(raster_to_mesh(r)), std::invalid_argument);
+}
+
+TEST_F(RasterTerrainTest, BrokenAsciiHeadersNameFileAndLine) {
+    expect_asc_error("ncols 2\nnrows two\n", "broken.asc:2: 'nrows' must be a positive integer");
+    expect_asc_error("ncols 2\nnrows 1\nbogus 3\n", "broken.asc:3: unknown header key 'bogus'");
+    expect_asc_error("ncols 2\nnrows\n", "broken.asc:2: no value for header key 'nrows'");
+    expect_asc_error("ncols 2 3\n", "broken.asc:1: unexpected text after the value of 'ncols'");
+    expect_asc_error("ncols 2\nxllcorner 0\nyllcorner 0\ncellsize 1\n1 2\n",
+                     "broken.asc:5: the header has no 'nrows'");
+    expect_asc_error("ncols 2\nnrows 1\nxllcorner 0\nxllcenter 0\nyllcorner 0\ncellsize 1\n1 2\n",
+                     "broken.asc:7: the header needs exactly one of 'xllcorner', 'xllcenter'");
+    expect_asc_error("ncols 2\nnrows 1\nxllcorner 0\nyllcorner 0\n1 2\n",
+                     "broken.asc:5: the header has no positive 'cellsize'");
+    const std::string header = "ncols 2\nnrows 2\nxllcorner 0\nyllcorner 0\ncellsize 1\n";
+    expect_asc_error(header + "1 2\n3\n", "expected 4 values (2 rows of 2), found only 3");
+    expect_asc_error(header + "1 2\n3 4\n5\n", "broken.asc:8: more than the 4 values");
+    expect_asc_error(header + "1 2\n3 x4\n", "broken.asc:7: value 3 'x4' is not a number");
+    expect_asc_error(header + "1 2\n3 4e99\n", "broken.asc:7: value 3 '4e99'");
+}
+
+// ---- hand-written GeoTIFFs ---------------------------------------------------------------
+
+TEST_F(RasterTerrainTest, Int16GeoTiffWithNodata) {
+    const Raster r = load_raster(write("small.TIF", small_int16_tiff()));
+    ASSERT_EQ(r.cols, 3);
+    ASSERT_EQ(r.rows, 2);
+    EXPECT_EQ(r.z, (std::vector<float>{1, 2, 3, 4, -9999, 6}));
+    EXPECT_EQ(r.x0_m, 1012.5);
+    EXPECT_EQ(r.y0_m, 1987.5);
+    EXPECT_EQ(r.cell_x_m, 25.0);
+    EXPECT_EQ(r.cell_y_m, -25.0);
+    ASSERT_TRUE(r.nodata.has_value());
+    EXPECT_EQ(*r.nodata, -9999.0f);
+    const TriangleMesh m = raster_to_mesh(r, {1000.0, 2000.0, 0.0});
+    EXPECT_EQ(m.vertices.size(), 5u);
+    ASSERT_EQ(m.triangle_count(), 1u);  // only the top-left triangle avoids the hole
+    EXPECT_EQ(m.vertices[m.faces[0][2]], Vec3f(12.5f, -12.5f, 1.0f));
+}
+
+TEST_F(RasterTerrainTest, PixelIsPointShiftsByHalfACell) {
+    // GeoKeyDirectory: version 1.1.0, one key: GTRasterTypeGeoKey (1025) = RasterPixelIsPoint.
+    const Raster r = load_geotiff(
+        write("point.tif", small_int16_tiff({shorts(34735, {1, 1, 0, 1, 1025, 0, 1, 2})})));
+    EXPECT_EQ(r.x0_m, 1000.0);
+    EXPECT_EQ(r.y0_m, 2000.0);
+}
+
+TEST_F(RasterTerrainTest, UnsupportedTiffLayoutsNameTheTagValue) {
+    test::expect_input_error(load_geotiff, write("rgb.tif", small_int16_tiff({shorts(277, {3})})),
+                             "SamplesPerPixel 3");
+    test::expect_input_error(load_geotiff, write("half.tif", small_int16_tiff({shorts(339, {3})})),
+                             "SampleFormat 3 with BitsPerSample 16");
+    test::expect_input_error(load_geotiff, write("junk.tif", "not a tiff at all"),
+                             "cannot open as TIFF");
+    test::expect_input_error(load_raster, write("grid.xyz", "1 2 3"), "unknown raster format");
+    test::expect_input_error(load_raster, dir_ / "missing.tif", "cannot open");
+    test::expect_input_error(load_raster, dir_ / "missing.asc", "");
+}
+
+TEST_F(RasterTerrainTest, TruncatedTiffsThrowOnlyInputError) {
+    const std::string tiff = small_int16_tiff();
+    const auto path = dir_ / "cut.tif";
+    test::load_every_truncation(tiff, [&](const std::string& bytes) {
+        static_cast<void>(load_geotiff(test::write_file(path, bytes)));
+    });
+}
+
+}  // namespace
+}  // namespace beamtrace
