@@ -2,6 +2,8 @@
 #pragma once
 
 #include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <cstdio>
 
 #include <algorithm>
 #include <array>
@@ -234,6 +236,67 @@ inline std::size_t heavy_scale(std::size_t full) {
 #else
     return full;
 #endif
+}
+
+/// Output and exit code of a shell command (stderr folded into stdout).
+struct RunResult {
+    int exit_code = -1;
+    std::string out;  ///< stdout and stderr together
+};
+
+inline RunResult run_command(const std::string& cmd) {
+    RunResult r;
+    FILE* p = ::popen((cmd + " 2>&1").c_str(), "r");
+    if (p == nullptr) {
+        return r;
+    }
+    std::array<char, 4096> buf{};
+    std::size_t n = 0;
+    while ((n = std::fread(buf.data(), 1, buf.size(), p)) > 0) {
+        r.out.append(buf.data(), n);
+    }
+    const int status = ::pclose(p);
+    r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    return r;
+}
+
+/// The lasval folder inside the build tree with its npm packages installed, or "" and `why`.
+inline std::filesystem::path install_lasval(std::string& why) {
+    if (run_command("node --version").exit_code != 0) {
+        why = "node is not on PATH";
+        return {};
+    }
+    const std::filesystem::path source =
+        std::filesystem::path(BEAMTRACE_SHARED_DATA_DIR) / ".." / "tools" / "lasval";
+    if (!std::filesystem::exists(source / "read.mjs")) {
+        why = "missing " + source.string();
+        return {};
+    }
+    const std::filesystem::path target =
+        std::filesystem::path(BEAMTRACE_CLI_PATH).parent_path() / "lasval-cache";
+    if (std::filesystem::exists(target / "node_modules")) {
+        return target;
+    }
+    // Install into a private folder and rename it into place, so concurrent runs never see a
+    // half-installed cache.
+    const std::filesystem::path staging = target.string() + "." + std::to_string(::getpid());
+    std::filesystem::remove_all(staging);
+    std::filesystem::create_directories(staging);
+    for (const char* name : {"read.mjs", "package.json", "package-lock.json"}) {
+        std::filesystem::copy_file(source / name, staging / name);
+    }
+    const auto r = run_command("cd '" + staging.string() + "' && npm ci --no-audit --no-fund");
+    if (r.exit_code != 0) {
+        std::filesystem::remove_all(staging);
+        why = "npm ci failed: " + r.out.substr(0, 500);
+        return {};
+    }
+    std::error_code ec;
+    std::filesystem::rename(staging, target, ec);
+    if (ec) {
+        std::filesystem::remove_all(staging);  // another run installed it first
+    }
+    return std::filesystem::exists(target / "node_modules") ? target : std::filesystem::path();
 }
 
 }  // namespace beamtrace::test

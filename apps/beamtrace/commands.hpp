@@ -13,4 +13,7 @@ std::function<int()> add_scan_command(CLI::App& app);
 /// Registers `info FILE`: prints a LAS file's header summary and VLR list.
 std::function<int()> add_info_command(CLI::App& app);
 
+/// Registers `survey FILE.yaml`: runs a survey and writes LAS 1.4 and the trajectory.
+std::function<int()> add_survey_command(CLI::App& app);
+
 }  // namespace beamtrace::cli

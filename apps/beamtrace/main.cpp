@@ -14,6 +14,7 @@ int main(int argc, char** argv) {
     app.failure_message([](const CLI::App*, const CLI::Error& e) { return std::string(e.what()); });
     const auto run_scan = beamtrace::cli::add_scan_command(app);
     const auto run_info = beamtrace::cli::add_info_command(app);
+    const auto run_survey = beamtrace::cli::add_survey_command(app);
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {
@@ -29,6 +30,9 @@ int main(int argc, char** argv) {
     try {
         if (app.got_subcommand("scan")) {
             return run_scan();
+        }
+        if (app.got_subcommand("survey")) {
+            return run_survey();
         }
         if (app.got_subcommand("info")) {
             return run_info();

@@ -345,26 +345,7 @@ TEST(LasReaderFiles, EdgeFilesReadOrFailWithTheFileName) {
 
 // --- `beamtrace info` ---------------------------------------------------------------------
 
-struct RunResult {
-    int exit_code = -1;
-    std::string out;  ///< stdout and stderr together
-};
-
-RunResult run_command(const std::string& cmd) {
-    RunResult r;
-    FILE* p = ::popen((cmd + " 2>&1").c_str(), "r");
-    if (p == nullptr) {
-        return r;
-    }
-    std::array<char, 4096> buf{};
-    std::size_t n = 0;
-    while ((n = std::fread(buf.data(), 1, buf.size(), p)) > 0) {
-        r.out.append(buf.data(), n);
-    }
-    const int status = ::pclose(p);
-    r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    return r;
-}
+using test::run_command;
 
 TEST(LasInfoCli, PrintsTheHeaderSummary) {
     const fs::path path = test::shared_data("las/formats/1_4_w_evlr.las");
@@ -391,42 +372,7 @@ TEST(LasInfoCli, BrokenFileExitsTwoWithOneLine) {
 
 // --- independent validation of LasWriter output --------------------------------------------
 
-/// The lasval folder inside the build tree with its npm packages installed, or "" and `why`.
-fs::path install_lasval(std::string& why) {
-    if (run_command("node --version").exit_code != 0) {
-        why = "node is not on PATH";
-        return {};
-    }
-    const fs::path source = fs::path(BEAMTRACE_SHARED_DATA_DIR) / ".." / "tools" / "lasval";
-    if (!fs::exists(source / "read.mjs")) {
-        why = "missing " + source.string();
-        return {};
-    }
-    const fs::path target = fs::path(BEAMTRACE_CLI_PATH).parent_path() / "lasval-cache";
-    if (fs::exists(target / "node_modules")) {
-        return target;
-    }
-    // Install into a private folder and rename it into place, so concurrent runs never see a
-    // half-installed cache.
-    const fs::path staging = target.string() + "." + std::to_string(::getpid());
-    fs::remove_all(staging);
-    fs::create_directories(staging);
-    for (const char* name : {"read.mjs", "package.json", "package-lock.json"}) {
-        fs::copy_file(source / name, staging / name);
-    }
-    const auto r = run_command("cd '" + staging.string() + "' && npm ci --no-audit --no-fund");
-    if (r.exit_code != 0) {
-        fs::remove_all(staging);
-        why = "npm ci failed: " + r.out.substr(0, 500);
-        return {};
-    }
-    std::error_code ec;
-    fs::rename(staging, target, ec);
-    if (ec) {
-        fs::remove_all(staging);  // another run installed it first
-    }
-    return fs::exists(target / "node_modules") ? target : fs::path();
-}
+using test::install_lasval;
 
 TEST(LasWriterValidator, IndependentReadersAcceptOurFiles) {
     std::string why;

@@ -1,0 +1,72 @@
+#include <cstdio>
+#include <memory>
+#include <string>
+
+#include "beamtrace/core/error.hpp"
+#include "beamtrace/pipeline/survey.hpp"
+#include "commands.hpp"
+#include "progress_bar.hpp"
+
+namespace beamtrace::cli {
+namespace {
+
+struct SurveyOptions {
+    std::string file;
+    std::string output;
+    unsigned threads = 0;
+    std::uint64_t seed = 1;
+    std::string backend = "bvh";
+    bool quiet = false;
+    bool progress = false;
+};
+
+int run(const SurveyOptions& o) {
+    const SurveySpec spec = load_survey_spec(o.file);
+    SurveyRunConfig run;
+    run.output_dir = o.output;
+    run.threads = o.threads;
+    run.seed = o.seed;
+    run.backend = parse_backend_kind(o.backend);
+    ProgressBar bar("surveying", !o.quiet && (o.progress || stderr_is_terminal()));
+    const SurveyResult r = run_survey(
+        spec, run, [&](std::size_t done, std::size_t total) { bar.update(done, total); });
+    bar.finish();
+    if (!o.quiet) {
+        std::printf("scene: %zu triangles; pulses: %llu; points: %llu\n", r.triangles,
+                    static_cast<unsigned long long>(r.pulses),
+                    static_cast<unsigned long long>(r.points));
+        std::printf("time: build %.3f s, survey %.3f s (%.2f M pulses/s, %.2f M points/s)\n",
+                    r.build_s, r.survey_s,
+                    r.survey_s > 0 ? static_cast<double>(r.pulses) / r.survey_s / 1e6 : 0.0,
+                    r.survey_s > 0 ? static_cast<double>(r.points) / r.survey_s / 1e6 : 0.0);
+        for (const auto& p : r.outputs) {
+            std::printf("wrote %s\n", p.string().c_str());
+        }
+    }
+    return 0;
+}
+
+}  // namespace
+
+std::function<int()> add_survey_command(CLI::App& app) {
+    auto opts = std::make_shared<SurveyOptions>();
+    CLI::App* cmd = app.add_subcommand(
+        "survey",
+        "Run a survey file: a scanner on a platform in a scene; writes points.las (LAS "
+        "1.4) and trajectory.csv");
+    cmd->add_option("file", opts->file, "Survey file (YAML, see docs/survey.md)")
+        ->required()
+        ->check(CLI::ExistingFile);
+    cmd->add_option("--output", opts->output, "Output directory")->required();
+    cmd->add_option("--threads", opts->threads, "Worker threads (0 = all cores)")
+        ->capture_default_str();
+    cmd->add_option("--seed", opts->seed, "Random seed (recorded in the LAS file)")
+        ->capture_default_str();
+    cmd->add_option("--backend", opts->backend, "bvh | kdtree | brute")->capture_default_str();
+    cmd->add_flag("--quiet", opts->quiet, "No progress bar and no summary");
+    cmd->add_flag("--progress", opts->progress,
+                  "Show the progress bar even when not on a terminal");
+    return [opts] { return run(*opts); };
+}
+
+}  // namespace beamtrace::cli

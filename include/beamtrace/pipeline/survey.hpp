@@ -1,0 +1,76 @@
+// `beamtrace survey`: a scanner on a platform flies or drives through a scene; every pulse is
+// traced and the hits are streamed to LAS 1.4 (and optionally PLY), with the trajectory as CSV.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <limits>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "beamtrace/accel/backend.hpp"
+#include "beamtrace/core/progress.hpp"
+#include "beamtrace/sensor/image_pattern.hpp"
+#include "beamtrace/sensor/line_scanner.hpp"
+#include "beamtrace/sensor/rotating_scanner.hpp"
+#include "beamtrace/sensor/trajectory.hpp"
+
+namespace beamtrace {
+
+enum class ScannerKind : std::uint8_t { rotating, line, image };
+enum class PlatformKind : std::uint8_t { fixed, legs, trajectory };
+
+/// Everything a survey file says. Parsed by load_survey_spec (see docs/survey.md).
+struct SurveySpec {
+    std::filesystem::path source;      ///< the survey file
+    std::filesystem::path scene_file;  ///< empty: the embedded demo scene
+    ScannerKind scanner = ScannerKind::rotating;
+    RotatingScannerConfig rotating = vlp16();
+    LineScannerConfig line;
+    ImagePatternConfig image;
+    double range_min_m = 0.0;  ///< closer hits are not recorded
+    double range_max_m = std::numeric_limits<double>::infinity();
+    PlatformKind platform = PlatformKind::fixed;
+    Pose fixed_pose;                        ///< platform pose for `fixed`
+    LinearLegsConfig legs;                  ///< for `legs`
+    std::filesystem::path trajectory_file;  ///< for `trajectory`
+    Mount mount;                            ///< lever arm and boresight
+    int point_format = 6;                   ///< LAS point format (6, 7 or 8)
+    bool write_ply = false;                 ///< also points.ply
+    double trajectory_rate_hz = 10.0;       ///< samples per second in trajectory.csv (0: none)
+    std::string text;                       ///< the file's text (recorded in the LAS VLR)
+
+    /// The scan pattern described by the file.
+    [[nodiscard]] std::unique_ptr<ScanPattern> make_pattern() const;
+    /// The platform's trajectory.
+    [[nodiscard]] std::unique_ptr<Trajectory> make_trajectory() const;
+};
+
+/// Parses a survey file; throws ConfigError listing every problem as `file:line: key: what`.
+[[nodiscard]] SurveySpec load_survey_spec(const std::filesystem::path& path);
+[[nodiscard]] SurveySpec parse_survey_spec(const std::string& yaml_text,
+                                           const std::filesystem::path& source);
+
+struct SurveyRunConfig {
+    std::filesystem::path output_dir;
+    unsigned threads = 0;    ///< 0 = all cores; results identical for any value
+    std::uint64_t seed = 1;  ///< recorded; consumed by noise models (later)
+    BackendKind backend = BackendKind::bvh;
+    std::size_t chunk_pulses = std::size_t{1} << 16;  ///< pulses traced and written per step
+};
+
+struct SurveyResult {
+    std::uint64_t pulses = 0;
+    std::uint64_t points = 0;
+    std::size_t triangles = 0;
+    double build_s = 0, survey_s = 0;
+    std::vector<std::filesystem::path> outputs;
+};
+
+/// Runs the survey: memory stays bounded by the chunk size whatever the number of pulses.
+[[nodiscard]] SurveyResult run_survey(const SurveySpec& spec, const SurveyRunConfig& run,
+                                      const ProgressFn& progress = {});
+
+}  // namespace beamtrace

@@ -1,0 +1,207 @@
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <system_error>
+
+#include "beamtrace/core/error.hpp"
+#include "beamtrace/io/las_writer.hpp"
+#include "beamtrace/io/point_cloud_ply.hpp"
+#include "beamtrace/pipeline/survey.hpp"
+#include "beamtrace/scene/demo_scene.hpp"
+#include "beamtrace/scene/scene_builder.hpp"
+
+namespace beamtrace {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point t0) {
+    return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+/// The LAS 1.4 scan angle of a world direction: the rotation from straight down about the
+/// platform's direction of travel, counter-clockwise seen from behind (so positive to the right),
+/// in degrees. Beams above the horizontal are clamped to +/-90 degrees, the range most LAS
+/// readers accept.
+float las_scan_angle_deg(const Vec3d& dir, const Vec3d& forward) {
+    const Vec3d up{0, 0, 1};
+    Vec3d right = cross(forward, up);
+    if (length(right) < 1e-9) {  // travelling vertically: use the world x axis
+        right = {1, 0, 0};
+    }
+    right = normalize(right);
+    const double a = std::atan2(dot(dir, right), -dir.z) * 180.0 / 3.14159265358979323846;
+    return static_cast<float>(std::clamp(a, -90.0, 90.0));
+}
+
+}  // namespace
+
+std::unique_ptr<ScanPattern> SurveySpec::make_pattern() const {
+    switch (scanner) {
+        case ScannerKind::rotating:
+            return std::make_unique<RotatingScanner>(rotating);
+        case ScannerKind::line:
+            return std::make_unique<LineScanner>(line);
+        case ScannerKind::image:
+            return std::make_unique<ImagePattern>(image);
+    }
+    throw ConfigError("unknown scanner kind");
+}
+
+std::unique_ptr<Trajectory> SurveySpec::make_trajectory() const {
+    switch (platform) {
+        case PlatformKind::fixed:
+            return std::make_unique<StaticPlatform>(fixed_pose);
+        case PlatformKind::legs:
+            return std::make_unique<LinearLegs>(legs);
+        case PlatformKind::trajectory:
+            return std::make_unique<SampledTrajectory>(read_trajectory_csv(trajectory_file));
+    }
+    throw ConfigError("unknown platform kind");
+}
+
+SurveyResult run_survey(const SurveySpec& spec, const SurveyRunConfig& run,
+                        const ProgressFn& progress) {
+    if (run.output_dir.empty()) {
+        throw ConfigError("no output directory");
+    }
+    SurveyResult result;
+    ThreadPool pool(run.threads);
+
+    // Inputs first: nothing is written before the scene, pattern and trajectory are all valid.
+    const Scene scene =
+        spec.scene_file.empty() ? make_demo_scene() : load_scene_file(spec.scene_file);
+    const auto pattern = spec.make_pattern();
+    const auto trajectory = spec.make_trajectory();
+    if (pattern->pulse_count() > 0 &&
+        !trajectory->covers(pattern->start_time_s(), pattern->end_time_s())) {
+        throw ConfigError(spec.source.string() + ": the scanner fires from " +
+                          std::to_string(pattern->start_time_s()) + " s to " +
+                          std::to_string(pattern->end_time_s()) +
+                          " s but the platform moves only from " +
+                          std::to_string(trajectory->start_time_s()) + " s to " +
+                          std::to_string(trajectory->end_time_s()) + " s");
+    }
+    result.triangles = scene.mesh.triangle_count();
+    result.pulses = pattern->pulse_count();
+
+    auto t0 = Clock::now();
+    const auto backend = make_backend(run.backend, scene.mesh, pool);
+    result.build_s = seconds_since(t0);
+
+    std::error_code ec;
+    std::filesystem::create_directories(run.output_dir, ec);
+    if (ec || !std::filesystem::is_directory(run.output_dir)) {
+        throw OutputError(run.output_dir.string() + ": cannot create output directory" +
+                          (ec ? ": " + ec.message() : std::string()));
+    }
+
+    // LAS: coordinates quantised to 1 mm around the scene; the survey file goes into a VLR.
+    const Aabb bounds = scene.mesh.bounds();
+    LasWriterConfig las = las_config_for_extent(Vec3d(bounds.lo) + scene.origin_m,
+                                                Vec3d(bounds.hi) + scene.origin_m, 0.001);
+    las.point_format = spec.point_format;
+    LasVlr vlr;
+    vlr.user_id = "beamtrace";
+    vlr.record_id = 1;
+    vlr.description = "survey file";
+    const std::string record = "# beamtrace " BEAMTRACE_VERSION " survey, seed " +
+                               std::to_string(run.seed) + "\n" + spec.text;
+    vlr.data.assign(
+        record.begin(),
+        record.begin() + static_cast<std::ptrdiff_t>(std::min<std::size_t>(record.size(), 60000)));
+    las.vlrs.push_back(std::move(vlr));
+    const auto las_path = run.output_dir / "points.las";
+    LasWriter writer(las_path, las);
+    std::vector<PointRecord> ply_points;
+
+    t0 = Clock::now();
+    const std::size_t chunk = std::max<std::size_t>(1, run.chunk_pulses);
+    PulseBatch pulses;
+    std::vector<float> scan_angle;
+    RayBatch rays;
+    HitBatch hits;
+    std::vector<LasPoint> points;
+    for (std::uint64_t first = 0; first < result.pulses; first += chunk) {
+        const auto count =
+            static_cast<std::size_t>(std::min<std::uint64_t>(chunk, result.pulses - first));
+        pattern->generate(first, count, pulses);
+        rays.resize(count);
+        scan_angle.resize(count);
+        pool.parallel_for(count, 4096, [&](std::size_t b, std::size_t e) {
+            for (std::size_t i = b; i < e; ++i) {
+                const Pose platform = trajectory->pose_at(pulses.time_s[i]);
+                const Pose pose = platform * spec.mount.sensor_to_platform;
+                const Vec3d dir = pose.apply_direction(pulses.direction[i]);
+                rays.set(i, pose.position_m, dir, spec.range_min_m, spec.range_max_m);
+                scan_angle[i] = las_scan_angle_deg(dir, platform.apply_direction({1, 0, 0}));
+            }
+        });
+        hits.resize(count);
+        backend->intersect(rays, 0, count, hits, pool);
+        points.clear();
+        for (std::size_t i = 0; i < count; ++i) {
+            if (!hits.hit(i)) {
+                continue;
+            }
+            const double t = hits.t[i];
+            const ScenePart& part = scene.parts[scene.part_of_face(hits.face[i])];
+            LasPoint p;
+            p.x = rays.ox[i] + t * rays.dx[i] + scene.origin_m.x;
+            p.y = rays.oy[i] + t * rays.dy[i] + scene.origin_m.y;
+            p.z = rays.oz[i] + t * rays.dz[i] + scene.origin_m.z;
+            p.gps_time = pulses.time_s[i];
+            p.scan_angle_deg = scan_angle[i];
+            p.return_number = 1;
+            p.number_of_returns = 1;
+            p.classification = part.label;
+            p.point_source_id = part.part_id;
+            p.user_data = static_cast<std::uint8_t>(pulses.channel[i] & 0xFFu);  // beam / row
+            points.push_back(std::move(p));
+            if (spec.write_ply) {
+                ply_points.push_back({points.back().x, points.back().y, points.back().z, hits.t[i],
+                                      hits.face[i], static_cast<std::uint32_t>(first + i)});
+            }
+        }
+        writer.write(points);
+        if (progress) {
+            progress(static_cast<std::size_t>(first + count),
+                     static_cast<std::size_t>(result.pulses));
+        }
+    }
+    writer.close();
+    result.points = writer.point_count();
+    result.outputs.push_back(las_path);
+    if (spec.write_ply) {
+        write_points_ply(run.output_dir / "points.ply", ply_points,
+                         "beamtrace survey " + spec.source.filename().string());
+        result.outputs.push_back(run.output_dir / "points.ply");
+    }
+    if (spec.trajectory_rate_hz > 0 && result.pulses > 0) {
+        // The platform over the survey window, in world coordinates.
+        std::vector<TrajectorySample> samples;
+        const double start = pattern->start_time_s(), end = pattern->end_time_s();
+        const auto n =
+            static_cast<std::size_t>(std::floor((end - start) * spec.trajectory_rate_hz));
+        for (std::size_t k = 0; k <= n + 1; ++k) {
+            const double time =
+                std::min(end, start + static_cast<double>(k) / spec.trajectory_rate_hz);
+            if (!samples.empty() && time <= samples.back().time_s) {
+                break;
+            }
+            const Pose pose = trajectory->pose_at(time);
+            samples.push_back({time, pose.position_m + scene.origin_m, to_rpy(pose.attitude)});
+        }
+        if (samples.size() == 1) {
+            samples.push_back({samples[0].time_s + 1.0 / spec.trajectory_rate_hz,
+                               samples[0].position_m, samples[0].attitude});
+        }
+        write_trajectory_csv(run.output_dir / "trajectory.csv", SampledTrajectory(samples),
+                             spec.trajectory_rate_hz);
+        result.outputs.push_back(run.output_dir / "trajectory.csv");
+    }
+    result.survey_s = seconds_since(t0);
+    return result;
+}
+
+}  // namespace beamtrace
