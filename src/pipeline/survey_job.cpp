@@ -1,4 +1,5 @@
 #include <algorithm>
+#include <charconv>
 #include <chrono>
 #include <cmath>
 #include <system_error>
@@ -9,6 +10,7 @@
 #include "beamtrace/pipeline/survey.hpp"
 #include "beamtrace/scene/demo_scene.hpp"
 #include "beamtrace/scene/scene_builder.hpp"
+#include "io/detail/row_writer.hpp"
 
 namespace beamtrace {
 namespace {
@@ -32,6 +34,28 @@ float las_scan_angle_deg(const Vec3d& dir, const Vec3d& forward) {
     right = normalize(right);
     const double a = std::atan2(dot(dir, right), -dir.z) * 180.0 / 3.14159265358979323846;
     return static_cast<float>(std::clamp(a, -90.0, 90.0));
+}
+
+void write_csv_row(detail::RowWriter& out, const LasPoint& p, float range_m, std::uint16_t beam) {
+    char* c = out.row();
+    char* const end = out.end();
+    const auto num = [&](double v) {
+        c = std::to_chars(c, end, v).ptr;
+        *c++ = ',';
+    };
+    num(p.x);
+    num(p.y);
+    num(p.z);
+    num(p.gps_time);
+    c = std::to_chars(c, end, range_m).ptr;
+    *c++ = ',';
+    for (unsigned v : {unsigned{p.classification}, unsigned{p.point_source_id}, unsigned{beam}}) {
+        c = std::to_chars(c, end, v).ptr;
+        *c++ = ',';
+    }
+    c = std::to_chars(c, end, p.scan_angle_deg).ptr;
+    *c++ = '\n';
+    out.end_row(c);
 }
 
 }  // namespace
@@ -114,6 +138,12 @@ SurveyResult run_survey(const SurveySpec& spec, const SurveyRunConfig& run,
     const auto las_path = run.output_dir / "points.las";
     LasWriter writer(las_path, las);
     std::vector<PointRecord> ply_points;
+    std::unique_ptr<detail::RowWriter> csv;
+    if (spec.write_csv) {
+        csv = std::make_unique<detail::RowWriter>(
+            run.output_dir / "points.csv",
+            "x,y,z,gps_time,range_m,classification,point_source_id,beam,scan_angle_deg", 400);
+    }
 
     t0 = Clock::now();
     const std::size_t chunk = std::max<std::size_t>(1, run.chunk_pulses);
@@ -158,6 +188,9 @@ SurveyResult run_survey(const SurveySpec& spec, const SurveyRunConfig& run,
             p.point_source_id = part.part_id;
             p.user_data = static_cast<std::uint8_t>(pulses.channel[i] & 0xFFu);  // beam / row
             points.push_back(std::move(p));
+            if (csv) {
+                write_csv_row(*csv, points.back(), hits.t[i], pulses.channel[i]);
+            }
             if (spec.write_ply) {
                 ply_points.push_back({points.back().x, points.back().y, points.back().z, hits.t[i],
                                       hits.face[i], static_cast<std::uint32_t>(first + i)});
@@ -172,6 +205,10 @@ SurveyResult run_survey(const SurveySpec& spec, const SurveyRunConfig& run,
     writer.close();
     result.points = writer.point_count();
     result.outputs.push_back(las_path);
+    if (csv) {
+        csv->commit();
+        result.outputs.push_back(run.output_dir / "points.csv");
+    }
     if (spec.write_ply) {
         write_points_ply(run.output_dir / "points.ply", ply_points,
                          "beamtrace survey " + spec.source.filename().string());

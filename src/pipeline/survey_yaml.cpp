@@ -247,16 +247,19 @@ SurveySpec parse_survey_spec(const std::string& yaml_text, const std::filesystem
         s.mount = Mount::from_lever_arm(arm, rpy_deg(bore));
     }
     if (const auto o = root["output"]) {
-        c.only_keys(o, "output", {"point_format", "ply", "trajectory_rate_hz"});
+        c.only_keys(o, "output", {"point_format", "ply", "csv", "trajectory_rate_hz"});
         long pf = 0;
         if (o["point_format"] && c.integer(o["point_format"], "output.point_format", 6, 8, pf)) {
             s.point_format = static_cast<int>(pf);
         }
-        if (const auto p = o["ply"]) {
-            try {
-                s.write_ply = p.as<bool>();
-            } catch (const YAML::Exception&) {
-                c.error(p, "output.ply", "expected true or false");
+        for (const auto& [key, flag] :
+             {std::pair{"ply", &s.write_ply}, std::pair{"csv", &s.write_csv}}) {
+            if (const auto p = o[key]) {
+                try {
+                    *flag = p.as<bool>();
+                } catch (const YAML::Exception&) {
+                    c.error(p, std::string("output.") + key, "expected true or false");
+                }
             }
         }
         if (o["trajectory_rate_hz"] &&

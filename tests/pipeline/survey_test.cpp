@@ -109,9 +109,15 @@ TEST(Survey, SameBytesForAnyThreadCountAndChunking) {
 scanner: {type: rotating, preset: hdl32, duration_s: 0.05}
 platform: {type: legs, speed_mps: 10, waypoints_m: [[-10, -10, 2], [10, -10, 3]]}
 )";
-    (void)run_and_read(yaml, a, 1, 1 << 16);
-    (void)run_and_read(yaml, b, 2, 5000);
+    (void)run_and_read(yaml + "output: {csv: true}\n", a, 1, 1 << 16);
+    const auto points = run_and_read(yaml + "output: {csv: true}\n", b, 2, 5000);
     EXPECT_EQ(test::read_file(a / "out" / "points.las"), test::read_file(b / "out" / "points.las"));
+    const std::string csv = test::read_file(b / "out" / "points.csv");
+    EXPECT_EQ(csv, test::read_file(a / "out" / "points.csv"));
+    EXPECT_EQ(static_cast<std::size_t>(std::count(csv.begin(), csv.end(), '\n')),
+              points.size() + 1);
+    EXPECT_EQ(csv.substr(0, csv.find('\n')),
+              "x,y,z,gps_time,range_m,classification,point_source_id,beam,scan_angle_deg");
     EXPECT_EQ(test::read_file(a / "out" / "trajectory.csv"),
               test::read_file(b / "out" / "trajectory.csv"));
 }

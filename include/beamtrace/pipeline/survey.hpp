@@ -38,7 +38,8 @@ struct SurveySpec {
     std::filesystem::path trajectory_file;  ///< for `trajectory`
     Mount mount;                            ///< lever arm and boresight
     int point_format = 6;                   ///< LAS point format (6, 7 or 8)
-    bool write_ply = false;                 ///< also points.ply
+    bool write_ply = false;                 ///< also points.ply (held in memory until the end)
+    bool write_csv = false;                 ///< also points.csv (streamed)
     double trajectory_rate_hz = 10.0;       ///< samples per second in trajectory.csv (0: none)
     std::string text;                       ///< the file's text (recorded in the LAS VLR)
 
