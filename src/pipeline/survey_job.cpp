@@ -5,7 +5,10 @@
 #include <system_error>
 
 #include "beamtrace/core/error.hpp"
+#include "beamtrace/io/colormap.hpp"
 #include "beamtrace/io/las_writer.hpp"
+#include "beamtrace/io/npy.hpp"
+#include "beamtrace/io/png_writer.hpp"
 #include "beamtrace/io/point_cloud_ply.hpp"
 #include "beamtrace/pipeline/survey.hpp"
 #include "beamtrace/scene/demo_scene.hpp"
@@ -145,6 +148,13 @@ SurveyResult run_survey(const SurveySpec& spec, const SurveyRunConfig& run,
             "x,y,z,gps_time,range_m,classification,point_source_id,beam,scan_angle_deg", 400);
     }
 
+    // Image scanners firing one frame also get the report's range image and a label image.
+    const bool images = spec.scanner == ScannerKind::image && spec.image.frames == 1;
+    const int img_w = spec.image.image.width, img_h = spec.image.image.height;
+    std::vector<float> range_img(
+        images ? static_cast<std::size_t>(img_w) * static_cast<std::size_t>(img_h) : 0, 0.0f);
+    std::vector<std::uint16_t> label_img(range_img.size(), 0);
+
     t0 = Clock::now();
     const std::size_t chunk = std::max<std::size_t>(1, run.chunk_pulses);
     PulseBatch pulses;
@@ -176,6 +186,14 @@ SurveyResult run_survey(const SurveySpec& spec, const SurveyRunConfig& run,
             }
             const double t = hits.t[i];
             const ScenePart& part = scene.parts[scene.part_of_face(hits.face[i])];
+            if (images) {
+                // Pulse index u * h + v is pixel (row v, column u).
+                const std::uint64_t k = first + i;
+                const auto u = static_cast<std::size_t>(k / static_cast<std::uint64_t>(img_h));
+                const auto v = static_cast<std::size_t>(k % static_cast<std::uint64_t>(img_h));
+                range_img[v * static_cast<std::size_t>(img_w) + u] = hits.t[i];
+                label_img[v * static_cast<std::size_t>(img_w) + u] = part.label;
+            }
             LasPoint p;
             p.x = rays.ox[i] + t * rays.dx[i] + scene.origin_m.x;
             p.y = rays.oy[i] + t * rays.dy[i] + scene.origin_m.y;
@@ -208,6 +226,16 @@ SurveyResult run_survey(const SurveySpec& spec, const SurveyRunConfig& run,
     if (csv) {
         csv->commit();
         result.outputs.push_back(run.output_dir / "points.csv");
+    }
+    if (images) {
+        write_npy_f32(run.output_dir / "range.npy", static_cast<std::size_t>(img_h),
+                      static_cast<std::size_t>(img_w), range_img);
+        write_png_rgb8(run.output_dir / "range.png", img_w, img_h,
+                       range_image_rgb(range_img, img_w, img_h));
+        write_png_gray16(run.output_dir / "labels.png", img_w, img_h, label_img);
+        for (const char* f : {"range.npy", "range.png", "labels.png"}) {
+            result.outputs.push_back(run.output_dir / f);
+        }
     }
     if (spec.write_ply) {
         write_points_ply(run.output_dir / "points.ply", ply_points,

@@ -10,6 +10,7 @@
 
 #include "beamtrace/core/error.hpp"
 #include "beamtrace/io/las_reader.hpp"
+#include "beamtrace/io/npy.hpp"
 #include "test_support.hpp"
 
 namespace beamtrace {
@@ -100,6 +101,30 @@ mount: {boresight_deg: [0, -90, 0]}
     ASSERT_EQ(line_start.size(), 50u);
     for (long k = 1; k < 50; ++k) {
         EXPECT_NEAR(line_start[k]->x - line_start[k - 1]->x, v / rate, 1e-3) << "line spacing";
+    }
+}
+
+TEST(Survey, ImageScannerWritesRangeAndLabelImages) {
+    test::TempDir dir;
+    test::write_file(dir / "room.yaml", kRoom);
+    const auto points = run_and_read(R"(scene: room.yaml
+scanner: {type: pinhole, width: 40, height: 30, hfov_deg: 60, vfov_deg: 40}
+platform: {type: static, position_m: [0, 0, 0], rotate_deg: [0, -90, 0]}
+)",
+                                     dir);
+    ASSERT_EQ(points.size(), 1200u);
+    const NpyArray img = read_npy_f32(dir / "out" / "range.npy");
+    ASSERT_EQ(img.shape, (std::vector<std::size_t>{30, 40}));
+    // Looking straight down at the floor 5 m below: range = 5 / cos(angle off the axis), and the
+    // centre pixels see the floor at about 5 m.
+    for (float r : img.data) {
+        ASSERT_GE(r, 5.0f - 1e-4f);
+        ASSERT_LT(r, 5.0f / std::cos(0.62f));
+    }
+    EXPECT_TRUE(std::filesystem::exists(dir / "out" / "labels.png"));
+    EXPECT_TRUE(std::filesystem::exists(dir / "out" / "range.png"));
+    for (const auto& p : points) {
+        ASSERT_EQ(p.classification, 2);  // the floor's label
     }
 }
 
