@@ -206,13 +206,7 @@ void parse_platform(YamlChecker& c, const YAML::Node& n, SurveySpec& s) {
 }  // namespace
 
 SurveySpec parse_survey_spec(const std::string& yaml_text, const std::filesystem::path& source) {
-    YAML::Node root;
-    try {
-        root = YAML::Load(yaml_text);
-    } catch (const YAML::ParserException& e) {
-        throw ConfigError(source.string() + ":" + std::to_string(e.mark.line + 1) +
-                          ": not valid YAML: " + e.msg);
-    }
+    const YAML::Node root = detail::parse_yaml(yaml_text, source);
     if (!root.IsMap()) {
         throw ConfigError(source.string() + ": expected a map with scene, scanner, platform");
     }
@@ -273,13 +267,7 @@ SurveySpec parse_survey_spec(const std::string& yaml_text, const std::filesystem
 }
 
 SurveySpec load_survey_spec(const std::filesystem::path& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) {
-        throw InputError(path.string(), "cannot open the survey file");
-    }
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return parse_survey_spec(ss.str(), path);
+    return parse_survey_spec(detail::read_config_text(path, "survey file"), path);
 }
 
 }  // namespace beamtrace

@@ -188,13 +188,7 @@ const MaterialSpec* SceneSpec::find_material(const std::string& name) const {
 }
 
 SceneSpec parse_scene_spec(const std::string& yaml_text, const std::filesystem::path& source) {
-    YAML::Node root;
-    try {
-        root = YAML::Load(yaml_text);
-    } catch (const YAML::ParserException& e) {
-        throw ConfigError(source.string() + ":" + std::to_string(e.mark.line + 1) +
-                          ": not valid YAML: " + e.msg);
-    }
+    const YAML::Node root = detail::parse_yaml(yaml_text, source);
     Checker c(source);
     SceneSpec spec;
     spec.source = source;
@@ -229,13 +223,7 @@ SceneSpec parse_scene_spec(const std::string& yaml_text, const std::filesystem::
 }
 
 SceneSpec load_scene_spec(const std::filesystem::path& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) {
-        throw InputError(path.string(), "cannot open the scene file");
-    }
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return parse_scene_spec(ss.str(), path);
+    return parse_scene_spec(detail::read_config_text(path, "scene file"), path);
 }
 
 }  // namespace beamtrace

@@ -17,26 +17,8 @@
 namespace beamtrace {
 namespace {
 
-struct RunResult {
-    int exit_code = -1;
-    std::string out;  ///< stdout and stderr together
-};
-
-RunResult run(const std::string& args, const std::string& env = "") {
-    const std::string cmd = env + " " + std::string(BEAMTRACE_CLI_PATH) + " " + args + " 2>&1";
-    RunResult r;
-    FILE* p = ::popen(cmd.c_str(), "r");
-    if (p == nullptr) {
-        return r;
-    }
-    std::array<char, 4096> buf{};
-    std::size_t n = 0;
-    while ((n = std::fread(buf.data(), 1, buf.size(), p)) > 0) {
-        r.out.append(buf.data(), n);
-    }
-    const int status = ::pclose(p);
-    r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    return r;
+test::RunResult run(const std::string& args, const std::string& env = "") {
+    return test::run_command(env + " " + std::string(BEAMTRACE_CLI_PATH) + " " + args);
 }
 
 std::size_t count_lines(const std::string& s) {

@@ -5,7 +5,9 @@
 
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <initializer_list>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -113,5 +115,28 @@ class YamlChecker {
     std::filesystem::path source_;
     std::vector<std::string> errors_;
 };
+
+/// Parses YAML text; a syntax error becomes a ConfigError naming `source` and the line.
+[[nodiscard]] inline YAML::Node parse_yaml(const std::string& text,
+                                           const std::filesystem::path& source) {
+    try {
+        return YAML::Load(text);
+    } catch (const YAML::ParserException& e) {
+        throw ConfigError(source.string() + ":" + std::to_string(e.mark.line + 1) +
+                          ": not valid YAML: " + e.msg);
+    }
+}
+
+/// The whole text of a config file; InputError naming it (and `what` it is) when unreadable.
+[[nodiscard]] inline std::string read_config_text(const std::filesystem::path& path,
+                                                  const std::string& what) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) {
+        throw InputError(path.string(), "cannot open the " + what);
+    }
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+}
 
 }  // namespace beamtrace::detail
