@@ -299,4 +299,10 @@ inline std::filesystem::path install_lasval(std::string& why) {
     return std::filesystem::exists(target / "node_modules") ? target : std::filesystem::path();
 }
 
+/// Number of entries in a folder (to check that nothing, not even a temporary file, was left).
+inline std::size_t entry_count(const std::filesystem::path& dir) {
+    return static_cast<std::size_t>(std::distance(std::filesystem::directory_iterator(dir),
+                                                  std::filesystem::directory_iterator()));
+}
+
 }  // namespace beamtrace::test

@@ -55,6 +55,8 @@ Scene build_scene(const SceneSpec& spec) {
     return scene;
 }
 
-Scene load_scene_file(const std::filesystem::path& path) { return build_scene(load_scene_spec(path)); }
+Scene load_scene_file(const std::filesystem::path& path) {
+    return build_scene(load_scene_spec(path));
+}
 
 }  // namespace beamtrace

@@ -16,10 +16,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::size_t entry_count(const fs::path& dir) {
-    return static_cast<std::size_t>(
-        std::distance(fs::directory_iterator(dir), fs::directory_iterator()));
-}
+using test::entry_count;
 
 TEST(AtomicFile, CommitPublishesTheContentAndLeavesNoTempFile) {
     test::TempDir dir;

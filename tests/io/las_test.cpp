@@ -19,10 +19,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::size_t entry_count(const fs::path& dir) {
-    return static_cast<std::size_t>(
-        std::distance(fs::directory_iterator(dir), fs::directory_iterator()));
-}
+using test::entry_count;
 
 /// `n` points with every field of `format` set to varied in-range values (fields the format does
 /// not store are left 0, as the reader returns them).
