@@ -8,7 +8,7 @@
 #include "beamtrace/core/error.hpp"
 #include "beamtrace/scene/mesh_loader.hpp"
 #include "io/detail/file_bytes.hpp"
-#include "scene/detail/text_scan.hpp"
+#include "io/detail/text_scan.hpp"
 
 namespace beamtrace {
 namespace {

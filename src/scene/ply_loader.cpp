@@ -10,9 +10,9 @@
 #include "beamtrace/core/error.hpp"
 #include "beamtrace/scene/mesh_loader.hpp"
 #include "io/detail/file_bytes.hpp"
+#include "io/detail/text_scan.hpp"
 #include "scene/detail/ply_header.hpp"
 #include "scene/detail/ply_source.hpp"
-#include "scene/detail/text_scan.hpp"
 
 namespace beamtrace {
 namespace {

@@ -11,7 +11,7 @@
 #include "beamtrace/sensor/scan_pattern.hpp"
 #include "io/detail/file_bytes.hpp"
 #include "io/detail/row_writer.hpp"
-#include "scene/detail/text_scan.hpp"
+#include "io/detail/text_scan.hpp"
 
 namespace beamtrace {
 namespace {

@@ -1,4 +1,4 @@
-#include "scene/detail/text_scan.hpp"
+#include "io/detail/text_scan.hpp"
 
 #include <cmath>
 #include <limits>
