@@ -2,6 +2,7 @@
 #include <charconv>
 #include <chrono>
 #include <cmath>
+#include <numbers>
 #include <system_error>
 
 #include "beamtrace/core/error.hpp"
@@ -35,7 +36,7 @@ float las_scan_angle_deg(const Vec3d& dir, const Vec3d& forward) {
         right = {1, 0, 0};
     }
     right = normalize(right);
-    const double a = std::atan2(dot(dir, right), -dir.z) * 180.0 / 3.14159265358979323846;
+    const double a = std::atan2(dot(dir, right), -dir.z) * 180.0 / std::numbers::pi;
     return static_cast<float>(std::clamp(a, -90.0, 90.0));
 }
 

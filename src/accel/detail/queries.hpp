@@ -131,29 +131,21 @@ class QueryBackend final : public Backend {
 
     void intersect(const RayBatch& rays, std::size_t begin, std::size_t end, HitBatch& hits,
                    ThreadPool& pool) const override {
-        pool.parallel_for(end - begin, ray_grain(end - begin, pool),
-                          [&](std::size_t b, std::size_t e) {
-                              for (std::size_t i = begin + b; i < begin + e; ++i) {
-                                  const TraceRay r = make_trace_ray(rays, i);
-                                  NearestVisitor vis(mesh_, r);
-                                  traverser_.traverse(r, vis);
-                                  vis.store(hits, i);
-                              }
-                          });
+        for_each_ray(rays, begin, end, pool, [&](std::size_t i, const TraceRay& r) {
+            NearestVisitor vis(mesh_, r);
+            traverser_.traverse(r, vis);
+            vis.store(hits, i);
+        });
     }
 
     void occluded(const RayBatch& rays, std::size_t begin, std::size_t end,
                   std::vector<std::uint8_t>& occluded, ThreadPool& pool) const override {
         occluded.resize(rays.size());
-        pool.parallel_for(end - begin, ray_grain(end - begin, pool),
-                          [&](std::size_t b, std::size_t e) {
-                              for (std::size_t i = begin + b; i < begin + e; ++i) {
-                                  const TraceRay r = make_trace_ray(rays, i);
-                                  AnyVisitor vis(mesh_, r);
-                                  traverser_.traverse(r, vis);
-                                  occluded[i] = vis.hit() ? 1 : 0;
-                              }
-                          });
+        for_each_ray(rays, begin, end, pool, [&](std::size_t i, const TraceRay& r) {
+            AnyVisitor vis(mesh_, r);
+            traverser_.traverse(r, vis);
+            occluded[i] = vis.hit() ? 1 : 0;
+        });
     }
 
     void intersect_all(const RayBatch& rays, Facing facing, AllHits& hits,
@@ -192,6 +184,18 @@ class QueryBackend final : public Backend {
     }
 
   private:
+    /// Calls fn(i, trace ray of i) for rays [begin, end), in parallel chunks.
+    template <class Fn>
+    static void for_each_ray(const RayBatch& rays, std::size_t begin, std::size_t end,
+                             ThreadPool& pool, const Fn& fn) {
+        pool.parallel_for(end - begin, ray_grain(end - begin, pool),
+                          [&](std::size_t b, std::size_t e) {
+                              for (std::size_t i = begin + b; i < begin + e; ++i) {
+                                  fn(i, make_trace_ray(rays, i));
+                              }
+                          });
+    }
+
     const TriangleMesh& mesh_;
     Traverser traverser_;
 };
