@@ -1,5 +1,8 @@
-// The three backends: brute force (the oracle), the report's k-d tree and the binned-SAH BVH.
+// The three backends: brute force (the oracle), the report's k-d tree and the binned-SAH BVH
+// (single-level over one mesh, or two-level over instanced meshes).
 #include <cmath>
+#include <memory>
+#include <span>
 #include <string>
 
 #include "beamtrace/accel/backend.hpp"
@@ -17,9 +20,11 @@ using detail::TraceRay;
 constexpr float kPad = 2.0f * 3.0f * std::numeric_limits<float>::epsilon();
 
 struct BruteForceTraverser {
-    std::uint32_t face_count = 0;
+    const TriangleMesh* mesh = nullptr;
     template <class Visitor>
-    void traverse(const TraceRay& /*ray*/, Visitor& vis) const {
+    void traverse(const TraceRay& ray, Visitor& vis) const {
+        vis.enter(*mesh, ray, 0, false);
+        const auto face_count = static_cast<std::uint32_t>(mesh->triangle_count());
         for (std::uint32_t f = 0; f < face_count; ++f) {
             if (vis.visit(f)) {
                 return;
@@ -28,75 +33,154 @@ struct BruteForceTraverser {
     }
 };
 
+/// Front-to-back walk of a BVH: on_prim(prim id) for the prims of every leaf the ray reaches
+/// before `vis.limit()`; stops (and returns true) when on_prim returns true.
+template <class Visitor, class OnPrim>
+bool walk_bvh(const Bvh& bvh, const TraceRay& r, const Visitor& vis, const OnPrim& on_prim) {
+    if (bvh.nodes.empty()) {
+        return false;
+    }
+    struct Entry {
+        std::uint32_t node;
+        float tnear;
+    };
+    Entry stack[128];
+    int sp = 0;
+    const BvhNode* nodes = bvh.nodes.data();
+    float tnear = 0.0f;
+    if (!slab_entry(r, nodes[0].lo, nodes[0].hi, r.tmin, vis.limit(), tnear)) {
+        return false;
+    }
+    std::uint32_t index = 0;
+    for (;;) {
+        const BvhNode& node = nodes[index];
+        if (node.is_leaf()) {
+            for (std::uint32_t k = node.index; k < node.index + node.count; ++k) {
+                if (on_prim(bvh.prim_ids[k])) {
+                    return true;
+                }
+            }
+        } else {
+            const std::uint32_t li = node.index, ri = node.index + 1;
+            const float limit = vis.limit();
+            float tl = 0.0f, tr = 0.0f;
+            const bool hl = slab_entry(r, nodes[li].lo, nodes[li].hi, r.tmin, limit, tl);
+            const bool hr = slab_entry(r, nodes[ri].lo, nodes[ri].hi, r.tmin, limit, tr);
+            if (hl && hr) {
+                if (tl <= tr) {
+                    stack[sp++] = {ri, tr};
+                    index = li;
+                } else {
+                    stack[sp++] = {li, tl};
+                    index = ri;
+                }
+                continue;
+            }
+            if (hl || hr) {
+                index = hl ? li : ri;
+                continue;
+            }
+        }
+        // Pop the next node that may still hold a closer hit.
+        for (;;) {
+            if (sp == 0) {
+                return false;
+            }
+            const Entry e = stack[--sp];
+            if (e.tnear <= vis.limit()) {
+                index = e.node;
+                break;
+            }
+        }
+    }
+}
+
 struct BvhTraverser {
+    const TriangleMesh* mesh = nullptr;
     Bvh bvh;
 
     template <class Visitor>
     void traverse(const TraceRay& r, Visitor& vis) const {
-        if (bvh.nodes.empty()) {
-            return;
-        }
-        struct Entry {
-            std::uint32_t node;
-            float tnear;
-        };
-        Entry stack[128];
-        int sp = 0;
-        const BvhNode* nodes = bvh.nodes.data();
-        float tnear = 0.0f;
-        if (!slab_entry(r, nodes[0].lo, nodes[0].hi, r.tmin, vis.limit(), tnear)) {
-            return;
-        }
-        std::uint32_t index = 0;
-        for (;;) {
-            const BvhNode& node = nodes[index];
-            if (node.is_leaf()) {
-                for (std::uint32_t k = node.index; k < node.index + node.count; ++k) {
-                    if (vis.visit(bvh.prim_ids[k])) {
-                        return;
-                    }
-                }
-            } else {
-                const std::uint32_t li = node.index, ri = node.index + 1;
-                const float limit = vis.limit();
-                float tl = 0.0f, tr = 0.0f;
-                const bool hl = slab_entry(r, nodes[li].lo, nodes[li].hi, r.tmin, limit, tl);
-                const bool hr = slab_entry(r, nodes[ri].lo, nodes[ri].hi, r.tmin, limit, tr);
-                if (hl && hr) {
-                    if (tl <= tr) {
-                        stack[sp++] = {ri, tr};
-                        index = li;
-                    } else {
-                        stack[sp++] = {li, tl};
-                        index = ri;
-                    }
-                    continue;
-                }
-                if (hl || hr) {
-                    index = hl ? li : ri;
-                    continue;
-                }
-            }
-            // Pop the next node that may still hold a closer hit.
-            for (;;) {
-                if (sp == 0) {
-                    return;
-                }
-                const Entry e = stack[--sp];
-                if (e.tnear <= vis.limit()) {
-                    index = e.node;
-                    break;
-                }
-            }
-        }
+        vis.enter(*mesh, r, 0, false);
+        walk_bvh(bvh, r, vis, [&](std::uint32_t face) { return vis.visit(face); });
     }
 };
 
+/// The ray in an instance's object coordinates: the direction is not renormalised, so distances
+/// along it are world distances and tmin/tmax/limits carry over unchanged.
+[[nodiscard]] TraceRay to_object(const TraceRay& r, const Affine3& to_object) {
+    TraceRay o;
+    o.org = Vec3f(to_object.apply_point(Vec3d(r.org)));
+    o.dir = Vec3f(to_object.apply_vector(Vec3d(r.dir)));
+    o.inv_dir = Vec3f(1.0f / o.dir.x, 1.0f / o.dir.y, 1.0f / o.dir.z);
+    o.tmin = r.tmin;
+    o.tmax = r.tmax;
+    o.wt = make_watertight_ray(o.org, o.dir);
+    return o;
+}
+
+/// Two-level BVH: a top-level BVH over instance bounds and one BVH per unique mesh.
+struct TwoLevelTraverser {
+    struct Instance {
+        std::uint32_t mesh;
+        std::uint32_t first_face;
+        bool identity;
+        bool mirrored;
+        Affine3 to_object;
+    };
+    const SceneGeometry* geometry = nullptr;
+    Bvh top;
+    std::vector<Bvh> blas;  // per mesh
+    std::vector<Instance> instances;
+
+    template <class Visitor>
+    void traverse(const TraceRay& r, Visitor& vis) const {
+        walk_bvh(top, r, vis, [&](std::uint32_t k) {
+            const Instance& inst = instances[k];
+            const TriangleMesh& mesh = geometry->meshes[inst.mesh];
+            if (inst.identity) {
+                vis.enter(mesh, r, inst.first_face, false);
+                return walk_bvh(blas[inst.mesh], r, vis,
+                                [&](std::uint32_t face) { return vis.visit(face); });
+            }
+            const TraceRay local = to_object(r, inst.to_object);
+            vis.enter(mesh, local, inst.first_face, inst.mirrored);
+            return walk_bvh(blas[inst.mesh], local, vis,
+                            [&](std::uint32_t face) { return vis.visit(face); });
+        });
+    }
+};
+
+TwoLevelTraverser build_two_level(const SceneGeometry& geometry, const BvhBuildConfig& config,
+                                  ThreadPool& pool) {
+    TwoLevelTraverser t;
+    t.geometry = &geometry;
+    t.blas.reserve(geometry.meshes.size());
+    for (const auto& mesh : geometry.meshes) {
+        t.blas.push_back(build_bvh(mesh, config, pool));
+    }
+    std::vector<Aabb> boxes(geometry.instances.size());
+    t.instances.reserve(geometry.instances.size());
+    for (std::size_t k = 0; k < geometry.instances.size(); ++k) {
+        const MeshInstance& mi = geometry.instances[k];
+        boxes[k] = geometry.instance_bounds(k);
+        t.instances.push_back({mi.mesh, mi.first_face, mi.to_world.is_identity(),
+                               mi.to_world.determinant() < 0.0, mi.to_world.inverse()});
+    }
+    BvhBuildConfig top_config = config;
+    top_config.min_leaf_size = 1;
+    top_config.max_leaf_size = 2;
+    t.top = build_bvh(std::span<const Aabb>(boxes), top_config, pool);
+    return t;
+}
+
 struct KdTreeTraverser {
+    const TriangleMesh* mesh = nullptr;
     KdTree tree;
 
     template <class Visitor>
     void traverse(const TraceRay& r, Visitor& vis) const {
+        vis.enter(*mesh, r, 0, false);
         if (tree.prim_ids.empty()) {
             return;
         }
@@ -205,15 +289,34 @@ std::unique_ptr<Backend> make_backend(BackendKind kind, const TriangleMesh& mesh
     switch (kind) {
         case BackendKind::brute:
             return std::make_unique<detail::QueryBackend<BruteForceTraverser, BackendKind::brute>>(
-                mesh, BruteForceTraverser{static_cast<std::uint32_t>(mesh.triangle_count())});
+                BruteForceTraverser{&mesh});
         case BackendKind::kdtree:
             return std::make_unique<detail::QueryBackend<KdTreeTraverser, BackendKind::kdtree>>(
-                mesh, KdTreeTraverser{build_kdtree(mesh, config.kdtree)});
+                KdTreeTraverser{&mesh, build_kdtree(mesh, config.kdtree)});
         case BackendKind::bvh:
             return std::make_unique<detail::QueryBackend<BvhTraverser, BackendKind::bvh>>(
-                mesh, BvhTraverser{build_bvh(mesh, config.bvh, pool)});
+                BvhTraverser{&mesh, build_bvh(mesh, config.bvh, pool)});
     }
     throw ConfigError("unknown backend kind");
+}
+
+std::unique_ptr<Backend> make_backend(BackendKind kind, const SceneGeometry& geometry,
+                                      ThreadPool& pool, const BackendConfig& config) {
+    if (geometry.is_single_mesh()) {
+        return make_backend(kind, geometry.meshes[geometry.instances[0].mesh], pool, config);
+    }
+    if (kind == BackendKind::bvh) {
+        return std::make_unique<detail::QueryBackend<TwoLevelTraverser, BackendKind::bvh>>(
+            build_two_level(geometry, config.bvh, pool));
+    }
+    // The oracle backends trace a flattened copy (face IDs are the same).
+    auto flat = std::make_shared<const TriangleMesh>(geometry.flatten());
+    if (kind == BackendKind::brute) {
+        return std::make_unique<detail::QueryBackend<BruteForceTraverser, BackendKind::brute>>(
+            BruteForceTraverser{flat.get()}, flat);
+    }
+    return std::make_unique<detail::QueryBackend<KdTreeTraverser, BackendKind::kdtree>>(
+        KdTreeTraverser{flat.get(), build_kdtree(*flat, config.kdtree)}, flat);
 }
 
 }  // namespace beamtrace

@@ -252,25 +252,13 @@ void build_subtree(const SplitFinder& finder, const Range& root, std::vector<Bvh
     }
 }
 
-}  // namespace
-
-Bvh build_bvh(const TriangleMesh& mesh, const BvhBuildConfig& config, ThreadPool& pool) {
+/// Builds over prepared primitives (box, centroid, id), which it reorders.
+Bvh build_over(std::vector<PrimInfo>& prims, const BvhBuildConfig& config, ThreadPool& pool) {
     Bvh bvh;
-    const std::size_t n = mesh.triangle_count();
+    const std::size_t n = prims.size();
     if (n == 0) {
         return bvh;
     }
-    if (n >= std::numeric_limits<std::uint32_t>::max()) {
-        throw ConfigError("BVH: too many triangles (" + std::to_string(n) + ")");
-    }
-    std::vector<PrimInfo> prims(n);
-    pool.parallel_for(n, 1 << 14, [&](std::size_t b, std::size_t e) {
-        for (std::size_t i = b; i < e; ++i) {
-            prims[i].box = mesh.triangle_bounds(i);
-            prims[i].centroid = prims[i].box.center();
-            prims[i].id = static_cast<std::uint32_t>(i);
-        }
-    });
     const SplitFinder top_finder(prims, config, &pool);
     const SplitFinder finder(prims, config, nullptr);
     const Range root = top_finder.bounds_of(0, static_cast<std::uint32_t>(n), 1);
@@ -311,6 +299,38 @@ Bvh build_bvh(const TriangleMesh& mesh, const BvhBuildConfig& config, ThreadPool
         bvh.prim_ids[i] = prims[i].id;
     }
     return bvh;
+}
+
+}  // namespace
+
+Bvh build_bvh(const TriangleMesh& mesh, const BvhBuildConfig& config, ThreadPool& pool) {
+    const std::size_t n = mesh.triangle_count();
+    if (n >= std::numeric_limits<std::uint32_t>::max()) {
+        throw ConfigError("BVH: too many triangles (" + std::to_string(n) + ")");
+    }
+    std::vector<PrimInfo> prims(n);
+    pool.parallel_for(n, 1 << 14, [&](std::size_t b, std::size_t e) {
+        for (std::size_t i = b; i < e; ++i) {
+            prims[i].box = mesh.triangle_bounds(i);
+            prims[i].centroid = prims[i].box.center();
+            prims[i].id = static_cast<std::uint32_t>(i);
+        }
+    });
+    return build_over(prims, config, pool);
+}
+
+Bvh build_bvh(std::span<const Aabb> boxes, const BvhBuildConfig& config, ThreadPool& pool) {
+    const std::size_t n = boxes.size();
+    if (n >= std::numeric_limits<std::uint32_t>::max()) {
+        throw ConfigError("BVH: too many primitives (" + std::to_string(n) + ")");
+    }
+    std::vector<PrimInfo> prims(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        prims[i].box = boxes[i];
+        prims[i].centroid = boxes[i].center();
+        prims[i].id = static_cast<std::uint32_t>(i);
+    }
+    return build_over(prims, config, pool);
 }
 
 }  // namespace beamtrace

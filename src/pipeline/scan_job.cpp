@@ -139,12 +139,12 @@ ScanResult run_scan(const ScanJobConfig& config, const ProgressFn& progress) {
             break;
     }
     result.load_s = seconds_since(t0);
-    result.triangles = scene.mesh.triangle_count();
+    result.triangles = scene.triangle_count();
     result.parts = scene.parts;
     result.rays = rays.size();
 
     t0 = Clock::now();
-    const auto backend = make_backend(config.backend, scene.mesh, pool, config.backend_config);
+    const auto backend = make_backend(config.backend, scene.geometry, pool, config.backend_config);
     result.build_s = seconds_since(t0);
 
     t0 = Clock::now();

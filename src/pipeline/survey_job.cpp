@@ -110,11 +110,11 @@ SurveyResult run_survey(const SurveySpec& spec, const SurveyRunConfig& run,
                           std::to_string(trajectory->start_time_s()) + " s to " +
                           std::to_string(trajectory->end_time_s()) + " s");
     }
-    result.triangles = scene.mesh.triangle_count();
+    result.triangles = scene.triangle_count();
     result.pulses = pattern->pulse_count();
 
     auto t0 = Clock::now();
-    const auto backend = make_backend(run.backend, scene.mesh, pool);
+    const auto backend = make_backend(run.backend, scene.geometry, pool);
     result.build_s = seconds_since(t0);
 
     std::error_code ec;
@@ -125,7 +125,7 @@ SurveyResult run_survey(const SurveySpec& spec, const SurveyRunConfig& run,
     }
 
     // LAS: coordinates quantised to 1 mm around the scene; the survey file goes into a VLR.
-    const Aabb bounds = scene.mesh.bounds();
+    const Aabb bounds = scene.geometry.bounds();
     LasWriterConfig las = las_config_for_extent(Vec3d(bounds.lo) + scene.origin_m,
                                                 Vec3d(bounds.hi) + scene.origin_m, 0.001);
     las.point_format = spec.point_format;

@@ -16,15 +16,32 @@ void Scene::add_part(std::string name, const TriangleMesh& part) {
 }
 
 void Scene::add_part(ScenePart meta, const TriangleMesh& part) {
-    const std::size_t total = mesh.triangle_count() + part.triangle_count();
-    if (total >= std::numeric_limits<std::uint32_t>::max() ||
-        mesh.vertices.size() + part.vertices.size() >= std::numeric_limits<std::uint32_t>::max()) {
-        throw InputError(meta.name, "the scene would exceed 2^32 - 1 triangles or vertices");
+    const std::uint64_t first = geometry.triangle_count();
+    try {
+        geometry.append_flat(part);
+    } catch (const ConfigError& e) {
+        throw InputError(meta.name, e.what());
     }
-    meta.first_face = static_cast<std::uint32_t>(mesh.triangle_count());
+    meta.first_face = static_cast<std::uint32_t>(first);
     meta.face_count = static_cast<std::uint32_t>(part.triangle_count());
+    meta.instance_count = 1;
     parts.push_back(std::move(meta));
-    mesh.append(part);
+}
+
+void Scene::add_instanced_part(ScenePart meta, std::uint32_t mesh,
+                               const std::vector<Affine3>& to_world) {
+    const std::uint64_t first = geometry.triangle_count();
+    try {
+        for (const auto& t : to_world) {
+            geometry.add_instance(mesh, t);
+        }
+    } catch (const ConfigError& e) {
+        throw InputError(meta.name, e.what());
+    }
+    meta.first_face = static_cast<std::uint32_t>(first);
+    meta.face_count = static_cast<std::uint32_t>(geometry.triangle_count() - first);
+    meta.instance_count = static_cast<std::uint32_t>(to_world.size());
+    parts.push_back(std::move(meta));
 }
 
 std::size_t Scene::part_of_face(std::uint32_t face) const {

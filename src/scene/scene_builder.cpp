@@ -1,12 +1,49 @@
+#include "beamtrace/scene/scene_builder.hpp"
+
 #include <map>
 
 #include "beamtrace/core/error.hpp"
 #include "beamtrace/geometry/primitives.hpp"
 #include "beamtrace/scene/mesh_loader.hpp"
 #include "beamtrace/scene/raster_terrain.hpp"
-#include "beamtrace/scene/scene_builder.hpp"
 
 namespace beamtrace {
+namespace {
+
+TriangleMesh part_mesh(const PartSpec& p, const SceneSpec& spec) {
+    switch (p.kind) {
+        case PartKind::mesh:
+            return load_mesh(p.file);
+        case PartKind::raster:
+            return raster_to_mesh(load_raster(p.file), spec.origin_m);
+        case PartKind::sphere:
+            return make_icosphere(p.center_m, p.radius_m, p.sphere_subdivisions);
+        case PartKind::plane:
+            return make_square(p.point_m, p.normal, p.size_m);
+    }
+    return {};
+}
+
+/// The transforms of every copy of an arrayed part, x fastest.
+std::vector<Affine3> copy_transforms(const PartSpec& p) {
+    const Affine3 base = p.transform.to_affine();
+    std::vector<Affine3> out;
+    out.reserve(p.array.copies());
+    for (long k = 0; k < p.array.count[2]; ++k) {
+        for (long j = 0; j < p.array.count[1]; ++j) {
+            for (long i = 0; i < p.array.count[0]; ++i) {
+                Affine3 t = base;
+                t.translation = t.translation + Vec3d(static_cast<double>(i) * p.array.step_m.x,
+                                                      static_cast<double>(j) * p.array.step_m.y,
+                                                      static_cast<double>(k) * p.array.step_m.z);
+                out.push_back(t);
+            }
+        }
+    }
+    return out;
+}
+
+}  // namespace
 
 Scene build_scene(const SceneSpec& spec) {
     Scene scene;
@@ -15,32 +52,16 @@ Scene build_scene(const SceneSpec& spec) {
     for (const auto& m : spec.materials) {
         scene.materials.push_back({m.name, m.reflectance, m.specular_weight, m.specular_exponent});
     }
-    // Each file is read once, however many parts use it.
-    std::map<std::filesystem::path, TriangleMesh> files;
+    // A mesh file used by several parts, and any part with array copies, is stored once and
+    // instanced; every other part is copied into the scene in scene coordinates.
+    std::map<std::filesystem::path, int> uses;
     for (const auto& p : spec.parts) {
-        TriangleMesh local;
-        switch (p.kind) {
-            case PartKind::mesh: {
-                auto it = files.find(p.file);
-                if (it == files.end()) {
-                    it = files.emplace(p.file, load_mesh(p.file)).first;
-                }
-                local = it->second;
-                break;
-            }
-            case PartKind::raster:
-                local = raster_to_mesh(load_raster(p.file), spec.origin_m);
-                break;
-            case PartKind::sphere:
-                local = make_icosphere(p.center_m, p.radius_m, p.sphere_subdivisions);
-                break;
-            case PartKind::plane:
-                local = make_square(p.point_m, p.normal, p.size_m);
-                break;
+        if (p.kind == PartKind::mesh) {
+            ++uses[p.file];
         }
-        for (auto& v : local.vertices) {
-            v = Vec3f(p.transform.apply(Vec3d(v)));
-        }
+    }
+    std::map<std::filesystem::path, std::uint32_t> stored;  // file -> SceneGeometry mesh index
+    for (const auto& p : spec.parts) {
         ScenePart meta;
         meta.name = p.name;
         meta.label = p.label;
@@ -50,7 +71,26 @@ Scene build_scene(const SceneSpec& spec) {
                 meta.material = static_cast<std::uint32_t>(i);
             }
         }
-        scene.add_part(std::move(meta), local);
+        const bool shared_file = p.kind == PartKind::mesh && uses[p.file] > 1;
+        if (!shared_file && p.array.copies() == 1) {
+            TriangleMesh local = part_mesh(p, spec);
+            for (auto& v : local.vertices) {
+                v = Vec3f(p.transform.apply(Vec3d(v)));
+            }
+            scene.add_part(std::move(meta), local);
+            continue;
+        }
+        std::uint32_t mesh = 0;
+        const auto it = shared_file ? stored.find(p.file) : stored.end();
+        if (it != stored.end()) {
+            mesh = it->second;
+        } else {
+            mesh = scene.geometry.add_mesh(part_mesh(p, spec));
+            if (shared_file) {
+                stored.emplace(p.file, mesh);
+            }
+        }
+        scene.add_instanced_part(std::move(meta), mesh, copy_transforms(p));
     }
     return scene;
 }

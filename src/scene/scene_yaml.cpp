@@ -45,15 +45,40 @@ void parse_transform(Checker& c, const YAML::Node& n, const std::string& key, Pa
     }
 }
 
+void parse_array(Checker& c, const YAML::Node& n, const std::string& key, PartArray& a) {
+    if (!n.IsMap()) {
+        c.error(n, key, "expected a map with count and step_m");
+        return;
+    }
+    c.only_keys(n, key, {"count", "step_m"});
+    if (const auto cn = n["count"]) {
+        if (!cn.IsSequence() || cn.size() != 3) {
+            c.error(cn, key + ".count", "expected [nx, ny, nz]");
+        } else {
+            for (std::size_t i = 0; i < 3; ++i) {
+                c.integer(cn[i], key + ".count", 1, 1000000, a.count[i]);
+            }
+            if (a.copies() > 100000000) {
+                c.error(cn, key + ".count", "more than 10^8 copies");
+            }
+        }
+    } else {
+        c.error(n, key + ".count", "missing");
+    }
+    if (n["step_m"]) {
+        c.vec3(n["step_m"], key + ".step_m", a.step_m);
+    }
+}
+
 void parse_part(Checker& c, const YAML::Node& n, std::size_t index, SceneSpec& spec) {
     const std::string key = "parts[" + std::to_string(index) + "]";
     if (!n.IsMap()) {
         c.error(n, key, "expected a map");
         return;
     }
-    c.only_keys(
-        n, key,
-        {"name", "mesh", "raster", "sphere", "plane", "transform", "material", "label", "part_id"});
+    c.only_keys(n, key,
+                {"name", "mesh", "raster", "sphere", "plane", "transform", "array", "material",
+                 "label", "part_id"});
     PartSpec p;
     p.part_id = static_cast<std::uint16_t>(std::min<std::size_t>(index + 1, 65535));
     int kinds = 0;
@@ -128,6 +153,9 @@ void parse_part(Checker& c, const YAML::Node& n, std::size_t index, SceneSpec& s
     if (const auto t = n["transform"]) {
         parse_transform(c, t, key + ".transform", p.transform);
     }
+    if (const auto a = n["array"]) {
+        parse_array(c, a, key + ".array", p.array);
+    }
     if (const auto m = n["material"]) {
         p.material = m.IsScalar() ? m.Scalar() : "";
         if (spec.find_material(p.material) == nullptr) {
@@ -177,6 +205,18 @@ void parse_material(Checker& c, const YAML::Node& n, std::size_t index, SceneSpe
 }
 
 }  // namespace
+
+Affine3 PartTransform::to_affine() const {
+    const Mat3 r = Quat::from_rpy(rotate).to_matrix();
+    Affine3 a;
+    for (int i = 0; i < 3; ++i) {
+        a.linear.m[i][0] = r.m[i][0] * scale.x;
+        a.linear.m[i][1] = r.m[i][1] * scale.y;
+        a.linear.m[i][2] = r.m[i][2] * scale.z;
+    }
+    a.translation = translate_m;
+    return a;
+}
 
 const MaterialSpec* SceneSpec::find_material(const std::string& name) const {
     for (const auto& m : materials) {

@@ -15,6 +15,7 @@
 #include "beamtrace/core/ray_batch.hpp"
 #include "beamtrace/core/thread_pool.hpp"
 #include "beamtrace/geometry/ray_triangle.hpp"
+#include "beamtrace/geometry/scene_geometry.hpp"
 #include "beamtrace/geometry/triangle_mesh.hpp"
 
 namespace beamtrace {
@@ -58,6 +59,14 @@ struct BackendConfig {
 
 /// Builds a backend over `mesh`, which must outlive it (geometry is never copied).
 [[nodiscard]] std::unique_ptr<Backend> make_backend(BackendKind kind, const TriangleMesh& mesh,
+                                                    ThreadPool& pool,
+                                                    const BackendConfig& config = {});
+
+/// Builds a backend over instanced geometry, which must outlive it. One mesh placed once is
+/// traced exactly as above; otherwise the BVH backend is two-level (a BVH over instances, one per
+/// unique mesh: triangles are never copied) and brute/kdtree trace a flattened copy. Face IDs are
+/// global (SceneGeometry).
+[[nodiscard]] std::unique_ptr<Backend> make_backend(BackendKind kind, const SceneGeometry& geometry,
                                                     ThreadPool& pool,
                                                     const BackendConfig& config = {});
 

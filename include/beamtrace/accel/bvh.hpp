@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "beamtrace/core/thread_pool.hpp"
@@ -38,6 +39,10 @@ struct BvhBuildConfig {
 /// Top-down binned-SAH build (Wald 2007). `pool` parallelises the per-face preparation and the
 /// subtrees below the top levels; the result is the same for any thread count.
 [[nodiscard]] Bvh build_bvh(const TriangleMesh& mesh, const BvhBuildConfig& config,
+                            ThreadPool& pool);
+
+/// The same over arbitrary primitive boxes (e.g. instances); prim_ids index `boxes`.
+[[nodiscard]] Bvh build_bvh(std::span<const Aabb> boxes, const BvhBuildConfig& config,
                             ThreadPool& pool);
 
 }  // namespace beamtrace

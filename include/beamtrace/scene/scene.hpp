@@ -1,5 +1,6 @@
-// A scene for the core scanner: the report's single triangle set plus a table of the parts it
-// was concatenated from (so face IDs can be traced back to a mesh file).
+// A scene: its triangles (unique meshes placed by instances, see SceneGeometry), the table of
+// parts they came from (so a face ID leads back to a mesh file, label and material) and the
+// materials.
 #pragma once
 
 #include <cstdint>
@@ -7,17 +8,18 @@
 #include <string>
 #include <vector>
 
-#include "beamtrace/geometry/triangle_mesh.hpp"
+#include "beamtrace/geometry/scene_geometry.hpp"
 
 namespace beamtrace {
 
 struct ScenePart {
     std::string name;              ///< file path or procedural part name
-    std::uint32_t first_face = 0;  ///< face IDs [first_face, first_face + face_count)
+    std::uint32_t first_face = 0;  ///< global face IDs [first_face, first_face + face_count)
     std::uint32_t face_count = 0;
-    std::uint8_t label = 1;      ///< class written as LAS classification (1 = unclassified)
-    std::uint16_t part_id = 0;   ///< written as LAS point source ID
-    std::uint32_t material = 0;  ///< index into Scene::materials
+    std::uint8_t label = 1;            ///< class written as LAS classification (1 = unclassified)
+    std::uint16_t part_id = 0;         ///< written as LAS point source ID
+    std::uint32_t material = 0;        ///< index into Scene::materials
+    std::uint32_t instance_count = 0;  ///< instances that make up the part (1 for a flat part)
 };
 
 struct SceneMaterial {
@@ -28,19 +30,26 @@ struct SceneMaterial {
 };
 
 struct Scene {
-    TriangleMesh mesh;
+    SceneGeometry geometry;
     std::vector<ScenePart> parts;
     std::vector<SceneMaterial> materials{SceneMaterial{}};
     /// World position of the local origin: triangles are stored relative to it (float precision
     /// for UTM-sized coordinates) and outputs add it back.
     Vec3d origin_m{0, 0, 0};
 
-    /// Appends a part; its faces get the next IDs.
+    /// Appends a part whose triangles are copied in scene coordinates; its faces get the next
+    /// IDs (consecutive flat parts share one mesh).
     void add_part(std::string name, const TriangleMesh& part);
-    /// Appends a part with its label, ID and material (first_face/face_count are filled in).
+    /// The same with its label, ID and material (first_face/face_count are filled in).
     void add_part(ScenePart meta, const TriangleMesh& part);
+    /// Appends a part made of instances of the stored mesh `mesh` (see SceneGeometry::add_mesh),
+    /// one per transform, without copying its triangles.
+    void add_instanced_part(ScenePart meta, std::uint32_t mesh,
+                            const std::vector<Affine3>& to_world);
     /// Index of the part that holds `face` (binary search).
     [[nodiscard]] std::size_t part_of_face(std::uint32_t face) const;
+    /// Global face count (instances counted as copies).
+    [[nodiscard]] std::uint64_t triangle_count() const { return geometry.triangle_count(); }
 };
 
 /// Loads and concatenates mesh files in order (face IDs 0-based over all of them).

@@ -2,12 +2,14 @@
 // validated here; turned into a triangle Scene by build_scene().
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <filesystem>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "beamtrace/core/affine.hpp"
 #include "beamtrace/core/quat.hpp"
 #include "beamtrace/core/vec3.hpp"
 
@@ -24,6 +26,20 @@ struct PartTransform {
     [[nodiscard]] Vec3d apply(const Vec3d& p) const {
         return translate_m +
                Quat::from_rpy(rotate).rotate({p.x * scale.x, p.y * scale.y, p.z * scale.z});
+    }
+    /// The same map as a matrix and a translation.
+    [[nodiscard]] Affine3 to_affine() const;
+};
+
+/// Copies of a part on a regular grid: copy (i, j, k) is moved by i*step.x, j*step.y, k*step.z
+/// (scene axes) after the part's own transform.
+struct PartArray {
+    std::array<long, 3> count{1, 1, 1};  ///< copies along x, y, z (each >= 1)
+    Vec3d step_m{0, 0, 0};
+
+    [[nodiscard]] std::uint64_t copies() const {
+        return static_cast<std::uint64_t>(count[0]) * static_cast<std::uint64_t>(count[1]) *
+               static_cast<std::uint64_t>(count[2]);
     }
 };
 
@@ -47,6 +63,7 @@ struct PartSpec {
     Vec3d normal{0, 0, 1};        ///< plane: its normal (need not be unit)
     double size_m = 100.0;        ///< plane: side of the square patch
     PartTransform transform;
+    PartArray array;  ///< more than one copy makes the part instanced
     std::string material = "default";
     std::uint8_t label = 1;     ///< LAS classification written for hits on this part
     std::uint16_t part_id = 0;  ///< LAS point source ID; defaults to the part's index + 1

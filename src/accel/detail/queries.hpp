@@ -1,12 +1,14 @@
 // The three ray queries (nearest, any, all), written once over a traverser. A traverser has
 //   template <class Visitor> void traverse(const TraceRay&, Visitor&) const;
-// and calls `visitor.visit(face)` for candidate faces, skipping nodes farther than
+// calls `visitor.enter(mesh, ray, face_offset, mirrored)` for each mesh it descends into, then
+// `visitor.visit(local_face)` for candidate faces, skipping nodes farther than
 // `visitor.limit()`, and stops when `visit` returns true.
 #pragma once
 
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <numeric>
 #include <utility>
 #include <vector>
@@ -21,17 +23,39 @@ namespace beamtrace::detail {
     return std::clamp<std::size_t>(rays / (8 * std::size_t{pool.size()}), 16, 1024);
 }
 
-class NearestVisitor {
+/// What every visitor keeps of the mesh it is in: a traverser calls enter() before it visits
+/// faces of a mesh (with the ray in that mesh's coordinates, the global ID of its face 0, and
+/// whether its placement mirrors, which swaps front and back).
+class VisitorBase {
   public:
-    NearestVisitor(const TriangleMesh& mesh, const TraceRay& ray)
-        : mesh_(mesh), ray_(ray), best_t_(ray.tmax) {}
+    void enter(const TriangleMesh& mesh, const TraceRay& ray, std::uint32_t face_offset,
+               bool mirrored) {
+        mesh_ = &mesh;
+        ray_ = &ray;
+        offset_ = face_offset;
+        mirrored_ = mirrored;
+    }
+
+  protected:
+    bool test(std::uint32_t face, float tmax, Facing facing, TriangleHit& h) const {
+        const Face& f = mesh_->faces[face];
+        return intersect_watertight(ray_->wt, mesh_->vertices[f[0]], mesh_->vertices[f[1]],
+                                    mesh_->vertices[f[2]], ray_->tmin, tmax, facing, h);
+    }
+    const TriangleMesh* mesh_ = nullptr;
+    const TraceRay* ray_ = nullptr;
+    std::uint32_t offset_ = 0;
+    bool mirrored_ = false;
+};
+
+class NearestVisitor : public VisitorBase {
+  public:
+    explicit NearestVisitor(const TraceRay& ray) : best_t_(ray.tmax) {}
     [[nodiscard]] float limit() const { return best_t_; }
-    bool visit(std::uint32_t face) {
-        const Face& f = mesh_.faces[face];
+    bool visit(std::uint32_t local_face) {
         TriangleHit h;
-        if (intersect_watertight(ray_.wt, mesh_.vertices[f[0]], mesh_.vertices[f[1]],
-                                 mesh_.vertices[f[2]], ray_.tmin, best_t_, Facing::both, h) &&
-            (h.t < best_t_ || face < face_)) {
+        const std::uint32_t face = offset_ + local_face;
+        if (test(local_face, best_t_, Facing::both, h) && (h.t < best_t_ || face < face_)) {
             best_t_ = h.t;
             face_ = face;
             u_ = h.u;
@@ -53,29 +77,24 @@ class NearestVisitor {
     }
 
   private:
-    const TriangleMesh& mesh_;
-    const TraceRay& ray_;
     float best_t_;
     std::uint32_t face_ = kNoFace;
     float u_ = 0, v_ = 0;
 };
 
-class AnyVisitor {
+class AnyVisitor : public VisitorBase {
   public:
-    AnyVisitor(const TriangleMesh& mesh, const TraceRay& ray) : mesh_(mesh), ray_(ray) {}
-    [[nodiscard]] float limit() const { return ray_.tmax; }
-    bool visit(std::uint32_t face) {
-        const Face& f = mesh_.faces[face];
+    explicit AnyVisitor(const TraceRay& ray) : tmax_(ray.tmax) {}
+    [[nodiscard]] float limit() const { return tmax_; }
+    bool visit(std::uint32_t local_face) {
         TriangleHit h;
-        hit_ = intersect_watertight(ray_.wt, mesh_.vertices[f[0]], mesh_.vertices[f[1]],
-                                    mesh_.vertices[f[2]], ray_.tmin, ray_.tmax, Facing::both, h);
+        hit_ = test(local_face, tmax_, Facing::both, h);
         return hit_;
     }
     [[nodiscard]] bool hit() const { return hit_; }
 
   private:
-    const TriangleMesh& mesh_;
-    const TraceRay& ray_;
+    float tmax_;
     bool hit_ = false;
 };
 
@@ -85,18 +104,20 @@ struct AllHit {
     std::uint8_t front;
 };
 
-class AllVisitor {
+class AllVisitor : public VisitorBase {
   public:
-    AllVisitor(const TriangleMesh& mesh, const TraceRay& ray, Facing facing,
-               std::vector<AllHit>& out)
-        : mesh_(mesh), ray_(ray), facing_(facing), out_(out), first_(out.size()) {}
-    [[nodiscard]] float limit() const { return ray_.tmax; }
-    bool visit(std::uint32_t face) {
-        const Face& f = mesh_.faces[face];
+    AllVisitor(const TraceRay& ray, Facing facing, std::vector<AllHit>& out)
+        : tmax_(ray.tmax), facing_(facing), out_(out), first_(out.size()) {}
+    [[nodiscard]] float limit() const { return tmax_; }
+    bool visit(std::uint32_t local_face) {
         TriangleHit h;
-        if (intersect_watertight(ray_.wt, mesh_.vertices[f[0]], mesh_.vertices[f[1]],
-                                 mesh_.vertices[f[2]], ray_.tmin, ray_.tmax, facing_, h)) {
-            out_.push_back({h.t, face, static_cast<std::uint8_t>(h.front ? 1 : 0)});
+        Facing facing = facing_;
+        if (mirrored_ && facing != Facing::both) {
+            facing = facing == Facing::front ? Facing::back : Facing::front;
+        }
+        if (test(local_face, tmax_, facing, h)) {
+            const bool front = h.front != mirrored_;
+            out_.push_back({h.t, offset_ + local_face, static_cast<std::uint8_t>(front ? 1 : 0)});
         }
         return false;
     }
@@ -112,8 +133,7 @@ class AllVisitor {
     }
 
   private:
-    const TriangleMesh& mesh_;
-    const TraceRay& ray_;
+    float tmax_;
     Facing facing_;
     std::vector<AllHit>& out_;
     std::size_t first_;
@@ -123,8 +143,9 @@ class AllVisitor {
 template <class Traverser, BackendKind Kind>
 class QueryBackend final : public Backend {
   public:
-    QueryBackend(const TriangleMesh& mesh, Traverser traverser)
-        : mesh_(mesh), traverser_(std::move(traverser)) {}
+    /// `owned` keeps alive geometry that the traverser points into (e.g. a flattened copy).
+    explicit QueryBackend(Traverser traverser, std::shared_ptr<const void> owned = nullptr)
+        : owned_(std::move(owned)), traverser_(std::move(traverser)) {}
 
     [[nodiscard]] BackendKind kind() const override { return Kind; }
     [[nodiscard]] const Traverser& traverser() const { return traverser_; }
@@ -132,7 +153,7 @@ class QueryBackend final : public Backend {
     void intersect(const RayBatch& rays, std::size_t begin, std::size_t end, HitBatch& hits,
                    ThreadPool& pool) const override {
         for_each_ray(rays, begin, end, pool, [&](std::size_t i, const TraceRay& r) {
-            NearestVisitor vis(mesh_, r);
+            NearestVisitor vis(r);
             traverser_.traverse(r, vis);
             vis.store(hits, i);
         });
@@ -142,7 +163,7 @@ class QueryBackend final : public Backend {
                   std::vector<std::uint8_t>& occluded, ThreadPool& pool) const override {
         occluded.resize(rays.size());
         for_each_ray(rays, begin, end, pool, [&](std::size_t i, const TraceRay& r) {
-            AnyVisitor vis(mesh_, r);
+            AnyVisitor vis(r);
             traverser_.traverse(r, vis);
             occluded[i] = vis.hit() ? 1 : 0;
         });
@@ -160,7 +181,7 @@ class QueryBackend final : public Backend {
             for (std::size_t i = b; i < e; ++i) {
                 const TraceRay r = make_trace_ray(rays, i);
                 const std::size_t before = out.size();
-                AllVisitor vis(mesh_, r, facing, out);
+                AllVisitor vis(r, facing, out);
                 traverser_.traverse(r, vis);
                 vis.finish();
                 counts[i] = static_cast<std::uint32_t>(out.size() - before);
@@ -196,7 +217,7 @@ class QueryBackend final : public Backend {
                           });
     }
 
-    const TriangleMesh& mesh_;
+    std::shared_ptr<const void> owned_;
     Traverser traverser_;
 };
 

@@ -45,7 +45,9 @@ struct TraceRay {
         const float n = (t1 < t0) ? t1 : t0;  // NaN t0 -> t0 -> ignored below
         const float f = (t0 > t1) ? t0 : t1;  // NaN t1 -> t1 -> ignored below
         tnear = (n > tnear) ? n : tnear;
-        const float fp = f + std::fabs(f) * kPad;
+        // Scaled, not offset: f + |f| * pad would be NaN for f = -inf (a box behind the origin
+        // on an axis the ray does not move along), and the box would never be culled.
+        const float fp = f >= 0.0f ? f * (1.0f + kPad) : f * (1.0f - kPad);
         tfar = (fp < tfar) ? fp : tfar;
     }
     // The entry distance is lowered by the same margin, so culling a node by it is conservative.
