@@ -76,4 +76,26 @@ void sub_ray_directions(const Vec3d& axis, std::span<const SubRayOffset> pattern
     }
 }
 
+std::vector<Vec3d> beam_frame_directions(std::span<const SubRayOffset> pattern) {
+    std::vector<Vec3d> out;
+    out.reserve(pattern.size());
+    for (const auto& s : pattern) {
+        const double st = std::sin(s.off_axis_rad);
+        out.push_back(
+            {st * std::cos(s.azimuth_rad), st * std::sin(s.azimuth_rad), std::cos(s.off_axis_rad)});
+    }
+    return out;
+}
+
+void sub_ray_directions(const Vec3d& axis, std::span<const Vec3d> beam_frame,
+                        std::span<Vec3d> out) {
+    assert(out.size() == beam_frame.size());
+    Vec3d e1, e2;
+    orthonormal_basis(axis, e1, e2);
+    for (std::size_t i = 0; i < beam_frame.size(); ++i) {
+        const Vec3d& b = beam_frame[i];
+        out[i] = e1 * b.x + e2 * b.y + axis * b.z;
+    }
+}
+
 }  // namespace beamtrace

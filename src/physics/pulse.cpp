@@ -67,6 +67,7 @@ PulseSimulator::PulseSimulator(PhysicsConfig config) : config_(std::move(config)
         throw ConfigError(msg);
     }
     pattern_ = beam_pattern(config_.beam);
+    beam_frame_ = beam_frame_directions(pattern_);
     alpha_per_m_ =
         beamtrace::extinction_per_m(config_.atmosphere, config_.radiometry.wavelength_nm);
 }
@@ -79,7 +80,7 @@ Pose PulseSimulator::perturb_pose(std::uint64_t seed, std::uint64_t pulse_index,
 void PulseSimulator::sub_ray_directions(std::uint64_t seed, std::uint64_t pulse_index,
                                         const Vec3d& axis, std::span<Vec3d> out) const {
     const Vec3d jittered = jitter_direction(config_.noise, seed, pulse_index, axis);
-    beamtrace::sub_ray_directions(jittered, pattern_, out);
+    beamtrace::sub_ray_directions(jittered, beam_frame_, out);
 }
 
 double PulseSimulator::sub_ray_power_w(const SubRayHit& hit, double weight) const {

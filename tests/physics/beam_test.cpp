@@ -85,3 +85,25 @@ TEST(PhysicsBeam, Validate) {
 
 }  // namespace
 }  // namespace beamtrace
+
+namespace beamtrace {
+namespace {
+
+TEST(PhysicsBeam, PrecomputedFrameGivesTheSameDirections) {
+    BeamConfig c;
+    c.divergence_rad = 4e-3;
+    c.rings = 3;
+    const auto p = beam_pattern(c);
+    const auto frame = beam_frame_directions(p);
+    const Vec3d axis = normalize(Vec3d{-0.2, 0.7, -1});
+    std::vector<Vec3d> a(p.size()), b(p.size());
+    sub_ray_directions(axis, p, a);
+    sub_ray_directions(axis, frame, b);
+    for (std::size_t i = 0; i < p.size(); ++i) {
+        EXPECT_NEAR(length(a[i] - b[i]), 0.0, 1e-15) << i;
+        EXPECT_NEAR(length(b[i]), 1.0, 1e-15);
+    }
+}
+
+}  // namespace
+}  // namespace beamtrace

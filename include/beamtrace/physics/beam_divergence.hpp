@@ -51,4 +51,11 @@ void orthonormal_basis(const Vec3d& axis, Vec3d& e1, Vec3d& e2);
 void sub_ray_directions(const Vec3d& axis, std::span<const SubRayOffset> pattern,
                         std::span<Vec3d> out);
 
+/// The pattern's unit directions in the beam frame (x, y along the basis vectors e1, e2 of
+/// orthonormal_basis, z along the axis): precompute once, then rotate per pulse cheaply.
+[[nodiscard]] std::vector<Vec3d> beam_frame_directions(std::span<const SubRayOffset> pattern);
+
+/// Like sub_ray_directions, from precomputed beam_frame_directions (no trigonometry).
+void sub_ray_directions(const Vec3d& axis, std::span<const Vec3d> beam_frame, std::span<Vec3d> out);
+
 }  // namespace beamtrace

@@ -130,6 +130,7 @@ class PulseSimulator {
   private:
     PhysicsConfig config_;
     std::vector<SubRayOffset> pattern_;
+    std::vector<Vec3d> beam_frame_;  ///< pattern_ as unit vectors in the beam frame
     double alpha_per_m_ = 0.0;
 };
 
