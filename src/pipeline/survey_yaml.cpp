@@ -5,6 +5,7 @@
 
 #include "beamtrace/pipeline/survey.hpp"
 #include "io/detail/yaml_checker.hpp"
+#include "pipeline/detail/physics_yaml.hpp"
 
 namespace beamtrace {
 namespace {
@@ -214,7 +215,7 @@ SurveySpec parse_survey_spec(const std::string& yaml_text, const std::filesystem
     SurveySpec s;
     s.source = source;
     s.text = yaml_text;
-    c.only_keys(root, "", {"scene", "scanner", "platform", "mount", "output"});
+    c.only_keys(root, "", {"scene", "scanner", "platform", "mount", "output", "physics"});
     if (const auto sc = root["scene"]) {
         if (!sc.IsScalar()) {
             c.error(sc, "scene", "expected a scene file name or 'demo'");
@@ -261,6 +262,10 @@ SurveySpec parse_survey_spec(const std::string& yaml_text, const std::filesystem
             s.trajectory_rate_hz < 0) {
             c.error(o["trajectory_rate_hz"], "output.trajectory_rate_hz", "must not be negative");
         }
+    }
+    if (const auto ph = root["physics"]) {
+        s.physics.emplace();
+        detail::parse_physics_block(c, ph, *s.physics);
     }
     c.throw_if_any("survey file");
     return s;

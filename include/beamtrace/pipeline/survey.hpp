@@ -12,6 +12,7 @@
 
 #include "beamtrace/accel/backend.hpp"
 #include "beamtrace/core/progress.hpp"
+#include "beamtrace/physics/pulse.hpp"
 #include "beamtrace/sensor/image_pattern.hpp"
 #include "beamtrace/sensor/line_scanner.hpp"
 #include "beamtrace/sensor/rotating_scanner.hpp"
@@ -42,6 +43,8 @@ struct SurveySpec {
     bool write_csv = false;                 ///< also points.csv (streamed)
     double trajectory_rate_hz = 10.0;       ///< samples per second in trajectory.csv (0: none)
     std::string text;                       ///< the file's text (recorded in the LAS VLR)
+    /// The `physics:` block (docs/physics.md); nullopt: ideal single rays, no intensity/noise.
+    std::optional<PhysicsConfig> physics;
 
     /// The scan pattern described by the file.
     [[nodiscard]] std::unique_ptr<ScanPattern> make_pattern() const;

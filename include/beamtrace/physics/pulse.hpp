@@ -1,0 +1,142 @@
+// One LiDAR pulse from the sub-ray hits to its returns: the entry point of the physics module.
+//
+// The caller owns the tracing. Per pulse i of a survey with seed S:
+//   1. pose = sim.perturb_pose(S, i, platform_pose * mount)          (position/attitude noise)
+//   2. axis = pose.apply_direction(pattern_direction)
+//      sim.sub_ray_directions(S, i, axis, dirs)                       (jitter + divergence cone)
+//   3. trace origin pose.position_m along every dirs[j]; fill hits[j] (make_sub_ray_hit, or
+//      SubRayHit{} for a miss) with the range, cos incidence and material at the hit point
+//   4. sim.simulate(S, i, hits, response)                             (range equation, waveform,
+//      echoes, return mode, range noise, dropout)
+//   5. each response.returns[r] is a point at origin + range_m * axis (the beam's axis, as real
+//      sensors report it); returns[r].sub_ray names the sub-ray that dominated the echo, so its
+//      face/part/label can be attached; intensity is the LAS uint16 of range_equation.hpp.
+// Every method is const and pure: call it from any thread, in any order; results depend only on
+// (config, seed, pulse index, hits). Reuse one PulseResponse per thread to avoid allocations.
+//
+// Units: ranges in metres (one-way), powers in watts (peak received power), widths in ns,
+// angles in radians.
+#pragma once
+
+#include <cstdint>
+#include <limits>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "beamtrace/core/quat.hpp"
+#include "beamtrace/physics/atmosphere.hpp"
+#include "beamtrace/physics/beam_divergence.hpp"
+#include "beamtrace/physics/material.hpp"
+#include "beamtrace/physics/noise.hpp"
+#include "beamtrace/physics/range_equation.hpp"
+#include "beamtrace/physics/waveform.hpp"
+
+namespace beamtrace {
+
+/// Which detected echoes a pulse reports.
+enum class ReturnMode : std::uint8_t {
+    first,      ///< the nearest echo only
+    last,       ///< the farthest echo only
+    strongest,  ///< the echo of largest amplitude only
+    all,        ///< every echo, nearest first, up to max_returns (the farther ones are lost)
+};
+
+/// "first", "last", "strongest", "all".
+[[nodiscard]] std::string_view to_string(ReturnMode mode);
+/// The mode named `name`; throws ConfigError listing the choices.
+[[nodiscard]] ReturnMode parse_return_mode(std::string_view name);
+
+/// Everything the physics of one pulse needs. Defaults: a 1064 nm, 1 kW, 5 cm aperture sensor,
+/// clear air (23 km), an ideal ray (no divergence), no noise, a 4 ns pulse sampled at 0.5 ns,
+/// all returns up to 5.
+struct PhysicsConfig {
+    RadiometryConfig radiometry;
+    AtmosphereConfig atmosphere;
+    BeamConfig beam;
+    NoiseConfig noise;
+    WaveformConfig waveform;
+    ReturnMode return_mode = ReturnMode::all;
+    int max_returns = 5;         ///< 1..15 (LAS 1.4 allows 15 returns per pulse)
+    bool keep_waveform = false;  ///< keep the sampled waveform in PulseResponse::waveform
+
+    /// Every problem of every part; empty when valid.
+    [[nodiscard]] std::vector<std::string> validate() const;
+};
+
+/// What one sub-ray saw. A default-constructed one is a miss.
+struct SubRayHit {
+    double range_m = std::numeric_limits<double>::infinity();  ///< one-way; not finite: miss
+    double cos_incidence = 1.0;       ///< |n . d| of the surface normal and the sub-ray
+    double albedo = 0.5;              ///< reflectance at the hit (albedo(material, point))
+    double specular_weight = 0.0;     ///< s of the material
+    double specular_exponent = 10.0;  ///< n of the material
+};
+
+/// The SubRayHit of a sub-ray along unit `direction` hitting `material` at `point_m`, `range_m`
+/// away, where the surface normal is `normal` (either orientation; need not be unit).
+[[nodiscard]] SubRayHit make_sub_ray_hit(const Material& material, double range_m,
+                                         const Vec3d& point_m, const Vec3d& normal,
+                                         const Vec3d& direction);
+
+struct PulseReturn {
+    double range_m = 0.0;            ///< one-way range with range noise
+    double amplitude_w = 0.0;        ///< peak power of the echo
+    double power_w = 0.0;            ///< equivalent power (see waveform.hpp), what intensity maps
+    double echo_width_ns = 0.0;      ///< FWHM of the echo
+    std::uint16_t intensity = 0;     ///< LAS intensity of power_w (range_equation.hpp)
+    std::uint8_t return_number = 1;  ///< 1-based, in range order among the reported returns
+    std::uint8_t number_of_returns = 1;
+    std::uint32_t sub_ray = 0;  ///< index of the sub-ray that contributed most
+};
+
+struct PulseResponse {
+    bool dropped = false;                         ///< lost to a random dropout (then no returns)
+    std::vector<PulseReturn> returns;             ///< what the pulse reports, nearest first
+    std::vector<Echo> echoes;                     ///< every echo detected, before the return mode
+    Waveform waveform;                            ///< the sampled waveform (when keep_waveform)
+    std::vector<double> sub_ray_power_w;          ///< received power of every sub-ray (0: miss)
+    std::vector<EchoContribution> contributions;  ///< the sub-rays with power > 0
+};
+
+/// The physics of a configuration, with the beam pattern and constants precomputed.
+class PulseSimulator {
+  public:
+    /// Throws ConfigError listing every problem of `config`.
+    explicit PulseSimulator(PhysicsConfig config);
+
+    [[nodiscard]] const PhysicsConfig& config() const { return config_; }
+    /// The sub-ray pattern (its size is the number of sub-rays per pulse).
+    [[nodiscard]] std::span<const SubRayOffset> pattern() const { return pattern_; }
+    [[nodiscard]] std::size_t sub_ray_count() const { return pattern_.size(); }
+    /// The extinction coefficient in use [1/m].
+    [[nodiscard]] double extinction_per_m() const { return alpha_per_m_; }
+
+    /// The platform/sensor pose of pulse `pulse_index` with position and attitude noise.
+    [[nodiscard]] Pose perturb_pose(std::uint64_t seed, std::uint64_t pulse_index,
+                                    const Pose& pose) const;
+    /// The world directions of the pulse's sub-rays around the unit beam `axis` (jittered);
+    /// out.size() must equal sub_ray_count(). out[j] belongs to pattern()[j].
+    void sub_ray_directions(std::uint64_t seed, std::uint64_t pulse_index, const Vec3d& axis,
+                            std::span<Vec3d> out) const;
+    /// The received power of one sub-ray hit with pattern weight `weight` [W].
+    [[nodiscard]] double sub_ray_power_w(const SubRayHit& hit, double weight) const;
+    /// The returns of pulse `pulse_index` whose sub-rays saw `hits` (hits.size() must equal
+    /// sub_ray_count(); hits[j] belongs to pattern()[j]).
+    void simulate(std::uint64_t seed, std::uint64_t pulse_index, std::span<const SubRayHit> hits,
+                  PulseResponse& out) const;
+
+  private:
+    PhysicsConfig config_;
+    std::vector<SubRayOffset> pattern_;
+    std::vector<Vec3d> beam_frame_;  ///< pattern_ as unit vectors in the beam frame
+    double alpha_per_m_ = 0.0;
+};
+
+/// One-shot convenience: PulseSimulator(config).simulate(...). Prefer the class in loops.
+[[nodiscard]] PulseResponse simulate_pulse(const PhysicsConfig& config, std::uint64_t seed,
+                                           std::uint64_t pulse_index,
+                                           std::span<const SubRayHit> hits);
+
+}  // namespace beamtrace

@@ -1,0 +1,194 @@
+#include "beamtrace/physics/pulse.hpp"
+
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+
+#include "beamtrace/core/error.hpp"
+
+namespace beamtrace {
+
+std::string_view to_string(ReturnMode mode) {
+    switch (mode) {
+        case ReturnMode::first:
+            return "first";
+        case ReturnMode::last:
+            return "last";
+        case ReturnMode::strongest:
+            return "strongest";
+        case ReturnMode::all:
+            return "all";
+    }
+    return "all";
+}
+
+ReturnMode parse_return_mode(std::string_view name) {
+    for (const auto m :
+         {ReturnMode::first, ReturnMode::last, ReturnMode::strongest, ReturnMode::all}) {
+        if (name == to_string(m)) {
+            return m;
+        }
+    }
+    throw ConfigError("unknown return mode '" + std::string(name) +
+                      "' (expected first, last, strongest or all)");
+}
+
+std::vector<std::string> PhysicsConfig::validate() const {
+    std::vector<std::string> p;
+    for (auto&& part : {radiometry.validate(), atmosphere.validate(), beam.validate(),
+                        noise.validate(), waveform.validate()}) {
+        p.insert(p.end(), part.begin(), part.end());
+    }
+    if (max_returns < 1 || max_returns > 15) {
+        p.emplace_back("max_returns must be in [1, 15]");
+    }
+    return p;
+}
+
+SubRayHit make_sub_ray_hit(const Material& material, double range_m, const Vec3d& point_m,
+                           const Vec3d& normal, const Vec3d& direction) {
+    SubRayHit h;
+    h.range_m = range_m;
+    const double n = length(normal);
+    h.cos_incidence = n > 0 ? std::min(1.0, std::abs(dot(normal, direction)) / n) : 0.0;
+    h.albedo = albedo(material, point_m);
+    h.specular_weight = material.specular_weight;
+    h.specular_exponent = material.specular_exponent;
+    return h;
+}
+
+PulseSimulator::PulseSimulator(PhysicsConfig config) : config_(std::move(config)) {
+    const auto problems = config_.validate();
+    if (!problems.empty()) {
+        std::string msg = "invalid physics settings:";
+        for (const auto& s : problems) {
+            msg += "\n  " + s;
+        }
+        throw ConfigError(msg);
+    }
+    pattern_ = beam_pattern(config_.beam);
+    beam_frame_ = beam_frame_directions(pattern_);
+    alpha_per_m_ =
+        beamtrace::extinction_per_m(config_.atmosphere, config_.radiometry.wavelength_nm);
+}
+
+Pose PulseSimulator::perturb_pose(std::uint64_t seed, std::uint64_t pulse_index,
+                                  const Pose& pose) const {
+    return beamtrace::perturb_pose(config_.noise, seed, pulse_index, pose);
+}
+
+void PulseSimulator::sub_ray_directions(std::uint64_t seed, std::uint64_t pulse_index,
+                                        const Vec3d& axis, std::span<Vec3d> out) const {
+    const Vec3d jittered = jitter_direction(config_.noise, seed, pulse_index, axis);
+    beamtrace::sub_ray_directions(jittered, beam_frame_, out);
+}
+
+double PulseSimulator::sub_ray_power_w(const SubRayHit& hit, double weight) const {
+    if (!std::isfinite(hit.range_m) || !(hit.range_m > 0)) {
+        return 0.0;
+    }
+    const double l =
+        monostatic_reflectance(hit.cos_incidence, hit.specular_weight, hit.specular_exponent);
+    return received_power_w(config_.radiometry, config_.radiometry.peak_power_w * weight,
+                            hit.albedo, l, hit.range_m,
+                            two_way_transmission(alpha_per_m_, hit.range_m));
+}
+
+void PulseSimulator::simulate(std::uint64_t seed, std::uint64_t pulse_index,
+                              std::span<const SubRayHit> hits, PulseResponse& out) const {
+    assert(hits.size() == pattern_.size());
+    out.dropped = false;
+    out.returns.clear();
+    out.echoes.clear();
+    out.contributions.clear();
+    out.sub_ray_power_w.clear();
+    out.waveform.samples_w.clear();
+    if (pulse_dropped(config_.noise, seed, pulse_index)) {
+        out.dropped = true;
+        return;
+    }
+    const std::size_t n = std::min(hits.size(), pattern_.size());
+    std::vector<double>& powers = out.sub_ray_power_w;
+    powers.assign(n, 0.0);
+    for (std::size_t j = 0; j < n; ++j) {
+        powers[j] = sub_ray_power_w(hits[j], pattern_[j].weight);
+        if (powers[j] > 0) {
+            out.contributions.push_back({hits[j].range_m, powers[j]});
+        }
+    }
+    if (out.contributions.empty()) {
+        return;
+    }
+    const WaveformConfig& wf = config_.waveform;
+    build_waveform(wf, out.contributions, out.waveform);
+    detect_echoes(wf, out.waveform, config_.radiometry.detection_threshold_w, out.echoes);
+    if (!config_.keep_waveform) {
+        out.waveform.samples_w.clear();
+    }
+    if (out.echoes.empty()) {
+        return;
+    }
+
+    // Which echoes are reported.
+    std::size_t begin = 0, end = out.echoes.size();
+    switch (config_.return_mode) {
+        case ReturnMode::first:
+            end = 1;
+            break;
+        case ReturnMode::last:
+            begin = end - 1;
+            break;
+        case ReturnMode::strongest: {
+            std::size_t best = 0;
+            for (std::size_t e = 1; e < out.echoes.size(); ++e) {
+                if (out.echoes[e].amplitude_w > out.echoes[best].amplitude_w) {
+                    best = e;
+                }
+            }
+            begin = best;
+            end = best + 1;
+            break;
+        }
+        case ReturnMode::all:
+            end = std::min(end, static_cast<std::size_t>(config_.max_returns));
+            break;
+    }
+
+    const double sigma_m =
+        wf.pulse_fwhm_ns / (2.0 * std::sqrt(2.0 * std::log(2.0))) / round_trip_ns_per_m();
+    const auto count = static_cast<std::uint8_t>(end - begin);
+    for (std::size_t e = begin; e < end; ++e) {
+        const Echo& echo = out.echoes[e];
+        PulseReturn r;
+        // Noise is keyed by the echo's index among all echoes: a mode never changes a range.
+        r.range_m = echo.range_m + range_noise_m(config_.noise, seed, pulse_index,
+                                                 static_cast<std::uint32_t>(e), echo.range_m);
+        r.amplitude_w = echo.amplitude_w;
+        r.power_w = echo.power_w;
+        r.echo_width_ns = echo.width_ns;
+        r.intensity = las_intensity(config_.radiometry, echo.power_w);
+        r.return_number = static_cast<std::uint8_t>(e - begin + 1);
+        r.number_of_returns = count;
+        double best = -1.0;
+        for (std::size_t j = 0; j < n; ++j) {
+            if (powers[j] > 0) {
+                const double d = (hits[j].range_m - echo.range_m) / sigma_m;
+                const double share = powers[j] * std::exp(-0.5 * d * d);
+                if (share > best) {
+                    best = share;
+                    r.sub_ray = static_cast<std::uint32_t>(j);
+                }
+            }
+        }
+        out.returns.push_back(r);
+    }
+}
+
+PulseResponse simulate_pulse(const PhysicsConfig& config, std::uint64_t seed,
+                             std::uint64_t pulse_index, std::span<const SubRayHit> hits) {
+    PulseResponse out;
+    PulseSimulator(config).simulate(seed, pulse_index, hits, out);
+    return out;
+}
+
+}  // namespace beamtrace

@@ -1,0 +1,83 @@
+#include "beamtrace/physics/range_equation.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "beamtrace/core/error.hpp"
+
+namespace beamtrace {
+
+std::string_view to_string(IntensityScale scale) {
+    return scale == IntensityScale::linear ? "linear" : "logarithmic";
+}
+
+IntensityScale parse_intensity_scale(std::string_view name) {
+    if (name == "linear") {
+        return IntensityScale::linear;
+    }
+    if (name == "logarithmic") {
+        return IntensityScale::logarithmic;
+    }
+    throw ConfigError("unknown intensity scale '" + std::string(name) +
+                      "' (expected linear or logarithmic)");
+}
+
+std::vector<std::string> RadiometryConfig::validate() const {
+    std::vector<std::string> p;
+    const auto positive = [&](double v, const char* what) {
+        if (!(v > 0) || !std::isfinite(v)) {
+            p.push_back(std::string("radiometry: ") + what + " must be positive");
+        }
+    };
+    positive(wavelength_nm, "wavelength_nm");
+    positive(peak_power_w, "peak_power_w");
+    positive(aperture_diameter_m, "aperture_diameter_m");
+    positive(detection_threshold_w, "detection_threshold_w");
+    positive(intensity_reference_range_m, "intensity_reference_range_m");
+    if (!(system_efficiency > 0 && system_efficiency <= 1)) {
+        p.emplace_back("radiometry: system_efficiency must be in (0, 1]");
+    }
+    if (p.empty() && intensity_scale == IntensityScale::logarithmic &&
+        !(intensity_full_scale_w(*this) > detection_threshold_w)) {
+        p.emplace_back(
+            "radiometry: logarithmic intensity needs the full scale above the detection "
+            "threshold (lower intensity_reference_range_m or the threshold)");
+    }
+    return p;
+}
+
+double aperture_area_m2(const RadiometryConfig& config) {
+    return std::numbers::pi * config.aperture_diameter_m * config.aperture_diameter_m / 4.0;
+}
+
+double received_power_w(const RadiometryConfig& config, double emitted_power_w, double albedo,
+                        double reflectance_factor, double range_m, double transmission) {
+    if (!(range_m > 0)) {
+        return 0.0;
+    }
+    return emitted_power_w * albedo * reflectance_factor * aperture_area_m2(config) /
+           (std::numbers::pi * range_m * range_m) * config.system_efficiency * transmission;
+}
+
+double intensity_full_scale_w(const RadiometryConfig& config) {
+    return received_power_w(config, config.peak_power_w, 1.0, 1.0,
+                            config.intensity_reference_range_m, 1.0);
+}
+
+std::uint16_t las_intensity(const RadiometryConfig& config, double power_w) {
+    const double fs = intensity_full_scale_w(config);
+    double x = 0.0;
+    if (config.intensity_scale == IntensityScale::linear) {
+        x = 65535.0 * std::clamp(power_w / fs, 0.0, 1.0);
+    } else {
+        if (!(power_w > 0)) {
+            return 0;
+        }
+        const double lo = std::log(config.detection_threshold_w), hi = std::log(fs);
+        x = 1.0 + 65534.0 * std::clamp((std::log(power_w) - lo) / (hi - lo), 0.0, 1.0);
+    }
+    return static_cast<std::uint16_t>(std::lround(x));
+}
+
+}  // namespace beamtrace

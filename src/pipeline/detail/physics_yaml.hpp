@@ -1,0 +1,15 @@
+// The `physics:` block of survey files (docs/physics.md), shared by the survey parser.
+#pragma once
+
+#include <yaml-cpp/yaml.h>
+
+#include "beamtrace/physics/pulse.hpp"
+#include "io/detail/yaml_checker.hpp"
+
+namespace beamtrace::detail {
+
+/// Reads the `physics` map `n` into `out` (starting from its current values); every problem is
+/// reported to `c` as `file:line: physics.key: what`, then the config's validate() problems.
+void parse_physics_block(YamlChecker& c, const YAML::Node& n, PhysicsConfig& out);
+
+}  // namespace beamtrace::detail

@@ -1,0 +1,133 @@
+#include "pipeline/detail/physics_yaml.hpp"
+
+#include <functional>
+#include <numbers>
+#include <string>
+
+namespace beamtrace::detail {
+namespace {
+
+constexpr double kDeg = std::numbers::pi / 180.0;
+
+/// Reads `n[key]` into `out` (times `scale`) when present.
+void number(YamlChecker& c, const YAML::Node& n, const std::string& prefix, const char* key,
+            double& out, double scale = 1.0) {
+    double v = 0;
+    if (n[key] && c.number(n[key], prefix + key, v)) {
+        out = v * scale;
+    }
+}
+
+void flag(YamlChecker& c, const YAML::Node& n, const std::string& prefix, const char* key,
+          bool& out) {
+    if (const auto f = n[key]) {
+        try {
+            out = f.as<bool>();
+        } catch (const YAML::Exception&) {
+            c.error(f, prefix + key, "expected true or false");
+        }
+    }
+}
+
+/// Parses `n[key]` with `parse` (which throws ConfigError for unknown names).
+template <typename T, typename Parse>
+void choice(YamlChecker& c, const YAML::Node& n, const std::string& prefix, const char* key, T& out,
+            Parse parse) {
+    if (const auto f = n[key]) {
+        try {
+            out = parse(f.IsScalar() ? f.Scalar() : std::string());
+        } catch (const ConfigError& e) {
+            c.error(f, prefix + key, e.what());
+        }
+    }
+}
+
+/// The sub-map `n[key]`, or an undefined node (with an error) when it is not a map.
+YAML::Node section(YamlChecker& c, const YAML::Node& n, const char* key) {
+    const YAML::Node s = n[key];
+    if (s && !s.IsMap()) {
+        c.error(s, std::string("physics.") + key, "expected a map");
+        return YAML::Node(YAML::NodeType::Undefined);
+    }
+    return s;
+}
+
+}  // namespace
+
+void parse_physics_block(YamlChecker& c, const YAML::Node& n, PhysicsConfig& out) {
+    if (!n.IsMap()) {
+        c.error(n, "physics", "expected a map");
+        return;
+    }
+    c.only_keys(n, "physics",
+                {"wavelength_nm", "peak_power_w", "aperture_diameter_m", "system_efficiency",
+                 "detection_threshold_w", "intensity", "atmosphere", "beam", "noise", "waveform",
+                 "returns"});
+    const std::string p = "physics.";
+    RadiometryConfig& r = out.radiometry;
+    number(c, n, p, "wavelength_nm", r.wavelength_nm);
+    number(c, n, p, "peak_power_w", r.peak_power_w);
+    number(c, n, p, "aperture_diameter_m", r.aperture_diameter_m);
+    number(c, n, p, "system_efficiency", r.system_efficiency);
+    number(c, n, p, "detection_threshold_w", r.detection_threshold_w);
+    if (const auto i = section(c, n, "intensity")) {
+        c.only_keys(i, "physics.intensity", {"reference_range_m", "scale"});
+        number(c, i, p + "intensity.", "reference_range_m", r.intensity_reference_range_m);
+        choice(c, i, p + "intensity.", "scale", r.intensity_scale,
+               [](const std::string& s) { return parse_intensity_scale(s); });
+    }
+    if (const auto a = section(c, n, "atmosphere")) {
+        c.only_keys(a, "physics.atmosphere",
+                    {"enabled", "visibility_km", "model", "extinction_per_m"});
+        const std::string q = p + "atmosphere.";
+        flag(c, a, q, "enabled", out.atmosphere.enabled);
+        number(c, a, q, "visibility_km", out.atmosphere.visibility_km);
+        choice(c, a, q, "model", out.atmosphere.model,
+               [](const std::string& s) { return parse_extinction_model(s); });
+        number(c, a, q, "extinction_per_m", out.atmosphere.extinction_per_m_override);
+        if (a["extinction_per_m"] && out.atmosphere.extinction_per_m_override < 0) {
+            c.error(a["extinction_per_m"], q + "extinction_per_m", "must not be negative");
+        }
+    }
+    if (const auto b = section(c, n, "beam")) {
+        c.only_keys(b, "physics.beam", {"divergence_mrad", "rings"});
+        number(c, b, p + "beam.", "divergence_mrad", out.beam.divergence_rad, 1e-3);
+        long rings = 0;
+        if (b["rings"] && c.integer(b["rings"], p + "beam.rings", 0, 20, rings)) {
+            out.beam.rings = static_cast<int>(rings);
+        }
+    }
+    if (const auto z = section(c, n, "noise")) {
+        c.only_keys(z, "physics.noise",
+                    {"range_sigma_m", "range_sigma_per_m", "angle_jitter_mrad", "position_sigma_m",
+                     "attitude_sigma_deg", "dropout_probability"});
+        const std::string q = p + "noise.";
+        NoiseConfig& k = out.noise;
+        number(c, z, q, "range_sigma_m", k.range_sigma_m);
+        number(c, z, q, "range_sigma_per_m", k.range_sigma_per_m);
+        number(c, z, q, "angle_jitter_mrad", k.angle_jitter_rad, 1e-3);
+        number(c, z, q, "position_sigma_m", k.position_sigma_m);
+        number(c, z, q, "attitude_sigma_deg", k.attitude_sigma_rad, kDeg);
+        number(c, z, q, "dropout_probability", k.dropout_probability);
+    }
+    if (const auto w = section(c, n, "waveform")) {
+        c.only_keys(w, "physics.waveform", {"pulse_fwhm_ns", "bin_ns", "keep"});
+        number(c, w, p + "waveform.", "pulse_fwhm_ns", out.waveform.pulse_fwhm_ns);
+        number(c, w, p + "waveform.", "bin_ns", out.waveform.bin_ns);
+        flag(c, w, p + "waveform.", "keep", out.keep_waveform);
+    }
+    if (const auto t = section(c, n, "returns")) {
+        c.only_keys(t, "physics.returns", {"mode", "max"});
+        choice(c, t, p + "returns.", "mode", out.return_mode,
+               [](const std::string& s) { return parse_return_mode(s); });
+        long m = 0;
+        if (t["max"] && c.integer(t["max"], p + "returns.max", 1, 15, m)) {
+            out.max_returns = static_cast<int>(m);
+        }
+    }
+    for (const auto& problem : out.validate()) {
+        c.error(n, "physics", problem);
+    }
+}
+
+}  // namespace beamtrace::detail

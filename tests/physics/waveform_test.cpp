@@ -1,0 +1,198 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include "beamtrace/physics/pulse.hpp"
+#include "beamtrace/physics/waveform.hpp"
+
+namespace beamtrace {
+namespace {
+
+std::vector<Echo> echoes_of(const std::vector<EchoContribution>& c, double threshold = 1e-12) {
+    WaveformConfig cfg;
+    Waveform w;
+    build_waveform(cfg, c, w);
+    std::vector<Echo> out;
+    detect_echoes(cfg, w, threshold, out);
+    return out;
+}
+
+TEST(PhysicsWaveform, SingleEchoIsRecoveredExactly) {
+    // Off the bin grid on purpose.
+    const auto e = echoes_of({{30.0123, 2e-6}});
+    ASSERT_EQ(e.size(), 1u);
+    EXPECT_NEAR(e[0].range_m, 30.0123, 1e-9);
+    EXPECT_NEAR(e[0].amplitude_w, 2e-6, 1e-15);
+    EXPECT_NEAR(e[0].width_ns, 4.0, 1e-9);
+    EXPECT_NEAR(e[0].power_w, 2e-6, 1e-6 * 2e-6);  // 5-sigma truncation: 6e-7
+    EXPECT_TRUE(echoes_of({{30.0, 2e-6}}, 3e-6).empty());
+    EXPECT_TRUE(echoes_of({}).empty());
+}
+
+TEST(PhysicsWaveform, SamplesAreTheGaussianPulse) {
+    WaveformConfig cfg;
+    cfg.pulse_fwhm_ns = 3.0;
+    cfg.bin_ns = 0.25;
+    Waveform w;
+    build_waveform(cfg, std::vector<EchoContribution>{{15.0, 1.0}}, w);
+    const double t0 = 15.0 * round_trip_ns_per_m();  // 100.07 ns
+    const double sigma = 3.0 / (2 * std::sqrt(2 * std::log(2.0)));
+    ASSERT_GT(w.samples_w.size(), 40u);
+    EXPECT_LE(w.time_ns(0), t0 - 5 * sigma);
+    EXPECT_GE(w.time_ns(w.samples_w.size() - 1), t0 + 5 * sigma);
+    for (std::size_t k = 0; k < w.samples_w.size(); ++k) {
+        const double dt = w.time_ns(k) - t0;
+        const double expected =
+            std::abs(dt) <= 5 * sigma ? std::exp(-dt * dt / (2 * sigma * sigma)) : w.samples_w[k];
+        EXPECT_NEAR(w.samples_w[k], expected, 1e-12) << k;
+    }
+    // Half maximum at +-FWHM / 2.
+    const double half = std::exp(-(1.5 * 1.5) / (2 * sigma * sigma));
+    EXPECT_NEAR(half, 0.5, 1e-12);
+}
+
+TEST(PhysicsWaveform, TwoSeparatedEchoesAndMergedOnes) {
+    // 1 m apart (6.7 ns, well above the 4 ns pulse): two echoes at the right ranges.
+    const auto two = echoes_of({{30.0, 1e-6}, {31.0, 0.5e-6}});
+    ASSERT_EQ(two.size(), 2u);
+    EXPECT_NEAR(two[0].range_m, 30.0, 0.01);
+    EXPECT_NEAR(two[1].range_m, 31.0, 0.01);
+    EXPECT_NEAR(two[0].amplitude_w, 1e-6, 0.02e-6);
+    EXPECT_NEAR(two[1].amplitude_w, 0.5e-6, 0.02e-6);
+    // 0.3 m apart, below c sigma = 0.51 m: one echo between them, wider than the pulse.
+    const auto merged = echoes_of({{30.0, 1e-6}, {30.3, 1e-6}});
+    ASSERT_EQ(merged.size(), 1u);
+    EXPECT_NEAR(merged[0].range_m, 30.15, 1e-3);  // symmetric
+    EXPECT_GT(merged[0].width_ns, 4.2);
+    EXPECT_NEAR(merged[0].power_w, 2e-6, 1e-6 * 2e-6);  // energy is kept
+    // Just above the resolution limit two equal echoes separate.
+    EXPECT_EQ(echoes_of({{30.0, 1e-6}, {30.65, 1e-6}}).size(), 2u);
+}
+
+TEST(PhysicsWaveform, ValidateBins) {
+    WaveformConfig c;
+    EXPECT_TRUE(c.validate().empty());
+    c.bin_ns = 3.0;
+    EXPECT_EQ(c.validate().size(), 1u);
+    c.pulse_fwhm_ns = -1;
+    EXPECT_EQ(c.validate().size(), 2u);
+}
+
+/// The 19 sub-rays of a beam along +x from the origin against a step: the plane x = near_m
+/// where y > edge_y_m, the plane x = far_m elsewhere (both facing the sensor).
+std::vector<SubRayHit> step_hits(const PulseSimulator& sim, double near_m, double far_m,
+                                 double edge_y_m) {
+    std::vector<Vec3d> dirs(sim.sub_ray_count());
+    sim.sub_ray_directions(1, 0, {1, 0, 0}, dirs);
+    std::vector<SubRayHit> hits;
+    for (const auto& d : dirs) {
+        SubRayHit h;
+        h.albedo = 0.4;
+        h.cos_incidence = d.x;
+        h.range_m = near_m / d.x;
+        if (h.range_m * d.y <= edge_y_m) {
+            h.range_m = far_m / d.x;
+        }
+        hits.push_back(h);
+    }
+    return hits;
+}
+
+PhysicsConfig beam_config(ReturnMode mode) {
+    PhysicsConfig c;
+    c.beam.divergence_rad = 3e-3;  // footprint radius 3 cm at 20 m
+    c.return_mode = mode;
+    return c;
+}
+
+// Acceptance: a footprint straddling a step edge between planes 1 m apart gives two returns at
+// their ranges; a single plane gives one.
+TEST(PhysicsWaveform, StepEdgeGivesTwoReturns) {
+    const PulseSimulator sim(beam_config(ReturnMode::all));
+    ASSERT_EQ(sim.sub_ray_count(), 19u);
+    PulseResponse r;
+    sim.simulate(1, 0, step_hits(sim, 20.0, 21.0, 0.0), r);
+    ASSERT_EQ(r.returns.size(), 2u);
+    EXPECT_NEAR(r.returns[0].range_m, 20.0, 0.01);
+    EXPECT_NEAR(r.returns[1].range_m, 21.0, 0.01);
+    EXPECT_EQ(r.returns[0].return_number, 1);
+    EXPECT_EQ(r.returns[1].return_number, 2);
+    EXPECT_EQ(r.returns[0].number_of_returns, 2);
+    EXPECT_EQ(r.returns[1].number_of_returns, 2);
+    // The sub-ray named for each return hit that return's plane.
+    const auto hits = step_hits(sim, 20.0, 21.0, 0.0);
+    EXPECT_LT(hits[r.returns[0].sub_ray].range_m, 20.5);
+    EXPECT_GT(hits[r.returns[1].sub_ray].range_m, 20.5);
+    // The two returns share the pulse energy: their powers add up to the sub-rays' sum.
+    double total = 0;
+    for (const double p : r.sub_ray_power_w) {
+        total += p;
+    }
+    EXPECT_NEAR(r.returns[0].power_w + r.returns[1].power_w, total, 0.02 * total);
+
+    // The edge outside the footprint: one plane, one return.
+    sim.simulate(1, 0, step_hits(sim, 20.0, 21.0, 1.0), r);
+    ASSERT_EQ(r.returns.size(), 1u);
+    EXPECT_NEAR(r.returns[0].range_m, 21.0, 0.01);
+    sim.simulate(1, 0, step_hits(sim, 20.0, 21.0, -1.0), r);
+    ASSERT_EQ(r.returns.size(), 1u);
+    EXPECT_NEAR(r.returns[0].range_m, 20.0, 0.01);
+    EXPECT_EQ(r.returns[0].number_of_returns, 1);
+    // Planes closer than the resolution merge into one return between them.
+    sim.simulate(1, 0, step_hits(sim, 20.0, 20.2, 0.0), r);
+    ASSERT_EQ(r.returns.size(), 1u);
+    EXPECT_GT(r.returns[0].range_m, 20.0);
+    EXPECT_LT(r.returns[0].range_m, 20.2);
+    EXPECT_GT(r.returns[0].echo_width_ns, 4.0);
+}
+
+TEST(PhysicsWaveform, ReturnModes) {
+    // The edge at y = -1 cm: the near plane gets most of the footprint and the strongest echo.
+    const auto run = [](ReturnMode mode, int max_returns) {
+        PhysicsConfig c = beam_config(mode);
+        c.max_returns = max_returns;
+        const PulseSimulator sim(c);
+        PulseResponse r;
+        sim.simulate(1, 0, step_hits(sim, 20.0, 21.0, -0.01), r);
+        return r;
+    };
+    const auto all = run(ReturnMode::all, 5);
+    ASSERT_EQ(all.returns.size(), 2u);
+    ASSERT_GT(all.returns[0].amplitude_w, all.returns[1].amplitude_w);
+    const auto first = run(ReturnMode::first, 5);
+    ASSERT_EQ(first.returns.size(), 1u);
+    EXPECT_NEAR(first.returns[0].range_m, 20.0, 0.01);
+    EXPECT_EQ(first.returns[0].number_of_returns, 1);
+    const auto last = run(ReturnMode::last, 5);
+    ASSERT_EQ(last.returns.size(), 1u);
+    EXPECT_NEAR(last.returns[0].range_m, 21.0, 0.01);
+    const auto strongest = run(ReturnMode::strongest, 5);
+    ASSERT_EQ(strongest.returns.size(), 1u);
+    EXPECT_NEAR(strongest.returns[0].range_m, 20.0, 0.01);
+    EXPECT_EQ(strongest.echoes.size(), 2u);
+    const auto capped = run(ReturnMode::all, 1);
+    ASSERT_EQ(capped.returns.size(), 1u);
+    EXPECT_NEAR(capped.returns[0].range_m, 20.0, 0.01);
+    // All sub-rays missing: no returns, no waveform.
+    const PulseSimulator sim(beam_config(ReturnMode::all));
+    PulseResponse r;
+    sim.simulate(1, 0, std::vector<SubRayHit>(sim.sub_ray_count()), r);
+    EXPECT_TRUE(r.returns.empty());
+    EXPECT_FALSE(r.dropped);
+}
+
+TEST(PhysicsWaveform, KeepsTheWaveformOnRequest) {
+    PhysicsConfig c = beam_config(ReturnMode::all);
+    c.keep_waveform = true;
+    const PulseSimulator sim(c);
+    PulseResponse r;
+    sim.simulate(1, 0, step_hits(sim, 20.0, 21.0, 0.0), r);
+    ASSERT_FALSE(r.waveform.samples_w.empty());
+    EXPECT_EQ(r.waveform.bin_ns, 0.5);
+    EXPECT_LT(r.waveform.time_ns(0), 20.0 * round_trip_ns_per_m());
+    EXPECT_GT(r.waveform.time_ns(r.waveform.samples_w.size() - 1), 21.0 * round_trip_ns_per_m());
+}
+
+}  // namespace
+}  // namespace beamtrace
