@@ -66,16 +66,17 @@ TEST(ViewRenderer, FlatPlateauSeenStraightDownHasTheExpectedDepthAndColour) {
 
 TEST(ViewRenderer, EmptyCellsAreSeeThroughNotZeroHeight) {
     SectionGrid grid(small_config(), {0, 0, 0});
-    // A plateau at z = 10 with a hole of empty cells in the middle.
+    // A plateau at z = 10 with a hole of empty cells in the middle; one cell at z = 0 is the
+    // lowest point (rays end there).
     test::fill_grid(grid, [](std::int64_t x, std::int64_t y) {
         const bool hole = x >= 12 && x < 20 && y >= 12 && y < 20;
-        return hole ? std::nan("") : 10.0;
+        return hole ? std::nan("") : (x == 0 && y == 0 ? 0.0 : 10.0);
     });
     ThreadPool pool(1);
     const ViewCamera cam = camera_at({16.5, 16.5, 50.0}, 0.0, -90.0, 41, 41);
     const ViewImage img = render_view(grid, cam, {}, pool);
-    EXPECT_TRUE(std::isinf(img.depth[20 * 41 + 20]));  // through the hole: nothing
-    EXPECT_TRUE(std::isfinite(img.depth[0]));          // the plateau around it
+    EXPECT_TRUE(std::isinf(img.depth[20 * 41 + 20]));     // through the hole: nothing
+    EXPECT_TRUE(std::isfinite(img.depth[10 * 41 + 10]));  // the plateau around it
     // Seen from the side at a low angle the hole's far wall is hit, not a floor at 0.
     const ViewImage side =
         render_view(grid, camera_at({16.5, 16.5, 12.0}, 0.0, -45.0, 1, 1), {}, pool);
@@ -151,7 +152,7 @@ class ViewAutzen : public ::testing::Test {
 };
 
 TEST_F(ViewAutzen, FromAboveEqualsTheReference) {
-    expect_same(camera_at({centre_.x, centre_.y, hi_.z + 400}, 30.0, -90.0, 160, 90), 10000);
+    expect_same(camera_at({centre_.x, centre_.y, hi_.z + 400}, 30.0, -90.0, 160, 90), 8000);
 }
 
 TEST_F(ViewAutzen, FromGrazingAnglesEqualsTheReference) {

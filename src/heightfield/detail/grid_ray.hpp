@@ -25,7 +25,8 @@ struct GridRay {
     std::int64_t gx = 0, gy = 0;  ///< finest cell at t_min
 };
 
-/// Clips the ray to the window box below the highest loaded height; false when it misses.
+/// Clips the ray to the window box between the lowest and the highest loaded height; false
+/// when it misses.
 [[nodiscard]] inline bool setup_ray(const SectionGrid& grid, const Vec3d& position,
                                     const Vec3d& dir, GridRay& r) {
     const double zmax = grid.max_height();
@@ -68,8 +69,12 @@ struct GridRay {
     }
     if (r.dz > 0) {
         t1 = std::min(t1, (zmax - r.oz) / r.dz);
+    } else if (r.dz < 0) {
+        // Below the lowest loaded height there is nothing to hit (columns do not reach down
+        // forever): an empty cell stays see-through even for near-vertical rays.
+        t1 = std::min(t1, (static_cast<double>(grid.min_height()) - r.oz) / r.dz);
     }
-    if (!(t0 < t1)) {
+    if (!(t0 <= t1)) {  // equal: a ray that just touches the only height (a flat plateau)
         return false;
     }
     r.t_min = t0;
