@@ -38,6 +38,7 @@ SectionGrid::SectionGrid(const HeightFieldConfig& config, const Vec3d& origin)
     : config_(config), layout_(config.layout()), origin_(origin), n_(config.sections) {
     config_.validate();
     shift_ = layout_.finest_shift();
+    window_cells_ = static_cast<std::int64_t>(n_) << shift_;
     const auto count = static_cast<std::size_t>(n_) * static_cast<std::size_t>(n_);
     slots_.resize(count);
     visible_.assign(count, nullptr);

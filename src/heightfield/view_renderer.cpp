@@ -1,6 +1,7 @@
 #include "beamtrace/heightfield/view_renderer.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "beamtrace/core/thread_pool.hpp"
@@ -14,9 +15,21 @@ using detail::column_hit;
 using detail::GridHit;
 using detail::GridRay;
 
+/// 2^-level for every level.
+constexpr auto kInversePowersOfTwo = [] {
+    std::array<double, kMaxSectionLevels + 1> v{};
+    double x = 1.0;
+    for (auto& e : v) {
+        e = x;
+        x *= 0.5;
+    }
+    return v;
+}();
+
 /// Hierarchical traversal: start at the coarsest level; on a potential hit descend to the child
 /// under the ray; otherwise step to the next cell and climb while that step left the parent.
-[[nodiscard]] bool trace_hierarchical(const SectionGrid& grid, const GridRay& r, GridHit& hit) {
+[[nodiscard]] inline bool trace_hierarchical(const SectionGrid& grid, const GridRay& r,
+                                             GridHit& hit) {
     const int top = grid.layout().levels - 1;
     int level = top;
     std::int64_t cx = r.gx >> top, cy = r.gy >> top;
@@ -34,7 +47,7 @@ using detail::GridRay;
                 return true;
             }
             --level;
-            const double scale = std::ldexp(1.0, -level);
+            const double scale = kInversePowersOfTwo[static_cast<std::size_t>(level)];
             const auto fx = static_cast<std::int64_t>(std::floor((r.ox + r.dx * t) * scale));
             const auto fy = static_cast<std::int64_t>(std::floor((r.oy + r.dy * t) * scale));
             cx = std::clamp(fx, 2 * cx, 2 * cx + 1);
@@ -73,7 +86,7 @@ using detail::GridRay;
 }
 
 /// Reference traversal: every finest cell along the ray, in order.
-[[nodiscard]] bool trace_reference(const SectionGrid& grid, const GridRay& r, GridHit& hit) {
+[[nodiscard]] inline bool trace_reference(const SectionGrid& grid, const GridRay& r, GridHit& hit) {
     std::int64_t cx = r.gx, cy = r.gy;
     const std::int64_t cells = grid.window_cells();
     double t = r.t_min;
@@ -162,12 +175,18 @@ std::size_t ViewImage::hits() const {
 
 ViewImage render_view(const SectionGrid& grid, const ViewCamera& camera,
                       const RenderOptions& options, ThreadPool& pool) {
-    return render(grid, camera, options, pool, trace_hierarchical);
+    return render(grid, camera, options, pool,
+                  [](const SectionGrid& g, const GridRay& r, GridHit& h) {
+                      return trace_hierarchical(g, r, h);
+                  });
 }
 
 ViewImage render_view_reference(const SectionGrid& grid, const ViewCamera& camera,
                                 const RenderOptions& options, ThreadPool& pool) {
-    return render(grid, camera, options, pool, trace_reference);
+    return render(grid, camera, options, pool,
+                  [](const SectionGrid& g, const GridRay& r, GridHit& h) {
+                      return trace_reference(g, r, h);
+                  });
 }
 
 }  // namespace beamtrace

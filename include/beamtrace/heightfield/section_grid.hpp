@@ -58,9 +58,7 @@ class SectionGrid {
     [[nodiscard]] const Vec3d& origin() const { return origin_; }
     [[nodiscard]] int sections_per_side() const { return n_; }
     /// Finest cells per side of the whole window.
-    [[nodiscard]] std::int64_t window_cells() const {
-        return static_cast<std::int64_t>(n_) << layout_.finest_shift();
-    }
+    [[nodiscard]] std::int64_t window_cells() const { return window_cells_; }
     [[nodiscard]] std::int64_t window_first_x() const { return first_x_; }
     [[nodiscard]] std::int64_t window_first_y() const { return first_y_; }
     /// World position of the window's lower-left corner (z = origin.z).
@@ -127,6 +125,7 @@ class SectionGrid {
     Vec3d origin_;
     int n_ = 4;
     int shift_ = 0;
+    std::int64_t window_cells_ = 0;
     std::int64_t first_x_ = 0, first_y_ = 0;
     bool placed_ = false;
     std::vector<std::unique_ptr<HeightSection>> slots_;
