@@ -15,6 +15,7 @@ int main(int argc, char** argv) {
     const auto run_scan = beamtrace::cli::add_scan_command(app);
     const auto run_info = beamtrace::cli::add_info_command(app);
     const auto run_survey = beamtrace::cli::add_survey_command(app);
+    const auto run_view = beamtrace::cli::add_view_command(app);
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {
@@ -36,6 +37,9 @@ int main(int argc, char** argv) {
         }
         if (app.got_subcommand("info")) {
             return run_info();
+        }
+        if (app.got_subcommand("view")) {
+            return run_view();
         }
     } catch (const beamtrace::Error& e) {
         std::fprintf(stderr, "beamtrace: error: %s\n", e.what());

@@ -1,0 +1,238 @@
+// `beamtrace view`: ray-traced images of raw LAS files through out-of-core height-field sections.
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "beamtrace/core/error.hpp"
+#include "beamtrace/heightfield/camera_path.hpp"
+#include "beamtrace/heightfield/view_session.hpp"
+#include "beamtrace/io/png_writer.hpp"
+#include "commands.hpp"
+#include "progress_bar.hpp"
+
+namespace beamtrace::cli {
+namespace {
+
+struct ViewOptions {
+    std::vector<std::string> files;
+    std::string camera;
+    std::string path;
+    std::string output;
+    double fov_deg = 60.0;
+    std::string size = "1920x1080";
+    double cell_size = 1.0;
+    int levels = 8;
+    int section_cells = 32;
+    std::string sections = "4x4";
+    std::string memory_budget = "1GB";
+    std::string color = "height";
+    double fog = 0.0;
+    bool no_shading = false;
+    unsigned threads = 0;
+    bool quiet = false;
+    bool progress = false;
+};
+
+/// "WxH" with positive integers.
+void parse_pair(const std::string& text, const std::string& what, int& a, int& b) {
+    const auto x = text.find('x');
+    try {
+        std::size_t n1 = 0, n2 = 0;
+        if (x == std::string::npos) {
+            throw std::invalid_argument("no x");
+        }
+        a = std::stoi(text.substr(0, x), &n1);
+        b = std::stoi(text.substr(x + 1), &n2);
+        if (n1 != x || n2 != text.size() - x - 1 || a < 1 || b < 1) {
+            throw std::invalid_argument("bad");
+        }
+    } catch (const std::exception&) {
+        throw ConfigError(what + " '" + text + "' is not of the form WxH with positive integers");
+    }
+}
+
+/// "256MB", "1.5GiB", "1000000" (bytes). KB/MB/GB are powers of 1000, KiB/MiB/GiB of 1024.
+std::uint64_t parse_bytes(const std::string& text) {
+    std::size_t used = 0;
+    double value = 0;
+    try {
+        value = std::stod(text, &used);
+    } catch (const std::exception&) {
+        used = 0;
+    }
+    std::string unit = text.substr(used);
+    for (auto& c : unit) {
+        c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+    }
+    double factor = 0;
+    if (unit.empty() || unit == "B") {
+        factor = 1;
+    } else if (unit == "KB" || unit == "K") {
+        factor = 1e3;
+    } else if (unit == "MB" || unit == "M") {
+        factor = 1e6;
+    } else if (unit == "GB" || unit == "G") {
+        factor = 1e9;
+    } else if (unit == "KIB") {
+        factor = 1024.0;
+    } else if (unit == "MIB") {
+        factor = 1024.0 * 1024.0;
+    } else if (unit == "GIB") {
+        factor = 1024.0 * 1024.0 * 1024.0;
+    }
+    if (used == 0 || factor == 0 || !(value > 0) || !std::isfinite(value * factor)) {
+        throw ConfigError("memory budget '" + text +
+                          "' is not a size such as 256MB, 2GB or 512MiB");
+    }
+    return static_cast<std::uint64_t>(value * factor);
+}
+
+void print_stats(const IngestStats& s, const ViewSession& session, bool quiet) {
+    for (const auto& w : s.warnings) {
+        std::fprintf(stderr, "beamtrace: warning: %s\n", w.c_str());
+    }
+    if (quiet || s.points_read == 0) {
+        return;
+    }
+    std::printf(
+        "loaded %d sections: %llu of %llu points in %.3f s (%.1f M points/s); %.1f MB "
+        "resident\n",
+        session.grid().loaded_sections(), static_cast<unsigned long long>(s.points_inserted),
+        static_cast<unsigned long long>(s.points_read), s.seconds,
+        s.seconds > 0 ? static_cast<double>(s.points_read) / s.seconds / 1e6 : 0.0,
+        static_cast<double>(session.budgeted_bytes()) / 1e6);
+}
+
+int run(const ViewOptions& o) {
+    if (o.camera.empty() == o.path.empty()) {
+        throw ConfigError("view: give exactly one of --camera x,y,z,yaw,pitch and --path FILE.csv");
+    }
+    ViewSessionConfig config;
+    config.field.cell_size = o.cell_size;
+    config.field.levels = o.levels;
+    config.field.section_cells = o.section_cells;
+    int sx = 0, sy = 0;
+    parse_pair(o.sections, "--sections", sx, sy);
+    if (sx != sy) {
+        throw ConfigError("--sections '" + o.sections + "' must be square (NxN)");
+    }
+    config.field.sections = sx;
+    config.field.memory_budget_bytes = parse_bytes(o.memory_budget);
+    config.field.color = parse_color_mode(o.color);
+    config.threads = o.threads;
+    ViewCamera camera;
+    camera.hfov_deg = o.fov_deg;
+    parse_pair(o.size, "--size", camera.width, camera.height);
+    RenderOptions render;
+    render.shading = !o.no_shading;
+    render.fog_distance = o.fog;
+
+    std::vector<CameraPose> poses;
+    if (!o.camera.empty()) {
+        poses.push_back(parse_camera_pose(o.camera, "--camera"));
+    } else {
+        poses = read_camera_path(o.path);
+    }
+    // Check every camera before loading anything.
+    for (const auto& p : poses) {
+        ViewCamera c = camera;
+        c.position = p.position;
+        c.yaw_deg = p.yaw_deg;
+        c.pitch_deg = p.pitch_deg;
+        c.validate();
+    }
+    const std::vector<std::filesystem::path> inputs(o.files.begin(), o.files.end());
+    ViewSession session(inputs, config);
+    for (const auto& w : session.sources().warnings()) {
+        std::fprintf(stderr, "beamtrace: warning: %s\n", w.c_str());
+    }
+    if (!o.path.empty()) {
+        std::error_code ec;
+        std::filesystem::create_directories(o.output, ec);
+        if (ec) {
+            throw OutputError(o.output + ": cannot create directory: " + ec.message());
+        }
+    }
+    const bool show = !o.quiet && (o.progress || stderr_is_terminal());
+    double render_s = 0;
+    for (std::size_t i = 0; i < poses.size(); ++i) {
+        camera.position = poses[i].position;
+        camera.yaw_deg = poses[i].yaw_deg;
+        camera.pitch_deg = poses[i].pitch_deg;
+        ProgressBar bar("loading sections", show);
+        const IngestStats stats =
+            session.move_to(camera.position, [&](std::uint64_t done, std::uint64_t total) {
+                bar.update(static_cast<std::size_t>(done), static_cast<std::size_t>(total));
+            });
+        bar.finish();
+        print_stats(stats, session, o.quiet);
+        const auto start = std::chrono::steady_clock::now();
+        const ViewImage image = session.render(camera, render);
+        render_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        std::filesystem::path out = o.output;
+        if (!o.path.empty()) {
+            char name[32];
+            std::snprintf(name, sizeof name, "frame_%05zu.png", i);
+            out /= name;
+        }
+        write_png_rgb8(out, image.width, image.height, image.rgb);
+        if (!o.quiet && o.path.empty()) {
+            std::printf("rendered %dx%d in %.1f ms (%zu of %zu pixels hit)\nwrote %s\n",
+                        image.width, image.height, render_s * 1e3, image.hits(), image.depth.size(),
+                        out.string().c_str());
+        }
+    }
+    if (!o.quiet && !o.path.empty()) {
+        std::printf("rendered %zu frames of %dx%d, %.1f ms per frame; wrote %s/frame_*.png\n",
+                    poses.size(), camera.width, camera.height,
+                    render_s * 1e3 / static_cast<double>(poses.size()), o.output.c_str());
+    }
+    return 0;
+}
+
+}  // namespace
+
+std::function<int()> add_view_command(CLI::App& app) {
+    auto opts = std::make_shared<ViewOptions>();
+    CLI::App* cmd = app.add_subcommand(
+        "view", "Ray-trace views of raw LAS files through out-of-core height-field sections");
+    cmd->add_option("files", opts->files, "LAS files or directories of .las files")->required();
+    cmd->add_option("--camera", opts->camera,
+                    "x,y,z,yaw,pitch: position in the files' units, yaw in degrees from +x "
+                    "toward +y, pitch in degrees (positive up, -90 = straight down)");
+    cmd->add_option("--path", opts->path,
+                    "Camera path CSV (header x,y,z,yaw,pitch): one frame per row into --output/");
+    cmd->add_option("--output", opts->output, "PNG file (--camera) or directory (--path)")
+        ->required();
+    cmd->add_option("--fov", opts->fov_deg, "Horizontal field of view in degrees")
+        ->capture_default_str();
+    cmd->add_option("--size", opts->size, "Image size WxH")->capture_default_str();
+    cmd->add_option("--cell-size", opts->cell_size, "Finest cell edge in the files' units")
+        ->capture_default_str();
+    cmd->add_option("--levels", opts->levels, "Quadtree levels per section")->capture_default_str();
+    cmd->add_option("--section-cells", opts->section_cells,
+                    "Cells per side of a section's coarsest level (power of two)")
+        ->capture_default_str();
+    cmd->add_option("--sections", opts->sections, "Window of NxN sections around the camera")
+        ->capture_default_str();
+    cmd->add_option("--memory-budget", opts->memory_budget,
+                    "Bytes for resident sections and read buffers (e.g. 256MB, 2GiB)")
+        ->capture_default_str();
+    cmd->add_option("--color", opts->color, "height | rgb | intensity | classification")
+        ->capture_default_str();
+    cmd->add_option("--fog", opts->fog, "Fog distance in the files' units (0 = none)")
+        ->capture_default_str();
+    cmd->add_flag("--no-shading", opts->no_shading, "Flat colours, no normal shading");
+    cmd->add_option("--threads", opts->threads, "Worker threads (0 = all cores)")
+        ->capture_default_str();
+    cmd->add_flag("--quiet", opts->quiet, "No progress bar and no summary");
+    cmd->add_flag("--progress", opts->progress,
+                  "Show the progress bar even when not on a terminal");
+    return [opts] { return run(*opts); };
+}
+
+}  // namespace beamtrace::cli

@@ -1,0 +1,165 @@
+// Height-field views of raw LAS files: ingest rate (points/s) and frame time at 1920x1080 for the
+// section shapes of the thesis's Table 4.1 (16x16/8, 32x32/8, 64x64/8) on autzen_trim.las.
+// Results are checked (hierarchical == brute-force reference, most pixels hit) before timing.
+#include <benchmark/benchmark.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <memory>
+#include <random>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "beamtrace/heightfield/view_session.hpp"
+#include "beamtrace/io/las_reader.hpp"
+#include "beamtrace/io/las_writer.hpp"
+
+namespace bt = beamtrace;
+
+namespace {
+
+[[noreturn]] void fail(const std::string& what) {
+    std::fprintf(stderr, "benchmark check failed: %s\n", what.c_str());
+    std::exit(1);
+}
+
+std::filesystem::path autzen_trim() {
+    return std::filesystem::path(BEAMTRACE_SHARED_DATA_DIR) / "las/las/autzen_trim.las";
+}
+
+/// autzen_trim.las tiled 8 x 8 times (7 M points, 250 MB, point format 7), written once into
+/// the temporary folder: the ingest benchmark's large input.
+const std::filesystem::path& tiled_autzen() {
+    static const std::filesystem::path path = [] {
+        const auto out = std::filesystem::temp_directory_path() / "beamtrace-bench-autzen-8x8.las";
+        if (std::filesystem::exists(out)) {
+            return out;
+        }
+        const std::vector<bt::LasPoint> points = bt::read_las_points(autzen_trim());
+        bt::LasReader reader(autzen_trim());
+        const bt::LasHeader& h = reader.header();
+        const double w = h.max.x - h.min.x, d = h.max.y - h.min.y;
+        bt::LasWriterConfig config =
+            bt::las_config_for_extent(h.min, {h.min.x + 8 * w, h.min.y + 8 * d, h.max.z}, 0.01);
+        config.point_format = 7;
+        bt::LasWriter writer(out, config);
+        std::vector<bt::LasPoint> tile = points;
+        for (int j = 0; j < 8; ++j) {
+            for (int i = 0; i < 8; ++i) {
+                for (std::size_t k = 0; k < points.size(); ++k) {
+                    tile[k].x = points[k].x + i * w;
+                    tile[k].y = points[k].y + j * d;
+                    tile[k].return_number = std::max<std::uint8_t>(1, points[k].return_number);
+                    tile[k].number_of_returns =
+                        std::max(tile[k].return_number, points[k].number_of_returns);
+                }
+                writer.write(tile);
+            }
+        }
+        writer.close();
+        return out;
+    }();
+    return path;
+}
+
+bt::ViewSessionConfig session_config(int section_cells, int levels, double cell_size) {
+    bt::ViewSessionConfig c;
+    c.field.cell_size = cell_size;
+    c.field.section_cells = section_cells;
+    c.field.levels = levels;
+    c.field.sections = 4;
+    c.field.memory_budget_bytes = std::uint64_t{3} << 30;
+    c.field.color = bt::ColorMode::rgb;
+    c.threads = std::thread::hardware_concurrency();
+    return c;
+}
+
+/// Ingest: every point of the file into a 4x4 window of 16x16/7 sections covering it all.
+void BM_ViewIngest(benchmark::State& state, int which) {
+    const std::filesystem::path path = which == 0 ? autzen_trim() : tiled_autzen();
+    if (!std::filesystem::exists(path)) {
+        state.SkipWithError("missing input");
+        return;
+    }
+    const std::vector<std::filesystem::path> inputs = {path};
+    const double cell = which == 0 ? 1.0 : 4.0;
+    std::uint64_t points = 0;
+    for (auto _ : state) {
+        state.PauseTiming();
+        auto session = std::make_unique<bt::ViewSession>(inputs, session_config(16, 7, cell));
+        const bt::Vec3d c = (session->sources().min() + session->sources().max()) * 0.5;
+        state.ResumeTiming();
+        const bt::IngestStats s = session->move_to(c);
+        if (s.points_read != session->sources().point_count() || s.points_inserted == 0) {
+            fail("ingest read " + std::to_string(s.points_read) + " points");
+        }
+        points += s.points_read;
+        state.PauseTiming();
+        session.reset();
+        state.ResumeTiming();
+    }
+    state.counters["points/s"] =
+        benchmark::Counter(static_cast<double>(points), benchmark::Counter::kIsRate);
+}
+
+/// A view over autzen_trim: 150 ft above its highest point, looking 30 degrees down.
+bt::ViewCamera frame_camera(const bt::ViewSession& s, int width, int height) {
+    bt::ViewCamera cam;
+    const bt::Vec3d lo = s.sources().min(), hi = s.sources().max();
+    cam.position = {lo.x + 0.2 * (hi.x - lo.x), lo.y + 0.2 * (hi.y - lo.y), hi.z + 150.0};
+    cam.yaw_deg = 25.0;
+    cam.pitch_deg = -30.0;
+    cam.hfov_deg = 70.0;
+    cam.width = width;
+    cam.height = height;
+    return cam;
+}
+
+void BM_ViewFrame(benchmark::State& state) {
+    if (!std::filesystem::exists(autzen_trim())) {
+        state.SkipWithError("missing autzen_trim.las");
+        return;
+    }
+    const std::vector<std::filesystem::path> inputs = {autzen_trim()};
+    const auto cells = static_cast<int>(state.range(0));
+    const auto levels = static_cast<int>(state.range(1));
+    bt::ViewSession session(inputs, session_config(cells, levels, 1.0));
+    const bt::ViewCamera cam = frame_camera(session, 1920, 1080);
+    static_cast<void>(session.move_to(cam.position));
+    bt::RenderOptions options;
+    options.fog_distance = 3000.0;
+    // Check: the hierarchy agrees with the brute-force reference on a small image.
+    {
+        const bt::ViewCamera small = frame_camera(session, 192, 108);
+        const bt::ViewImage a = session.render(small, options);
+        const bt::ViewImage b =
+            bt::render_view_reference(session.grid(), small, options, session.pool());
+        if (a.rgb != b.rgb || a.depth != b.depth) {
+            fail("hierarchical and reference views differ");
+        }
+        if (a.hits() < a.depth.size() / 2) {
+            fail("fewer than half the pixels hit");
+        }
+    }
+    for (auto _ : state) {
+        const bt::ViewImage img = session.render(cam, options);
+        benchmark::DoNotOptimize(img.rgb.data());
+    }
+    state.counters["fps"] =
+        benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
+    state.counters["resident_MB"] = static_cast<double>(session.budgeted_bytes()) / 1e6;
+}
+
+}  // namespace
+
+BENCHMARK_CAPTURE(BM_ViewIngest, autzen_trim, 0)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_ViewIngest, autzen_8x8_tiled, 1)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_ViewFrame)
+    ->Args({16, 8})
+    ->Args({32, 8})
+    ->Args({64, 8})
+    ->ArgNames({"cells", "levels"})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();

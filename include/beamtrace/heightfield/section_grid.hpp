@@ -1,0 +1,138 @@
+// The N x N window of height-field sections around the camera, and the memory-budget policy
+// that decides which of them are resident.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include "beamtrace/core/vec3.hpp"
+#include "beamtrace/heightfield/color_mode.hpp"
+#include "beamtrace/heightfield/height_section.hpp"
+
+namespace beamtrace {
+
+/// Settings of the height field. Lengths are in the LAS files' units (metres or feet).
+struct HeightFieldConfig {
+    double cell_size = 1.0;  ///< edge of a finest cell (the thesis found 1.0 right for autzen)
+    int levels = 8;          ///< quadtree levels per section (thesis: 8)
+    int section_cells = 32;  ///< cells per side of a section's coarsest level (thesis: 32)
+    int sections = 4;        ///< the window holds sections x sections sections (thesis: 4)
+    /// Upper bound on the bytes of resident sections plus the loader's read buffers.
+    std::uint64_t memory_budget_bytes = std::uint64_t{1} << 30;
+    ColorMode color = ColorMode::height;
+
+    /// Throws ConfigError listing every problem.
+    void validate() const;
+    [[nodiscard]] SectionLayout layout() const { return {section_cells, levels}; }
+    /// World edge length of one section.
+    [[nodiscard]] double section_size() const {
+        return cell_size * static_cast<double>(layout().finest_cells());
+    }
+};
+
+/// An axis-aligned rectangle in world xy.
+struct Bounds2 {
+    double min_x = 0, min_y = 0, max_x = 0, max_y = 0;
+};
+
+/// Sections on a global lattice anchored at `origin` (global section (i, j) covers
+/// [origin.x + i s, origin.x + (i + 1) s) x [...] with s = section_size()); the window is the
+/// N x N block of them starting at window_first(). Window slot (a, b) is index b * N + a.
+///
+/// Memory-budget policy (recenter): the sections of the window that touch the input's bounds are
+/// ranked by their distance to the camera (nearest first, ties by slot); they are made resident
+/// in that order while the total stays within memory_budget_bytes minus the loader's reserved
+/// bytes. The others are not resident and render as empty space. Sections that leave the window
+/// or fall out of the budget are freed before any new one is allocated, so the budget holds at
+/// every moment.
+class SectionGrid {
+  public:
+    /// `origin.z` is the zero of the stored heights.
+    SectionGrid(const HeightFieldConfig& config, const Vec3d& origin);
+
+    [[nodiscard]] const HeightFieldConfig& config() const { return config_; }
+    [[nodiscard]] const SectionLayout& layout() const { return layout_; }
+    [[nodiscard]] const Vec3d& origin() const { return origin_; }
+    [[nodiscard]] int sections_per_side() const { return n_; }
+    /// Finest cells per side of the whole window.
+    [[nodiscard]] std::int64_t window_cells() const { return window_cells_; }
+    [[nodiscard]] std::int64_t window_first_x() const { return first_x_; }
+    [[nodiscard]] std::int64_t window_first_y() const { return first_y_; }
+    /// World position of the window's lower-left corner (z = origin.z).
+    [[nodiscard]] Vec3d window_corner() const;
+
+    /// Re-centres the window on (camera_x, camera_y) and applies the budget policy. Sections
+    /// still wanted keep their data; new ones are allocated empty and returned (slots) for the
+    /// loader to fill; they stay invisible to the renderer until mark_loaded().
+    std::vector<int> recenter(double camera_x, double camera_y, std::span<const Bounds2> data,
+                              std::size_t reserved_bytes);
+
+    /// The section in `slot`, loaded or not (nullptr when not resident).
+    [[nodiscard]] HeightSection* slot(int slot) {
+        return slots_[static_cast<std::size_t>(slot)].get();
+    }
+    [[nodiscard]] const HeightSection* slot(int slot) const {
+        return slots_[static_cast<std::size_t>(slot)].get();
+    }
+    /// Makes a filled section visible (call its build_mipmap() first) and updates the height
+    /// range.
+    void mark_loaded(int slot);
+    /// Bounds of a slot's section in world xy.
+    [[nodiscard]] Bounds2 slot_bounds(int slot) const;
+
+    /// Bytes of all allocated sections (loaded or not).
+    [[nodiscard]] std::size_t resident_bytes() const;
+    [[nodiscard]] int resident_sections() const;
+    [[nodiscard]] int loaded_sections() const;
+
+    /// Height of cell (x, y) of `level`, in window cells of that level (0 <= x, y <
+    /// window_cells() >> level); kEmptyHeight in sections that are not loaded.
+    [[nodiscard]] float height(int level, std::int64_t x, std::int64_t y) const {
+        const int shift = shift_ - level;
+        const HeightSection* s =
+            visible_[static_cast<std::size_t>((y >> shift) * n_ + (x >> shift))];
+        if (s == nullptr) {
+            return kEmptyHeight;
+        }
+        const std::int64_t mask = (std::int64_t{1} << shift) - 1;
+        return s->height(level, static_cast<int>(x & mask), static_cast<int>(y & mask));
+    }
+    /// Attribute of finest cell (x, y) (0 where none).
+    [[nodiscard]] std::uint32_t attribute(std::int64_t x, std::int64_t y) const {
+        const HeightSection* s =
+            visible_[static_cast<std::size_t>((y >> shift_) * n_ + (x >> shift_))];
+        const std::int64_t mask = (std::int64_t{1} << shift_) - 1;
+        return s == nullptr ? 0u
+                            : s->attribute(static_cast<int>(x & mask), static_cast<int>(y & mask));
+    }
+
+    /// Range of the loaded heights (relative to origin.z); max is kEmptyHeight when none.
+    [[nodiscard]] float max_height() const { return max_height_; }
+    [[nodiscard]] float min_height() const { return min_height_; }
+    /// Intensity drawn white in ColorMode::intensity: the highest intensity read so far (set by
+    /// the loader; 0 before any point).
+    [[nodiscard]] double intensity_full_scale() const { return intensity_full_scale_; }
+    void set_intensity_full_scale(double value) { intensity_full_scale_ = value; }
+
+  private:
+    void refresh_range();
+
+    HeightFieldConfig config_;
+    SectionLayout layout_;
+    Vec3d origin_;
+    int n_ = 4;
+    int shift_ = 0;
+    std::int64_t window_cells_ = 0;
+    std::int64_t first_x_ = 0, first_y_ = 0;
+    bool placed_ = false;
+    std::vector<std::unique_ptr<HeightSection>> slots_;
+    std::vector<const HeightSection*> visible_;
+    float max_height_ = kEmptyHeight;
+    float min_height_ = kEmptyHeight;
+    double intensity_full_scale_ = 0.0;
+};
+
+}  // namespace beamtrace

@@ -1,0 +1,41 @@
+// The pinhole camera of height-field views.
+#pragma once
+
+#include "beamtrace/core/vec3.hpp"
+
+namespace beamtrace {
+
+/// Position in the LAS files' coordinates; yaw in degrees from +x toward +y; pitch in degrees,
+/// positive up (-90 looks straight down); horizontal field of view; image size in pixels. The
+/// image's "right" is horizontal whatever the pitch, so looking straight down is well defined
+/// (yaw then turns the image).
+struct ViewCamera {
+    Vec3d position;
+    double yaw_deg = 0.0;
+    double pitch_deg = 0.0;
+    double hfov_deg = 60.0;
+    int width = 1920;
+    int height = 1080;
+
+    /// Throws ConfigError listing every problem (size, FOV, pitch beyond +-90, non-finite values).
+    void validate() const;
+};
+
+/// Unit ray directions through pixel centres; pixel (0, 0) is the top-left.
+class CameraRays {
+  public:
+    explicit CameraRays(const ViewCamera& camera);
+    [[nodiscard]] Vec3d direction(int px, int py) const {
+        const double u = (2.0 * (px + 0.5) / width_ - 1.0) * tan_x_;
+        const double v = (1.0 - 2.0 * (py + 0.5) / height_) * tan_y_;
+        return normalize(forward_ + right_ * u + up_ * v);
+    }
+    [[nodiscard]] const Vec3d& forward() const { return forward_; }
+
+  private:
+    Vec3d forward_, right_, up_;
+    double tan_x_ = 0, tan_y_ = 0;
+    double width_ = 1, height_ = 1;
+};
+
+}  // namespace beamtrace

@@ -1,0 +1,48 @@
+// Per-pixel ray casting of the resident height-field sections: the hierarchical maximum-mipmap
+// traversal of Dick, Krueger & Westermann (2009), and a brute-force reference.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "beamtrace/heightfield/color_mode.hpp"
+#include "beamtrace/heightfield/section_grid.hpp"
+#include "beamtrace/heightfield/view_camera.hpp"
+
+namespace beamtrace {
+
+class ThreadPool;
+
+struct RenderOptions {
+    /// Lambert shading from height-map normals (central differences of the finest level; the
+    /// sides of cell columns use their face normals), with a fixed sun and 35 % ambient light.
+    bool shading = true;
+    /// Distance fog: colours fade to the sky by 1 - exp(-distance / fog_distance); 0 = off.
+    double fog_distance = 0.0;
+    Rgb8 sky = {150, 180, 220};  ///< colour of rays that hit nothing
+    int tile_pixels = 16;        ///< square tiles handed to the threads
+};
+
+/// An RGB image with the distance along each pixel's ray to its hit (+inf for a miss).
+struct ViewImage {
+    int width = 0;
+    int height = 0;
+    std::vector<std::uint8_t> rgb;  ///< width * height * 3, row-major, top row first
+    std::vector<float> depth;       ///< width * height
+    [[nodiscard]] std::size_t hits() const;
+};
+
+/// Renders the loaded sections of `grid` from `camera` with the hierarchical traversal (all ray
+/// directions; descend a level on a potential hit, climb when leaving the parent's 2x2 block),
+/// reading the sections in place. Tiles are spread over `pool`; the image does not depend on
+/// the number of threads. Throws ConfigError on a bad camera.
+[[nodiscard]] ViewImage render_view(const SectionGrid& grid, const ViewCamera& camera,
+                                    const RenderOptions& options, ThreadPool& pool);
+
+/// The same image by stepping through every finest cell along each ray (no hierarchy): the
+/// oracle of the tests. Same setup, hit test and shading as render_view.
+[[nodiscard]] ViewImage render_view_reference(const SectionGrid& grid, const ViewCamera& camera,
+                                              const RenderOptions& options, ThreadPool& pool);
+
+}  // namespace beamtrace

@@ -1,0 +1,178 @@
+// Ray setup, hit test and shading shared by the hierarchical and the reference renderers, so
+// that the two differ only in how they walk the cells.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+
+#include "beamtrace/heightfield/section_grid.hpp"
+#include "beamtrace/heightfield/view_renderer.hpp"
+
+namespace beamtrace::detail {
+
+inline constexpr double kInf = std::numeric_limits<double>::infinity();
+
+/// A ray in window cell coordinates: x, y in finest cells from the window corner; z in world
+/// units above origin.z; t is the world distance along the (unit) ray.
+struct GridRay {
+    double ox = 0, oy = 0, oz = 0;
+    double dx = 0, dy = 0, dz = 0;
+    double inv_dx = 0, inv_dy = 0;
+    int sx = 1, sy = 1;
+    double t_min = 0, t_max = 0;
+    std::int64_t gx = 0, gy = 0;  ///< finest cell at t_min
+};
+
+/// Clips the ray to the window box between the lowest and the highest loaded height; false
+/// when it misses.
+[[nodiscard]] inline bool setup_ray(const SectionGrid& grid, const Vec3d& position,
+                                    const Vec3d& dir, GridRay& r) {
+    const double zmax = grid.max_height();
+    if (zmax == -kInf) {
+        return false;
+    }
+    const Vec3d corner = grid.window_corner();
+    const double cell = grid.config().cell_size;
+    const auto w = static_cast<double>(grid.window_cells());
+    r.ox = (position.x - corner.x) / cell;
+    r.oy = (position.y - corner.y) / cell;
+    r.oz = position.z - corner.z;
+    r.dx = dir.x / cell;
+    r.dy = dir.y / cell;
+    r.dz = dir.z;
+    r.sx = r.dx < 0 ? -1 : 1;
+    r.sy = r.dy < 0 ? -1 : 1;
+    r.inv_dx = r.dx != 0 ? 1.0 / r.dx : kInf;
+    r.inv_dy = r.dy != 0 ? 1.0 / r.dy : kInf;
+    double t0 = 0.0, t1 = kInf;
+    if (r.dx != 0) {
+        const double a = (0.0 - r.ox) * r.inv_dx, b = (w - r.ox) * r.inv_dx;
+        t0 = std::max(t0, std::min(a, b));
+        t1 = std::min(t1, std::max(a, b));
+    } else if (!(r.ox >= 0 && r.ox < w)) {
+        return false;
+    }
+    if (r.dy != 0) {
+        const double a = (0.0 - r.oy) * r.inv_dy, b = (w - r.oy) * r.inv_dy;
+        t0 = std::max(t0, std::min(a, b));
+        t1 = std::min(t1, std::max(a, b));
+    } else if (!(r.oy >= 0 && r.oy < w)) {
+        return false;
+    }
+    if (r.oz > zmax) {
+        if (r.dz >= 0) {
+            return false;
+        }
+        t0 = std::max(t0, (zmax - r.oz) / r.dz);
+    }
+    if (r.dz > 0) {
+        t1 = std::min(t1, (zmax - r.oz) / r.dz);
+    } else if (r.dz < 0) {
+        // Below the lowest loaded height there is nothing to hit (columns do not reach down
+        // forever): an empty cell stays see-through even for near-vertical rays.
+        t1 = std::min(t1, (static_cast<double>(grid.min_height()) - r.oz) / r.dz);
+    }
+    if (!(t0 <= t1)) {  // equal: a ray that just touches the only height (a flat plateau)
+        return false;
+    }
+    r.t_min = t0;
+    r.t_max = t1;
+    const auto last = grid.window_cells() - 1;
+    r.gx =
+        std::clamp(static_cast<std::int64_t>(std::floor(r.ox + r.dx * t0)), std::int64_t{0}, last);
+    r.gy =
+        std::clamp(static_cast<std::int64_t>(std::floor(r.oy + r.dy * t0)), std::int64_t{0}, last);
+    return true;
+}
+
+/// Exit distance of cell (cx, cy) of `level` along x and along y.
+inline void cell_exits(const GridRay& r, std::int64_t cx, std::int64_t cy, int level, double& tx,
+                       double& ty) {
+    const auto bx = static_cast<double>((r.sx > 0 ? cx + 1 : cx) << level);
+    const auto by = static_cast<double>((r.sy > 0 ? cy + 1 : cy) << level);
+    tx = r.dx != 0 ? (bx - r.ox) * r.inv_dx : kInf;
+    ty = r.dy != 0 ? (by - r.oy) * r.inv_dy : kInf;
+}
+
+/// Whether the ray's span [t_in, t_out] over a cell column reaches down to height h.
+[[nodiscard]] inline bool column_hit(const GridRay& r, double t_in, double t_out, float h) {
+    const double z = r.dz < 0 ? r.oz + r.dz * t_out : r.oz + r.dz * t_in;
+    return z <= static_cast<double>(h);
+}
+
+/// The finest cell a ray stopped in.
+struct GridHit {
+    std::int64_t x = 0, y = 0;
+    double t_in = 0, t_out = 0;
+    int entered_axis = -1;  ///< 0: through an x face, 1: through a y face, -1: ray start
+    float h = 0;
+};
+
+/// Colour and distance of a hit.
+inline void shade_hit(const SectionGrid& grid, const GridRay& r, const GridHit& hit,
+                      const RenderOptions& options, std::uint8_t* rgb, float& depth) {
+    const double h = hit.h;
+    double t = hit.t_in;
+    bool top = true;
+    if (r.dz < 0) {
+        const double t_top = (h - r.oz) / r.dz;
+        if (t_top > hit.t_in) {
+            t = std::min(t_top, hit.t_out);
+        } else {
+            top = hit.entered_axis < 0;
+        }
+    } else {
+        top = hit.entered_axis < 0;
+    }
+    depth = static_cast<float>(t);
+
+    Rgb8 base;
+    const ColorMode mode = grid.config().color;
+    if (mode == ColorMode::height) {
+        const double lo = grid.min_height(), hi = grid.max_height();
+        base = height_ramp(hi > lo ? (h - lo) / (hi - lo) : 0.5);
+    } else {
+        base = attribute_color(mode, grid.attribute(hit.x, hit.y), grid.intensity_full_scale());
+    }
+    double c[3] = {static_cast<double>(base[0]), static_cast<double>(base[1]),
+                   static_cast<double>(base[2])};
+    if (options.shading) {
+        Vec3d n;
+        if (top) {
+            const std::int64_t last = grid.window_cells() - 1;
+            const auto at = [&](std::int64_t x, std::int64_t y) {
+                if (x < 0 || y < 0 || x > last || y > last) {
+                    return h;
+                }
+                const float v = grid.height(0, x, y);
+                return v == kEmptyHeight ? h : static_cast<double>(v);
+            };
+            const double two_cells = 2.0 * grid.config().cell_size;
+            const double gx = (at(hit.x + 1, hit.y) - at(hit.x - 1, hit.y)) / two_cells;
+            const double gy = (at(hit.x, hit.y + 1) - at(hit.x, hit.y - 1)) / two_cells;
+            n = normalize(Vec3d(-gx, -gy, 1.0));
+        } else if (hit.entered_axis == 0) {
+            n = {static_cast<double>(-r.sx), 0.0, 0.0};
+        } else {
+            n = {0.0, static_cast<double>(-r.sy), 0.0};
+        }
+        const Vec3d sun = normalize(Vec3d(-0.4, -0.5, 1.0));
+        const double light = 0.35 + 0.65 * std::max(0.0, dot(n, sun));
+        for (double& v : c) {
+            v *= light;
+        }
+    }
+    if (options.fog_distance > 0) {
+        const double f = 1.0 - std::exp(-t / options.fog_distance);
+        for (std::size_t k = 0; k < 3; ++k) {
+            c[k] = c[k] * (1.0 - f) + static_cast<double>(options.sky[k]) * f;
+        }
+    }
+    for (std::size_t k = 0; k < 3; ++k) {
+        rgb[k] = static_cast<std::uint8_t>(std::lround(std::clamp(c[k], 0.0, 255.0)));
+    }
+}
+
+}  // namespace beamtrace::detail

@@ -1,0 +1,260 @@
+#include "beamtrace/heightfield/las_ingest.hpp"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <memory>
+
+#include "beamtrace/core/error.hpp"
+#include "beamtrace/core/thread_pool.hpp"
+
+namespace beamtrace {
+namespace {
+
+template <typename T>
+[[nodiscard]] T load(const std::uint8_t* p) {
+    T value;
+    std::memcpy(&value, p, sizeof(T));
+    return value;
+}
+
+/// Closes a file descriptor when it goes out of scope.
+struct FileDescriptor {
+    int fd = -1;
+    ~FileDescriptor() {
+        if (fd >= 0) {
+            ::close(fd);
+        }
+    }
+};
+
+void read_block(int fd, const std::filesystem::path& path, std::uint8_t* data, std::size_t size,
+                std::uint64_t offset) {
+    std::size_t done = 0;
+    while (done < size) {
+        const ::ssize_t n =
+            ::pread(fd, data + done, size - done, static_cast<::off_t>(offset + done));
+        if (n < 0 && errno == EINTR) {
+            continue;
+        }
+        if (n <= 0) {
+            throw InputError(path.string(), "point data: read failed at byte " +
+                                                std::to_string(offset + done) +
+                                                (n < 0 ? std::string(": ") + std::strerror(errno)
+                                                       : std::string(": the file ends early")));
+        }
+        done += static_cast<std::size_t>(n);
+    }
+}
+
+/// Where the fields the loader needs sit in a record of one file.
+struct RecordLayout {
+    std::size_t length = 0;
+    std::size_t classification = 15;
+    bool legacy_class = true;  ///< formats 0-5 keep flags in the class byte
+    std::size_t rgb = 0;       ///< 0: no colour
+};
+
+[[nodiscard]] RecordLayout record_layout(const LasHeader& h) {
+    RecordLayout r;
+    r.length = h.point_record_length;
+    if (las_format_is_extended(h.point_format)) {
+        r.classification = 16;
+        r.legacy_class = false;
+    }
+    if (las_format_has_rgb(h.point_format)) {
+        r.rgb = las_format_is_extended(h.point_format)
+                    ? 30
+                    : (las_format_has_gps_time(h.point_format) ? 28 : 20);
+    }
+    return r;
+}
+
+}  // namespace
+
+IngestStats ingest_sections(const LasSourceSet& sources, SectionGrid& grid,
+                            std::span<const int> slots, ThreadPool& pool,
+                            const IngestConfig& config, const IngestProgress& progress) {
+    const auto start = std::chrono::steady_clock::now();
+    IngestStats stats;
+    if (slots.empty()) {
+        return stats;
+    }
+    const int n = grid.sections_per_side();
+    std::vector<HeightSection*> targets(static_cast<std::size_t>(n) * static_cast<std::size_t>(n),
+                                        nullptr);
+    for (const int s : slots) {
+        targets[static_cast<std::size_t>(s)] = grid.slot(s);
+    }
+    const int shift = grid.layout().finest_shift();
+    const std::int64_t window = grid.window_cells();
+    const std::int64_t mask = (std::int64_t{1} << shift) - 1;
+    const Vec3d corner = grid.window_corner();
+    const double cell = grid.config().cell_size;
+    const ColorMode mode = grid.config().color;
+    const auto tasks = static_cast<std::size_t>(std::max(1u, pool.size()));
+
+    std::vector<std::uint64_t> inserted(tasks, 0);
+    std::uint64_t outside = 0;
+    std::uint32_t max_intensity = 0;
+    std::uint64_t done_points = 0;
+    std::vector<std::uint8_t> buffer;
+
+    for (const LasSource& source : sources.files()) {
+        const LasHeader& h = source.header;
+        if (h.point_count == 0) {
+            continue;
+        }
+        const RecordLayout rec = record_layout(h);
+        const std::size_t per_block = std::max<std::size_t>(1, config.block_bytes / rec.length);
+        buffer.resize(per_block * rec.length);
+        FileDescriptor file;
+        file.fd = ::open(source.path.c_str(), O_RDONLY | O_CLOEXEC);
+        if (file.fd < 0) {
+            throw InputError(source.path.string(),
+                             std::string("cannot open: ") + std::strerror(errno));
+        }
+        ::posix_fadvise(file.fd, 0, 0, POSIX_FADV_SEQUENTIAL);
+        // Grid cell = raw * a + b (per axis); height = raw * scale + offset - origin.
+        const double ax = h.scale.x / cell, bx = (h.offset.x - corner.x) / cell;
+        const double ay = h.scale.y / cell, by = (h.offset.y - corner.y) / cell;
+        const double az = h.scale.z, bz = h.offset.z - grid.origin().z;
+        // Raw integer bounds of the header box, widened by half a step.
+        const auto raw_bound = [&](double v, double scale, double offset) {
+            return (v - offset) / scale;
+        };
+        const double lo_x = raw_bound(h.min.x, h.scale.x, h.offset.x) - 0.5;
+        const double hi_x = raw_bound(h.max.x, h.scale.x, h.offset.x) + 0.5;
+        const double lo_y = raw_bound(h.min.y, h.scale.y, h.offset.y) - 0.5;
+        const double hi_y = raw_bound(h.max.y, h.scale.y, h.offset.y) + 0.5;
+        const double lo_z = raw_bound(h.min.z, h.scale.z, h.offset.z) - 0.5;
+        const double hi_z = raw_bound(h.max.z, h.scale.z, h.offset.z) + 0.5;
+        bool rgb16 = true;
+        bool first_block = true;
+        std::uint64_t file_outside = 0;
+
+        for (std::uint64_t first = 0; first < h.point_count; first += per_block) {
+            const auto count =
+                static_cast<std::size_t>(std::min<std::uint64_t>(per_block, h.point_count - first));
+            read_block(file.fd, source.path, buffer.data(), count * rec.length,
+                       h.offset_to_point_data + first * rec.length);
+            const std::uint8_t* records = buffer.data();
+            if (first_block && rec.rgb != 0) {
+                // 8-bit colours stored in the 16-bit fields: decided on the first block.
+                std::uint16_t top = 0;
+                for (std::size_t i = 0; i < count; ++i) {
+                    const std::uint8_t* c = records + i * rec.length + rec.rgb;
+                    top = std::max({top, load<std::uint16_t>(c), load<std::uint16_t>(c + 2),
+                                    load<std::uint16_t>(c + 4)});
+                }
+                rgb16 = top > 255;
+            }
+            first_block = false;
+            const int rgb_shift = rgb16 ? 8 : 0;
+            std::uint32_t block_max_intensity = 0;
+            std::uint64_t block_outside = 0;
+            pool.parallel_for(tasks, 1, [&](std::size_t begin, std::size_t end) {
+                for (std::size_t task = begin; task < end; ++task) {
+                    std::uint64_t mine = 0;
+                    for (std::size_t i = 0; i < count; ++i) {
+                        const std::uint8_t* r = records + i * rec.length;
+                        const auto rx = static_cast<double>(load<std::int32_t>(r));
+                        const auto ry = static_cast<double>(load<std::int32_t>(r + 4));
+                        const auto gy = static_cast<std::int64_t>(std::floor(ry * ay + by));
+                        if (task == 0) {
+                            const std::uint16_t intensity = load<std::uint16_t>(r + 12);
+                            block_max_intensity =
+                                std::max<std::uint32_t>(block_max_intensity, intensity);
+                            const auto rz = static_cast<double>(load<std::int32_t>(r + 8));
+                            if (rx < lo_x || rx > hi_x || ry < lo_y || ry > hi_y || rz < lo_z ||
+                                rz > hi_z) {
+                                ++block_outside;
+                            }
+                        }
+                        if (gy < 0 || gy >= window ||
+                            static_cast<std::size_t>(gy >> 3) % tasks != task) {
+                            continue;
+                        }
+                        const auto gx = static_cast<std::int64_t>(std::floor(rx * ax + bx));
+                        if (gx < 0 || gx >= window) {
+                            continue;
+                        }
+                        HeightSection* s =
+                            targets[static_cast<std::size_t>((gy >> shift) * n + (gx >> shift))];
+                        if (s == nullptr) {
+                            continue;
+                        }
+                        const auto z = static_cast<float>(
+                            static_cast<double>(load<std::int32_t>(r + 8)) * az + bz);
+                        std::uint32_t attribute = 0;
+                        switch (mode) {
+                            case ColorMode::height:
+                                break;
+                            case ColorMode::rgb:
+                                if (rec.rgb != 0) {
+                                    const std::uint8_t* c = r + rec.rgb;
+                                    attribute = pack_rgb8(
+                                        (load<std::uint16_t>(c) >> rgb_shift) & 0xFFu,
+                                        (load<std::uint16_t>(c + 2) >> rgb_shift) & 0xFFu,
+                                        (load<std::uint16_t>(c + 4) >> rgb_shift) & 0xFFu);
+                                } else {
+                                    attribute = pack_rgb8(255, 255, 255);
+                                }
+                                break;
+                            case ColorMode::intensity:
+                                attribute = load<std::uint16_t>(r + 12);
+                                break;
+                            case ColorMode::classification:
+                                attribute = rec.legacy_class ? (r[rec.classification] & 0x1Fu)
+                                                             : r[rec.classification];
+                                break;
+                        }
+                        s->insert(static_cast<int>(gx & mask), static_cast<int>(gy & mask), z,
+                                  attribute);
+                        ++mine;
+                    }
+                    inserted[task] += mine;
+                }
+            });
+            max_intensity = std::max(max_intensity, block_max_intensity);
+            file_outside += block_outside;
+            done_points += count;
+            if (progress) {
+                progress(done_points, sources.point_count());
+            }
+        }
+        if (file_outside > 0) {
+            stats.warnings.push_back(source.path.string() + ": " + std::to_string(file_outside) +
+                                     " points lie outside the header bounds");
+        }
+        outside += file_outside;
+    }
+    buffer = {};
+
+    pool.parallel_for(slots.size(), 1, [&](std::size_t begin, std::size_t end) {
+        for (std::size_t i = begin; i < end; ++i) {
+            grid.slot(slots[i])->build_mipmap();
+        }
+    });
+    for (const int s : slots) {
+        grid.mark_loaded(s);
+    }
+    if (max_intensity > 0) {
+        grid.set_intensity_full_scale(
+            std::max(static_cast<double>(max_intensity), grid.intensity_full_scale()));
+    }
+    stats.points_read = done_points;
+    for (const auto v : inserted) {
+        stats.points_inserted += v;
+    }
+    stats.points_outside_header = outside;
+    stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return stats;
+}
+
+}  // namespace beamtrace

@@ -1,0 +1,188 @@
+#include "beamtrace/heightfield/section_grid.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "beamtrace/core/error.hpp"
+
+namespace beamtrace {
+
+void HeightFieldConfig::validate() const {
+    std::string problems;
+    if (!(cell_size > 0.0) || !std::isfinite(cell_size)) {
+        problems += "cell size " + std::to_string(cell_size) + " is not a positive number; ";
+    }
+    if (sections < 1 || sections > 64) {
+        problems += "sections " + std::to_string(sections) + " is outside 1 to 64; ";
+    }
+    try {
+        layout().validate();
+    } catch (const ConfigError& e) {
+        problems += std::string(e.what()).substr(std::string("height field: ").size()) + "; ";
+    }
+    if (problems.empty() && memory_budget_bytes < HeightSection::bytes_for(layout(), false)) {
+        problems +=
+            "memory budget " + std::to_string(memory_budget_bytes) +
+            " bytes is smaller than one section (" +
+            std::to_string(HeightSection::bytes_for(layout(), color_mode_has_attribute(color))) +
+            " bytes): lower --levels or --section-cells; ";
+    }
+    if (!problems.empty()) {
+        problems.resize(problems.size() - 2);
+        throw ConfigError("height field: " + problems);
+    }
+}
+
+SectionGrid::SectionGrid(const HeightFieldConfig& config, const Vec3d& origin)
+    : config_(config), layout_(config.layout()), origin_(origin), n_(config.sections) {
+    config_.validate();
+    shift_ = layout_.finest_shift();
+    window_cells_ = static_cast<std::int64_t>(n_) << shift_;
+    const auto count = static_cast<std::size_t>(n_) * static_cast<std::size_t>(n_);
+    slots_.resize(count);
+    visible_.assign(count, nullptr);
+}
+
+Vec3d SectionGrid::window_corner() const {
+    const double s = config_.section_size();
+    return {origin_.x + static_cast<double>(first_x_) * s,
+            origin_.y + static_cast<double>(first_y_) * s, origin_.z};
+}
+
+Bounds2 SectionGrid::slot_bounds(int slot) const {
+    const double s = config_.section_size();
+    const Vec3d c = window_corner();
+    const double x0 = c.x + static_cast<double>(slot % n_) * s;
+    const double y0 = c.y + static_cast<double>(slot / n_) * s;
+    return {x0, y0, x0 + s, y0 + s};
+}
+
+std::vector<int> SectionGrid::recenter(double camera_x, double camera_y,
+                                       std::span<const Bounds2> data, std::size_t reserved_bytes) {
+    const double s = config_.section_size();
+    const double half = static_cast<double>(n_) / 2.0;
+    const auto fx = static_cast<std::int64_t>(std::floor((camera_x - origin_.x) / s - half + 0.5));
+    const auto fy = static_cast<std::int64_t>(std::floor((camera_y - origin_.y) / s - half + 0.5));
+    const std::size_t count = slots_.size();
+
+    // Move the sections that stay in the window to their new slots.
+    std::vector<std::unique_ptr<HeightSection>> moved(count);
+    std::vector<bool> moved_loaded(count, false);
+    if (placed_) {
+        for (std::size_t i = 0; i < count; ++i) {
+            if (!slots_[i]) {
+                continue;
+            }
+            const std::int64_t gx = first_x_ + static_cast<std::int64_t>(i) % n_ - fx;
+            const std::int64_t gy = first_y_ + static_cast<std::int64_t>(i) / n_ - fy;
+            if (gx >= 0 && gx < n_ && gy >= 0 && gy < n_) {
+                const auto j = static_cast<std::size_t>(gy * n_ + gx);
+                moved_loaded[j] = visible_[i] != nullptr;
+                moved[j] = std::move(slots_[i]);
+            }
+        }
+    }
+    slots_ = std::move(moved);
+    first_x_ = fx;
+    first_y_ = fy;
+    placed_ = true;
+
+    // Rank the slots that touch the data by distance to the camera.
+    struct Candidate {
+        double distance;
+        int slot;
+    };
+    std::vector<Candidate> candidates;
+    for (int i = 0; i < static_cast<int>(count); ++i) {
+        const Bounds2 b = slot_bounds(i);
+        const bool touches = std::any_of(data.begin(), data.end(), [&](const Bounds2& d) {
+            return d.max_x >= b.min_x && d.min_x < b.max_x && d.max_y >= b.min_y &&
+                   d.min_y < b.max_y;
+        });
+        if (touches) {
+            const double dx = std::max({b.min_x - camera_x, 0.0, camera_x - b.max_x});
+            const double dy = std::max({b.min_y - camera_y, 0.0, camera_y - b.max_y});
+            candidates.push_back({std::hypot(dx, dy), i});
+        }
+    }
+    std::sort(candidates.begin(), candidates.end(), [](const Candidate& a, const Candidate& b) {
+        return a.distance != b.distance ? a.distance < b.distance : a.slot < b.slot;
+    });
+    const bool attributes = color_mode_has_attribute(config_.color);
+    const std::size_t each = HeightSection::bytes_for(layout_, attributes);
+    const std::uint64_t budget = config_.memory_budget_bytes;
+    std::uint64_t used = reserved_bytes;
+    std::vector<bool> admitted(count, false);
+    for (const Candidate& c : candidates) {
+        if (used + each <= budget) {
+            used += each;
+            admitted[static_cast<std::size_t>(c.slot)] = true;
+        }
+    }
+    // Free first, then allocate: the total never exceeds the budget.
+    for (std::size_t i = 0; i < count; ++i) {
+        if (!admitted[i]) {
+            slots_[i].reset();
+            moved_loaded[i] = false;
+        }
+    }
+    std::vector<int> fresh;
+    for (std::size_t i = 0; i < count; ++i) {
+        if (admitted[i] && !slots_[i]) {
+            slots_[i] = std::make_unique<HeightSection>(layout_, attributes);
+            fresh.push_back(static_cast<int>(i));
+        } else if (slots_[i] && !moved_loaded[i]) {
+            fresh.push_back(static_cast<int>(i));  // allocated but never filled: load again
+        }
+    }
+    for (std::size_t i = 0; i < count; ++i) {
+        visible_[i] = moved_loaded[i] ? slots_[i].get() : nullptr;
+    }
+    refresh_range();
+    return fresh;
+}
+
+void SectionGrid::mark_loaded(int slot) {
+    const auto i = static_cast<std::size_t>(slot);
+    if (!slots_[i]) {
+        return;
+    }
+    visible_[i] = slots_[i].get();
+    refresh_range();
+}
+
+void SectionGrid::refresh_range() {
+    max_height_ = kEmptyHeight;
+    min_height_ = kEmptyHeight;
+    float lo = std::numeric_limits<float>::infinity();
+    for (const HeightSection* s : visible_) {
+        if (s != nullptr && s->max_height() != kEmptyHeight) {
+            max_height_ = std::max(max_height_, s->max_height());
+            lo = std::min(lo, s->min_height());
+        }
+    }
+    if (max_height_ != kEmptyHeight) {
+        min_height_ = lo;
+    }
+}
+
+std::size_t SectionGrid::resident_bytes() const {
+    std::size_t total = 0;
+    for (const auto& s : slots_) {
+        total += s ? s->bytes() : 0;
+    }
+    return total;
+}
+
+int SectionGrid::resident_sections() const {
+    return static_cast<int>(
+        std::count_if(slots_.begin(), slots_.end(), [](const auto& s) { return s != nullptr; }));
+}
+
+int SectionGrid::loaded_sections() const {
+    return static_cast<int>(std::count_if(visible_.begin(), visible_.end(),
+                                          [](const auto* s) { return s != nullptr; }));
+}
+
+}  // namespace beamtrace

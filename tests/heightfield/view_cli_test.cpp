@@ -1,0 +1,73 @@
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "test_support.hpp"
+
+namespace beamtrace {
+namespace {
+
+class ViewCli : public test::TempDirTest {
+  protected:
+    void SetUp() override {
+        las_ = test::shared_data("las/las/autzen_trim.las");
+        BEAMTRACE_REQUIRE_FILE(las_);
+    }
+    [[nodiscard]] std::string cli() const {
+        return std::string(BEAMTRACE_CLI_PATH) + " view '" + las_.string() +
+               "' --cell-size 2 --levels 5 --section-cells 16 --size 160x90 --threads 2 ";
+    }
+    std::filesystem::path las_;
+};
+
+TEST_F(ViewCli, WritesAPngFromOneCamera) {
+    const auto out = dir_ / "view.png";
+    const auto r = test::run_command(cli() +
+                                     "--camera 636600,849200,900,30,-60 --fov 70 "
+                                     "--color rgb --fog 3000 --output '" +
+                                     out.string() + "'");
+    ASSERT_EQ(r.exit_code, 0) << r.out;
+    const std::string png = test::read_file(out);
+    ASSERT_GT(png.size(), 100u);
+    EXPECT_EQ(png.substr(1, 3), "PNG");
+    EXPECT_NE(r.out.find("wrote"), std::string::npos) << r.out;
+}
+
+TEST_F(ViewCli, WritesOneFramePerPathRow) {
+    const auto path = test::write_file(dir_ / "path.csv",
+                                       "x,y,z,yaw,pitch\n"
+                                       "636100,848950,600,30,-20\n"
+                                       "636300,849050,580,40,-25\n");
+    const auto frames = dir_ / "frames";
+    const auto r = test::run_command(cli() + "--path '" + path.string() + "' --output '" +
+                                     frames.string() + "' --memory-budget 64MB --quiet");
+    ASSERT_EQ(r.exit_code, 0) << r.out;
+    EXPECT_TRUE(std::filesystem::exists(frames / "frame_00000.png"));
+    EXPECT_TRUE(std::filesystem::exists(frames / "frame_00001.png"));
+    EXPECT_EQ(test::entry_count(frames), 2u);
+}
+
+TEST_F(ViewCli, ErrorsAreOneLineNamingTheFile) {
+    const auto broken = test::write_file(dir_ / "broken.las", "LASF");
+    auto r =
+        test::run_command(std::string(BEAMTRACE_CLI_PATH) + " view '" + broken.string() +
+                          "' --camera 0,0,10,0,-90 --output '" + (dir_ / "x.png").string() + "'");
+    EXPECT_EQ(r.exit_code, 2) << r.out;
+    EXPECT_NE(r.out.find(broken.string()), std::string::npos) << r.out;
+    EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << r.out;
+    EXPECT_FALSE(std::filesystem::exists(dir_ / "x.png"));
+
+    const auto bad_path = test::write_file(dir_ / "bad.csv", "x,y,z,yaw,pitch\n1,2,3,4\n");
+    r = test::run_command(cli() + "--path '" + bad_path.string() + "' --output '" +
+                          (dir_ / "f").string() + "'");
+    EXPECT_EQ(r.exit_code, 2) << r.out;
+    EXPECT_NE(r.out.find(bad_path.string() + ":2:"), std::string::npos) << r.out;
+
+    r = test::run_command(cli() + "--camera 1,2,3,0,-90 --memory-budget lots --output '" +
+                          (dir_ / "y.png").string() + "'");
+    EXPECT_EQ(r.exit_code, 2) << r.out;
+    EXPECT_NE(r.out.find("memory budget"), std::string::npos) << r.out;
+}
+
+}  // namespace
+}  // namespace beamtrace
