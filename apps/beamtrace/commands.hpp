@@ -16,4 +16,7 @@ std::function<int()> add_info_command(CLI::App& app);
 /// Registers `survey FILE.yaml`: runs a survey and writes LAS 1.4 and the trajectory.
 std::function<int()> add_survey_command(CLI::App& app);
 
+/// Registers `render [SCENE.yaml]`: a shaded image (see docs/render.md).
+std::function<int()> add_render_command(CLI::App& app);
+
 }  // namespace beamtrace::cli
