@@ -186,24 +186,28 @@ RenderImage Renderer::render(const RenderConfig& config) const {
                 for (std::size_t j = b; j < e; ++j) {
                     const std::size_t i = shadow_pixel[j];
                     const Surface& s = surf[i];
-                    const Vec3d l = shadow.direction(j);
+                    // Shade with the direction and distance from the surface point itself (the
+                    // shadow ray starts a little above it).
+                    const Vec3d to_light = light.position_m - s.position_m;
+                    const Vec3d l = light.kind == LightKind::directional ? light.direction
+                                                                         : normalize(to_light);
                     const double cos_i = dot(s.normal, l);
                     if (!(cos_i > 0.0) || occluded[j] != 0) {
                         continue;
                     }
-                    const Vec3d o = shadow.origin(j);
+                    const Vec3d o = shadow.origin(j), ls = shadow.direction(j);
                     const double tmax = shadow.tmax[j];
                     if (config.shadows) {
                         bool blocked = false;
                         for (const auto& sp : scene_.spheres) {
-                            const auto iv = intersect_sphere_line(o, l, sp.sphere);
+                            const auto iv = intersect_sphere_line(o, ls, sp.sphere);
                             if (iv && iv->t_exit > 0.0 && iv->t_enter < tmax) {
                                 blocked = true;
                                 break;
                             }
                         }
                         for (std::size_t k = 0; !blocked && k < scene_.planes.size(); ++k) {
-                            blocked = intersect_plane(o, l, scene_.planes[k].plane, 0.0, tmax)
+                            blocked = intersect_plane(o, ls, scene_.planes[k].plane, 0.0, tmax)
                                           .has_value();
                         }
                         if (blocked) {
@@ -212,7 +216,7 @@ RenderImage Renderer::render(const RenderConfig& config) const {
                     }
                     const double irradiance = light.kind == LightKind::directional
                                                   ? light.intensity
-                                                  : light.intensity / (tmax * tmax);
+                                                  : light.intensity / dot(to_light, to_light);
                     const SceneMaterial& mat = scene_.materials[s.material];
                     radiance[i] +=
                         s.albedo * irradiance *
