@@ -291,6 +291,54 @@ TEST(RenderShade, DeterministicAcrossThreadCountsAndBatches) {
     EXPECT_FALSE(tri.mesh.faces.empty());
 }
 
+TEST(RenderScene, SceneFileKeepsExactSpheresPlanesAndPatterns) {
+    const std::string yaml = R"(
+materials:
+  - {name: ball, reflectance: 0.8, pattern: {kind: stripes, count: 6, reflectance: 0.2}}
+parts:
+  - sphere: {center_m: [1, 0, 0], radius_m: 0.5}
+    transform: {translate_m: [0, 0, 2], scale: 2}
+    material: ball
+  - sphere: {center_m: [0, 0, 0], radius_m: 1}
+    transform: {scale: [1, 2, 1]}
+  - plane: {point_m: [0, 0, 0], normal: [0, 0, 1], size_m: 10}
+    transform: {rotate_deg: [0, 0, 90]}
+)";
+    const Scene scene = build_scene(parse_scene_spec(yaml, "mem.yaml"));
+    ASSERT_EQ(scene.spheres.size(), 1u);  // the stretched sphere stays triangles only
+    EXPECT_EQ(scene.spheres[0].center_m, (Vec3d{2, 0, 2}));
+    EXPECT_DOUBLE_EQ(scene.spheres[0].radius_m, 1.0);
+    ASSERT_EQ(scene.planes.size(), 1u);
+    EXPECT_EQ(scene.planes[0].part, 2u);
+    EXPECT_EQ(scene.materials[1].pattern.kind, AlbedoPatternKind::stripes);
+    EXPECT_EQ(scene.materials[1].pattern.count, 6);
+    const RenderScene rs = build_render_scene(scene);
+    EXPECT_EQ(rs.mesh.faces.size(), scene.parts[1].face_count);
+    EXPECT_EQ(rs.face_part.front(), 1u);
+    // The rotated square's exact corners are the triangulated ones.
+    const PlanePatch& p = rs.planes[0].plane;
+    for (std::uint32_t f = scene.parts[2].first_face; f < scene.parts[2].first_face + 2; ++f) {
+        for (auto vi : scene.mesh.faces[f]) {
+            const Vec3d r = Vec3d(scene.mesh.vertices[vi]) - p.point_m;
+            EXPECT_NEAR(std::fabs(dot(r, p.u_axis)), 5.0, 1e-5);
+            EXPECT_NEAR(std::fabs(dot(r, p.w_axis())), 5.0, 1e-5);
+        }
+    }
+    EXPECT_THROW(
+        static_cast<void>(parse_scene_spec(
+            "materials: [{name: a, pattern: {kind: spots}}]\nparts: [{sphere: {}}]\n", "bad.yaml")),
+        ConfigError);
+    // Pattern albedos.
+    AlbedoPattern stripes{AlbedoPatternKind::stripes, 4, 1.0, 0.2};
+    // Segments start at longitude -180 degrees: [-180, -90) base, [-90, 0) alternate, ...
+    EXPECT_EQ(sphere_albedo(stripes, 0.9, {-1, -0.1, 0}), 0.9);
+    EXPECT_EQ(sphere_albedo(stripes, 0.9, {0.1, -1, 0}), 0.2);
+    EXPECT_EQ(sphere_albedo(stripes, 0.9, {1, 0.1, 0}), 0.9);
+    EXPECT_EQ(sphere_albedo(stripes, 0.9, {-1, 0.1, 0}), 0.2);
+    EXPECT_EQ(planar_albedo({AlbedoPatternKind::checker, 2, 1.0, 0.2}, 0.9, 0.5, 1.5), 0.2);
+    EXPECT_EQ(planar_albedo({AlbedoPatternKind::checker, 2, 1.0, 0.2}, 0.9, 1.5, 1.5), 0.9);
+}
+
 TEST(RenderOptions, ParsesAndRejects) {
     const Light d = parse_light("dir:90,0,2");
     EXPECT_NEAR(d.direction.y, 1.0, 1e-12);

@@ -10,8 +10,8 @@ enum class AlbedoPatternKind : std::uint8_t { none, stripes, checker };
 /// Where the pattern is "on", the albedo is `reflectance` instead of the material's. On analytic
 /// spheres it follows the sphere's local frame: stripes are `count` segments in longitude about
 /// the local z axis (a beach ball), a checker adds count/2 bands in latitude. On planes and
-/// meshes it uses metres: stripes of width `size_m` along the plane's u axis (world x on meshes),
-/// a checker of `size_m` cells.
+/// meshes it uses metres (segment 0 of a sphere starts at longitude -180 degrees): stripes of width
+/// `size_m` along the plane's u axis (world x on meshes), a checker of `size_m` cells.
 struct AlbedoPattern {
     AlbedoPatternKind kind = AlbedoPatternKind::none;
     int count = 8;             ///< segments around a sphere, >= 2
