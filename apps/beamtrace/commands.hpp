@@ -18,5 +18,7 @@ std::function<int()> add_survey_command(CLI::App& app);
 
 /// Registers `view FILES...`: ray-traced images of raw LAS files (see docs/view.md).
 std::function<int()> add_view_command(CLI::App& app);
+/// Registers `render [SCENE.yaml]`: a shaded image (see docs/render.md).
+std::function<int()> add_render_command(CLI::App& app);
 
 }  // namespace beamtrace::cli

@@ -16,6 +16,7 @@ int main(int argc, char** argv) {
     const auto run_info = beamtrace::cli::add_info_command(app);
     const auto run_survey = beamtrace::cli::add_survey_command(app);
     const auto run_view = beamtrace::cli::add_view_command(app);
+    const auto run_render = beamtrace::cli::add_render_command(app);
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {
@@ -34,6 +35,9 @@ int main(int argc, char** argv) {
         }
         if (app.got_subcommand("survey")) {
             return run_survey();
+        }
+        if (app.got_subcommand("render")) {
+            return run_render();
         }
         if (app.got_subcommand("info")) {
             return run_info();

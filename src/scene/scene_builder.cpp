@@ -4,6 +4,7 @@
 
 #include "beamtrace/core/error.hpp"
 #include "beamtrace/geometry/primitives.hpp"
+#include "beamtrace/geometry/ray_plane.hpp"
 #include "beamtrace/scene/mesh_loader.hpp"
 #include "beamtrace/scene/raster_terrain.hpp"
 
@@ -43,6 +44,22 @@ std::vector<Affine3> copy_transforms(const PartSpec& p) {
     return out;
 }
 
+/// Keeps the exact sphere/plane of a part whose transform keeps it one (uniform scale).
+void add_analytic_copy(const PartSpec& p, std::uint32_t part, Scene& scene) {
+    const Vec3d& k = p.transform.scale;
+    if (!(k.x == k.y && k.y == k.z)) {
+        return;
+    }
+    const Quat q = Quat::from_rpy(p.transform.rotate);
+    if (p.kind == PartKind::sphere) {
+        scene.spheres.push_back({p.transform.apply(p.center_m), p.radius_m * k.x, q, part});
+    } else if (p.kind == PartKind::plane) {
+        const PlanePatch local = make_plane_patch(p.point_m, p.normal, p.size_m);
+        scene.planes.push_back({p.transform.apply(p.point_m), q.rotate(local.normal),
+                                q.rotate(local.u_axis), p.size_m * k.x, part});
+    }
+}
+
 }  // namespace
 
 Scene build_scene(const SceneSpec& spec) {
@@ -50,7 +67,8 @@ Scene build_scene(const SceneSpec& spec) {
     scene.origin_m = spec.origin_m;
     scene.materials.clear();
     for (const auto& m : spec.materials) {
-        scene.materials.push_back({m.name, m.reflectance, m.specular_weight, m.specular_exponent});
+        scene.materials.push_back(
+            {m.name, m.reflectance, m.specular_weight, m.specular_exponent, m.pattern});
     }
     // A mesh file used by several parts, and any part with array copies, is stored once and
     // instanced; every other part is copied into the scene in scene coordinates.
@@ -62,6 +80,9 @@ Scene build_scene(const SceneSpec& spec) {
     }
     std::map<std::filesystem::path, std::uint32_t> stored;  // file -> SceneGeometry mesh index
     for (const auto& p : spec.parts) {
+        if (p.array.copies() == 1) {
+            add_analytic_copy(p, static_cast<std::uint32_t>(scene.parts.size()), scene);
+        }
         ScenePart meta;
         meta.name = p.name;
         meta.label = p.label;

@@ -172,6 +172,35 @@ void parse_part(Checker& c, const YAML::Node& n, std::size_t index, SceneSpec& s
     spec.parts.push_back(std::move(p));
 }
 
+/// `pattern: {kind: stripes|checker, count: 8, size_m: 1, reflectance: 0.1}`.
+void parse_pattern(Checker& c, const YAML::Node& n, const std::string& key, SurfacePattern& p) {
+    if (!n.IsMap()) {
+        c.error(n, key, "expected a map with kind, count, size_m, reflectance");
+        return;
+    }
+    c.only_keys(n, key, {"kind", "count", "size_m", "reflectance"});
+    const auto kind = n["kind"];
+    if (!kind || !kind.IsScalar() ||
+        (kind.Scalar() != "stripes" && kind.Scalar() != "checker" && kind.Scalar() != "none")) {
+        c.error(kind ? kind : n, key + ".kind", "expected stripes, checker or none");
+    } else {
+        p.kind = kind.Scalar() == "stripes"   ? SurfacePatternKind::stripes
+                 : kind.Scalar() == "checker" ? SurfacePatternKind::checker
+                                              : SurfacePatternKind::none;
+    }
+    long count = p.count;
+    if (n["count"] && c.integer(n["count"], key + ".count", 2, 1000, count)) {
+        p.count = static_cast<int>(count);
+    }
+    if (n["size_m"] && c.number(n["size_m"], key + ".size_m", p.size_m) && !(p.size_m > 0)) {
+        c.error(n["size_m"], key + ".size_m", "must be positive");
+    }
+    if (n["reflectance"] && c.number(n["reflectance"], key + ".reflectance", p.reflectance) &&
+        !(p.reflectance >= 0.0 && p.reflectance <= 1.0)) {
+        c.error(n["reflectance"], key + ".reflectance", "must be in [0, 1]");
+    }
+}
+
 void parse_material(Checker& c, const YAML::Node& n, std::size_t index, SceneSpec& spec,
                     std::set<std::string>& names) {
     const std::string key = "materials[" + std::to_string(index) + "]";
@@ -179,7 +208,7 @@ void parse_material(Checker& c, const YAML::Node& n, std::size_t index, SceneSpe
         c.error(n, key, "expected a map");
         return;
     }
-    c.only_keys(n, key, {"name", "reflectance", "specular_weight", "specular_exponent"});
+    c.only_keys(n, key, {"name", "reflectance", "specular_weight", "specular_exponent", "pattern"});
     MaterialSpec m;
     if (!n["name"] || !n["name"].IsScalar() || n["name"].Scalar().empty()) {
         c.error(n, key + ".name", "every material needs a name");
@@ -200,6 +229,9 @@ void parse_material(Checker& c, const YAML::Node& n, std::size_t index, SceneSpe
         c.number(n["specular_exponent"], key + ".specular_exponent", m.specular_exponent) &&
         !(m.specular_exponent > 0)) {
         c.error(n["specular_exponent"], key + ".specular_exponent", "must be positive");
+    }
+    if (const auto pn = n["pattern"]) {
+        parse_pattern(c, pn, key + ".pattern", m.pattern);
     }
     spec.materials.push_back(m);
 }
@@ -232,7 +264,7 @@ SceneSpec parse_scene_spec(const std::string& yaml_text, const std::filesystem::
     Checker c(source);
     SceneSpec spec;
     spec.source = source;
-    spec.materials.push_back(MaterialSpec{"default"});
+    spec.materials.emplace_back().name = "default";
     if (!root.IsMap()) {
         throw ConfigError(source.string() + ": expected a map with 'parts' at the top level");
     }

@@ -8,7 +8,9 @@
 #include <string>
 #include <vector>
 
+#include "beamtrace/core/quat.hpp"
 #include "beamtrace/geometry/scene_geometry.hpp"
+#include "beamtrace/scene/surface_pattern.hpp"
 
 namespace beamtrace {
 
@@ -27,6 +29,25 @@ struct SceneMaterial {
     double reflectance = 0.5;
     double specular_weight = 0.0;
     double specular_exponent = 10.0;
+    SurfacePattern pattern;  ///< optional stripes/checker (used by the renderer)
+};
+
+/// Exact copy of a sphere part (its triangles are in `mesh` too), for renderers that trace
+/// spheres analytically. Only parts with a uniform scale have one.
+struct SceneSphere {
+    Vec3d center_m{0, 0, 0};
+    double radius_m = 1.0;
+    Quat attitude;           ///< the part's rotation (orients albedo patterns)
+    std::uint32_t part = 0;  ///< index into Scene::parts
+};
+
+/// Exact copy of a square plane part (as make_square builds it, after the part's transform).
+struct ScenePlane {
+    Vec3d point_m{0, 0, 0};
+    Vec3d normal{0, 0, 1};  ///< unit
+    Vec3d u_axis{1, 0, 0};  ///< unit, in the plane; the square's sides follow u and normal x u
+    double size_m = 100.0;
+    std::uint32_t part = 0;
 };
 
 struct Scene {
@@ -36,6 +57,9 @@ struct Scene {
     /// World position of the local origin: triangles are stored relative to it (float precision
     /// for UTM-sized coordinates) and outputs add it back.
     Vec3d origin_m{0, 0, 0};
+    /// Analytic copies of sphere and plane parts (filled by build_scene; ignored by backends).
+    std::vector<SceneSphere> spheres;
+    std::vector<ScenePlane> planes;
 
     /// Appends a part whose triangles are copied in scene coordinates; its faces get the next
     /// IDs (consecutive flat parts share one mesh).

@@ -12,6 +12,7 @@
 #include "beamtrace/core/affine.hpp"
 #include "beamtrace/core/quat.hpp"
 #include "beamtrace/core/vec3.hpp"
+#include "beamtrace/scene/surface_pattern.hpp"
 
 namespace beamtrace {
 
@@ -48,6 +49,7 @@ struct MaterialSpec {
     double reflectance = 0.5;         ///< albedo at the laser wavelength, [0, 1]
     double specular_weight = 0.0;     ///< s of the phenomenological specular term, [0, 1]
     double specular_exponent = 10.0;  ///< n, > 0
+    SurfacePattern pattern;           ///< optional procedural albedo (stripes, checker)
 };
 
 enum class PartKind : std::uint8_t { mesh, raster, sphere, plane };
