@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cmath>
 #include <numbers>
+#include <optional>
 #include <system_error>
 
 #include "beamtrace/core/error.hpp"
@@ -40,7 +41,8 @@ float las_scan_angle_deg(const Vec3d& dir, const Vec3d& forward) {
     return static_cast<float>(std::clamp(a, -90.0, 90.0));
 }
 
-void write_csv_row(detail::RowWriter& out, const LasPoint& p, float range_m, std::uint16_t beam) {
+void write_csv_row(detail::RowWriter& out, const LasPoint& p, float range_m, std::uint16_t beam,
+                   bool physics) {
     char* c = out.row();
     char* const end = out.end();
     const auto num = [&](double v) {
@@ -58,6 +60,13 @@ void write_csv_row(detail::RowWriter& out, const LasPoint& p, float range_m, std
         *c++ = ',';
     }
     c = std::to_chars(c, end, p.scan_angle_deg).ptr;
+    if (physics) {
+        for (unsigned v :
+             {unsigned{p.intensity}, unsigned{p.return_number}, unsigned{p.number_of_returns}}) {
+            *c++ = ',';
+            c = std::to_chars(c, end, v).ptr;
+        }
+    }
     *c++ = '\n';
     out.end_row(c);
 }
@@ -146,7 +155,10 @@ SurveyResult run_survey(const SurveySpec& spec, const SurveyRunConfig& run,
     if (spec.write_csv) {
         csv = std::make_unique<detail::RowWriter>(
             run.output_dir / "points.csv",
-            "x,y,z,gps_time,range_m,classification,point_source_id,beam,scan_angle_deg", 400);
+            std::string(
+                "x,y,z,gps_time,range_m,classification,point_source_id,beam,scan_angle_deg") +
+                (spec.physics ? ",intensity,return_number,number_of_returns" : ""),
+            400);
     }
 
     // Image scanners firing one frame also get the report's range image and a label image.
@@ -156,10 +168,31 @@ SurveyResult run_survey(const SurveySpec& spec, const SurveyRunConfig& run,
         images ? static_cast<std::size_t>(img_w) * static_cast<std::size_t>(img_h) : 0, 0.0f);
     std::vector<std::uint16_t> label_img(range_img.size(), 0);
 
+    // Physics (optional): each pulse is sub_rays rays; their hits become the pulse's returns.
+    std::optional<PulseSimulator> sim;
+    std::vector<Material> materials;
+    if (spec.physics) {
+        sim.emplace(*spec.physics);
+        for (const auto& m : scene.materials) {
+            Material pm;
+            pm.name = m.name;
+            pm.reflectance = m.reflectance;
+            pm.specular_weight = m.specular_weight;
+            pm.specular_exponent = m.specular_exponent;
+            materials.push_back(pm);
+        }
+    }
+    const std::size_t sub_rays = sim ? sim->sub_ray_count() : 1;
+    const std::size_t max_returns =
+        sim ? static_cast<std::size_t>(sim->config().max_returns) : std::size_t{1};
+
     t0 = Clock::now();
     const std::size_t chunk = std::max<std::size_t>(1, run.chunk_pulses);
     PulseBatch pulses;
     std::vector<float> scan_angle;
+    std::vector<Vec3d> origin, axis;
+    std::vector<PulseReturn> returns;
+    std::vector<std::uint8_t> return_count;
     RayBatch rays;
     HitBatch hits;
     std::vector<LasPoint> points;
@@ -167,52 +200,100 @@ SurveyResult run_survey(const SurveySpec& spec, const SurveyRunConfig& run,
         const auto count =
             static_cast<std::size_t>(std::min<std::uint64_t>(chunk, result.pulses - first));
         pattern->generate(first, count, pulses);
-        rays.resize(count);
+        rays.resize(count * sub_rays);
         scan_angle.resize(count);
+        origin.resize(count);
+        axis.resize(count);
         pool.parallel_for(count, 4096, [&](std::size_t b, std::size_t e) {
+            std::vector<Vec3d> dirs(sub_rays);
             for (std::size_t i = b; i < e; ++i) {
                 const Pose platform = trajectory->pose_at(pulses.time_s[i]);
-                const Pose pose = platform * spec.mount.sensor_to_platform;
+                Pose pose = platform * spec.mount.sensor_to_platform;
+                if (sim) {
+                    pose = sim->perturb_pose(run.seed, first + i, pose);
+                }
                 const Vec3d dir = pose.apply_direction(pulses.direction[i]);
-                rays.set(i, pose.position_m, dir, spec.range_min_m, spec.range_max_m);
+                origin[i] = pose.position_m;
+                axis[i] = dir;
                 scan_angle[i] = las_scan_angle_deg(dir, platform.apply_direction({1, 0, 0}));
+                if (!sim) {
+                    rays.set(i, pose.position_m, dir, spec.range_min_m, spec.range_max_m);
+                    continue;
+                }
+                sim->sub_ray_directions(run.seed, first + i, dir, dirs);
+                for (std::size_t j = 0; j < sub_rays; ++j) {
+                    rays.set(i * sub_rays + j, pose.position_m, dirs[j], spec.range_min_m,
+                             spec.range_max_m);
+                }
             }
         });
-        hits.resize(count);
-        backend->intersect(rays, 0, count, hits, pool);
+        hits.resize(count * sub_rays);
+        backend->intersect(rays, 0, count * sub_rays, hits, pool);
+        if (sim) {
+            returns.resize(count * max_returns);
+            return_count.assign(count, 0);
+            pool.parallel_for(count, 1024, [&](std::size_t b, std::size_t e) {
+                std::vector<SubRayHit> sub(sub_rays);
+                PulseResponse response;
+                for (std::size_t i = b; i < e; ++i) {
+                    for (std::size_t j = 0; j < sub_rays; ++j) {
+                        const std::size_t h = i * sub_rays + j;
+                        if (!hits.hit(h)) {
+                            sub[j] = SubRayHit{};
+                            continue;
+                        }
+                        const Vec3d d{rays.dx[h], rays.dy[h], rays.dz[h]};
+                        const double t = hits.t[h];
+                        const ScenePart& part = scene.parts[scene.part_of_face(hits.face[h])];
+                        sub[j] = make_sub_ray_hit(materials[part.material], t, origin[i] + d * t,
+                                                  scene.geometry.normal(hits.face[h]), d);
+                    }
+                    sim->simulate(run.seed, first + i, sub, response);
+                    const std::size_t n = std::min(response.returns.size(), max_returns);
+                    std::copy_n(response.returns.begin(), n, returns.begin() + i * max_returns);
+                    return_count[i] = static_cast<std::uint8_t>(n);
+                }
+            });
+        }
         points.clear();
         for (std::size_t i = 0; i < count; ++i) {
-            if (!hits.hit(i)) {
-                continue;
-            }
-            const double t = hits.t[i];
-            const ScenePart& part = scene.parts[scene.part_of_face(hits.face[i])];
-            if (images) {
-                // Pulse index u * h + v is pixel (row v, column u).
-                const std::uint64_t k = first + i;
-                const auto u = static_cast<std::size_t>(k / static_cast<std::uint64_t>(img_h));
-                const auto v = static_cast<std::size_t>(k % static_cast<std::uint64_t>(img_h));
-                range_img[v * static_cast<std::size_t>(img_w) + u] = hits.t[i];
-                label_img[v * static_cast<std::size_t>(img_w) + u] = part.label;
-            }
-            LasPoint p;
-            p.x = rays.ox[i] + t * rays.dx[i] + scene.origin_m.x;
-            p.y = rays.oy[i] + t * rays.dy[i] + scene.origin_m.y;
-            p.z = rays.oz[i] + t * rays.dz[i] + scene.origin_m.z;
-            p.gps_time = pulses.time_s[i];
-            p.scan_angle_deg = scan_angle[i];
-            p.return_number = 1;
-            p.number_of_returns = 1;
-            p.classification = part.label;
-            p.point_source_id = part.part_id;
-            p.user_data = static_cast<std::uint8_t>(pulses.channel[i] & 0xFFu);  // beam / row
-            points.push_back(std::move(p));
-            if (csv) {
-                write_csv_row(*csv, points.back(), hits.t[i], pulses.channel[i]);
-            }
-            if (spec.write_ply) {
-                ply_points.push_back({points.back().x, points.back().y, points.back().z, hits.t[i],
-                                      hits.face[i], static_cast<std::uint32_t>(first + i)});
+            const std::size_t n = sim ? return_count[i] : (hits.hit(i) ? 1 : 0);
+            for (std::size_t r = 0; r < n; ++r) {
+                const PulseReturn* ret = sim ? &returns[i * max_returns + r] : nullptr;
+                const std::size_t h = sim ? i * sub_rays + ret->sub_ray : i;
+                const double t = sim ? ret->range_m : double{hits.t[i]};
+                const ScenePart& part = scene.parts[scene.part_of_face(hits.face[h])];
+                if (images && r == 0) {
+                    // Pulse index u * h + v is pixel (row v, column u).
+                    const std::uint64_t k = first + i;
+                    const auto u = static_cast<std::size_t>(k / static_cast<std::uint64_t>(img_h));
+                    const auto v = static_cast<std::size_t>(k % static_cast<std::uint64_t>(img_h));
+                    range_img[v * static_cast<std::size_t>(img_w) + u] = static_cast<float>(t);
+                    label_img[v * static_cast<std::size_t>(img_w) + u] = part.label;
+                }
+                LasPoint p;
+                const Vec3d xyz = origin[i] + axis[i] * t + scene.origin_m;
+                p.x = xyz.x;
+                p.y = xyz.y;
+                p.z = xyz.z;
+                p.gps_time = pulses.time_s[i];
+                p.scan_angle_deg = scan_angle[i];
+                p.return_number = ret ? ret->return_number : 1;
+                p.number_of_returns = ret ? ret->number_of_returns : 1;
+                p.intensity = ret ? ret->intensity : 0;
+                p.classification = part.label;
+                p.point_source_id = part.part_id;
+                p.user_data = static_cast<std::uint8_t>(pulses.channel[i] & 0xFFu);  // beam / row
+                points.push_back(std::move(p));
+                if (csv) {
+                    write_csv_row(*csv, points.back(), static_cast<float>(t), pulses.channel[i],
+                                  sim.has_value());
+                }
+                if (spec.write_ply) {
+                    ply_points.push_back({points.back().x, points.back().y, points.back().z,
+                                          static_cast<float>(t), hits.face[h],
+                                          static_cast<std::uint32_t>(first + i)});
+                }
             }
         }
         writer.write(points);

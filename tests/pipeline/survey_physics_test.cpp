@@ -1,0 +1,185 @@
+// Surveys with the physics block: intensity from the range equation, multiple returns from beam
+// divergence at a step edge and in a tree, and determinism with noise at any thread count.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <map>
+#include <numbers>
+
+#include "beamtrace/io/las_reader.hpp"
+#include "beamtrace/pipeline/survey.hpp"
+#include "test_support.hpp"
+
+namespace beamtrace {
+namespace {
+
+std::vector<LasPoint> run_and_read(const std::string& yaml, const test::TempDir& dir,
+                                   unsigned threads = 2, std::size_t chunk = 1 << 16) {
+    test::write_file(dir / "survey.yaml", yaml);
+    const SurveySpec spec = load_survey_spec(dir / "survey.yaml");
+    SurveyRunConfig run;
+    run.output_dir = dir / "out";
+    run.threads = threads;
+    run.chunk_pulses = chunk;
+    run.seed = 7;
+    (void)run_survey(spec, run);
+    return read_las_points(dir / "out" / "points.las");
+}
+
+// Two horizontal planes meeting at x = 0: z = -20 for x < 0, z = -21 for x > 0.
+constexpr const char* kStep = R"(parts:
+  - {plane: {point_m: [-50, 0, -20], normal: [0, 0, 1], size_m: 100}, label: 2}
+  - {plane: {point_m: [50, 0, -21], normal: [0, 0, 1], size_m: 100}, label: 6}
+)";
+
+std::string step_survey(double x_m) {
+    return R"(scene: step.yaml
+scanner: {type: pinhole, width: 1, height: 1, hfov_deg: 1, vfov_deg: 1}
+platform: {type: static, position_m: [)" +
+           std::to_string(x_m) + R"(, 0, 0], rotate_deg: [0, -90, 0]}
+physics:
+  beam: {divergence_mrad: 20, rings: 2}
+  atmosphere: {enabled: false}
+output: {trajectory_rate_hz: 0}
+)";
+}
+
+TEST(SurveyPhysics, StepEdgeStraddledByTheFootprintGivesTwoReturns) {
+    test::TempDir dir;
+    test::write_file(dir / "step.yaml", kStep);
+    // The 20 mrad beam is 0.4 m wide at 20 m: centred on the edge it sees both planes.
+    const auto two = run_and_read(step_survey(0.0), dir);
+    ASSERT_EQ(two.size(), 2u);
+    EXPECT_EQ(two[0].return_number, 1);
+    EXPECT_EQ(two[1].return_number, 2);
+    EXPECT_EQ(two[0].number_of_returns, 2);
+    EXPECT_EQ(two[1].number_of_returns, 2);
+    EXPECT_NEAR(two[0].z, -20.0, 0.02);
+    EXPECT_NEAR(two[1].z, -21.0, 0.02);
+    EXPECT_EQ(two[0].classification, 2);
+    EXPECT_EQ(two[1].classification, 6);
+    EXPECT_GT(two[0].intensity, 0);
+    // Away from the edge: one plane, one return.
+    test::TempDir dir2;
+    test::write_file(dir2 / "step.yaml", kStep);
+    const auto one = run_and_read(step_survey(-5.0), dir2);
+    ASSERT_EQ(one.size(), 1u);
+    EXPECT_EQ(one[0].return_number, 1);
+    EXPECT_EQ(one[0].number_of_returns, 1);
+    EXPECT_NEAR(one[0].z, -20.0, 0.02);
+    EXPECT_GT(one[0].intensity, two[0].intensity) << "the whole beam on one plane is stronger";
+}
+
+TEST(SurveyPhysics, LambertianIntensityFollowsCosineOverRangeSquared) {
+    test::TempDir dir;
+    test::write_file(dir / "floor.yaml", R"(parts:
+  - {plane: {point_m: [0, 0, -10], normal: [0, 0, 1], size_m: 400}}
+)");
+    // A row of 9 pixels across 120 degrees, looking down from 10 m: pixel k sees the floor at
+    // angle theta from the vertical, range 10 / cos(theta) and incidence theta, so the power is
+    // proportional to cos(theta) / R^2 = cos^3(theta) / 100.
+    const auto points = run_and_read(R"(scene: floor.yaml
+scanner: {type: scan, width: 9, height: 1, hfov_deg: 120, vfov_deg: 1}
+platform: {type: static, position_m: [0, 0, 0], rotate_deg: [0, -90, 0]}
+physics:
+  atmosphere: {enabled: false}
+  intensity: {reference_range_m: 10}
+output: {trajectory_rate_hz: 0}
+)",
+                                     dir);
+    ASSERT_EQ(points.size(), 9u);
+    const LasPoint* centre = nullptr;
+    for (const auto& p : points) {
+        if (std::hypot(p.x, p.y) < 1e-6) {
+            centre = &p;
+        }
+    }
+    ASSERT_NE(centre, nullptr);
+    // A white panel at 10 m is full scale; this floor's albedo is 0.5.
+    EXPECT_NEAR(centre->intensity, 0.5 * 65535, 2.0);
+    for (const auto& p : points) {
+        const double r = std::sqrt(p.x * p.x + p.y * p.y + 100.0);
+        const double cos_theta = 10.0 / r;
+        const double want = centre->intensity * cos_theta * 100.0 / (r * r);
+        EXPECT_NEAR(p.intensity, want, 0.01 * want + 1.0) << p.x << " " << p.y;
+    }
+}
+
+TEST(SurveyPhysics, TreeGivesMultipleReturns) {
+    const auto tree = test::shared_mesh("vegetation/white_birch.obj");
+    BEAMTRACE_REQUIRE_FILE(tree);
+    test::TempDir dir;
+    test::write_file(dir / "tree.yaml", "parts:\n  - {mesh: " + tree.string() +
+                                            ", label: 5}\n"
+                                            "  - {plane: {point_m: [0, 0, 0], normal: [0, 0, "
+                                            "1], size_m: 60}, label: 2}\n");
+    // A line scanner 100 m above the tree with a 3 mrad beam (30 cm footprint).
+    const auto points = run_and_read(R"(scene: tree.yaml
+scanner: {type: line, pulse_rate_hz: 20000, scan_rate_hz: 100, scan_angle_max_deg: 4, waveform: sawtooth, duration_s: 0.4}
+platform: {type: legs, speed_mps: 30, waypoints_m: [[-6, 0, 100], [6, 0, 100]]}
+mount: {boresight_deg: [0, -90, 0]}
+physics:
+  beam: {divergence_mrad: 3, rings: 2}
+  returns: {mode: all, max: 5}
+output: {trajectory_rate_hz: 0}
+)",
+                                     dir);
+    ASSERT_GT(points.size(), 7000u);
+    std::map<int, std::size_t> by_count;
+    std::size_t multi_first_on_tree = 0, multi_last_on_ground = 0, multi_pulses = 0;
+    for (std::size_t i = 0; i < points.size(); ++i) {
+        const LasPoint& p = points[i];
+        ASSERT_GE(p.return_number, 1);
+        ASSERT_LE(p.return_number, p.number_of_returns);
+        ASSERT_LE(p.number_of_returns, 5);
+        if (p.return_number == 1) {
+            ++by_count[p.number_of_returns];
+            if (p.number_of_returns > 1) {
+                ++multi_pulses;
+                multi_first_on_tree += p.classification == 5 ? 1 : 0;
+                // The returns of a pulse are consecutive, nearest first.
+                ASSERT_LT(i + p.number_of_returns - 1, points.size());
+                for (std::size_t r = 1; r < p.number_of_returns; ++r) {
+                    ASSERT_EQ(points[i + r].return_number, r + 1);
+                    ASSERT_EQ(points[i + r].gps_time, p.gps_time);
+                    ASSERT_LT(points[i + r].z, points[i + r - 1].z);
+                }
+                const LasPoint& last = points[i + p.number_of_returns - 1];
+                multi_last_on_ground += std::abs(last.z) < 0.05 ? 1 : 0;
+            }
+        }
+    }
+    // Plausible: a good share of the pulses through the crown split, a few into 3 or more; the
+    // first of a split pulse is on the tree and the last often on the ground.
+    const std::size_t pulses = multi_pulses + by_count[1];
+    EXPECT_EQ(pulses, 8000u) << "every pulse hits the tree or the ground";
+    EXPECT_GT(multi_pulses, pulses * 15 / 100);
+    EXPECT_LT(multi_pulses, pulses * 75 / 100);
+    EXPECT_GT(by_count[3], 0u);
+    EXPECT_GT(by_count[4], 0u);
+    EXPECT_GT(multi_first_on_tree, multi_pulses * 9 / 10);
+    EXPECT_GT(multi_last_on_ground, multi_pulses / 10);
+}
+
+TEST(SurveyPhysics, NoiseAndReturnsAreIdenticalForAnyThreadCount) {
+    test::TempDir a, b;
+    const std::string yaml = R"(scene: demo
+scanner: {type: rotating, preset: vlp16, duration_s: 0.05}
+platform: {type: legs, speed_mps: 10, waypoints_m: [[-10, -10, 2], [10, -10, 3]]}
+physics:
+  beam: {divergence_mrad: 3, rings: 1}
+  noise: {range_sigma_m: 0.02, angle_jitter_mrad: 0.1, position_sigma_m: 0.01, dropout_probability: 0.05}
+output: {csv: true}
+)";
+    const auto pa = run_and_read(yaml, a, 1, 1 << 16);
+    const auto pb = run_and_read(yaml, b, 2, 777);
+    ASSERT_GT(pa.size(), 1000u);
+    EXPECT_EQ(test::read_file(a / "out" / "points.las"), test::read_file(b / "out" / "points.las"));
+    const std::string csv = test::read_file(a / "out" / "points.csv");
+    EXPECT_EQ(csv, test::read_file(b / "out" / "points.csv"));
+    EXPECT_NE(csv.substr(0, csv.find('\n')).find(",intensity,return_number,number_of_returns"),
+              std::string::npos);
+}
+
+}  // namespace
+}  // namespace beamtrace
