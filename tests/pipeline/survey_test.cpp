@@ -198,7 +198,8 @@ TEST(SurveyExamples, AllRunAndPassTheIndependentValidator) {
     } catch (const std::filesystem::filesystem_error& e) {
         why = e.what();
     }
-    for (const char* name : {"car_hdl64.yaml", "tripod_panorama.yaml", "airborne_line.yaml"}) {
+    for (const char* name : {"car_hdl64.yaml", "tripod_panorama.yaml", "airborne_line.yaml",
+                             "airborne_line_physics.yaml"}) {
         test::TempDir dir;
         const auto las = run_example(name, dir);
         LasReader reader(las);
