@@ -12,6 +12,7 @@
 #include "beamtrace/io/npy.hpp"
 #include "beamtrace/io/png_writer.hpp"
 #include "beamtrace/io/point_cloud_ply.hpp"
+#include "beamtrace/physics/material_library.hpp"
 #include "beamtrace/pipeline/survey.hpp"
 #include "beamtrace/scene/demo_scene.hpp"
 #include "beamtrace/scene/scene_builder.hpp"
@@ -119,6 +120,35 @@ SurveyResult run_survey(const SurveySpec& spec, const SurveyRunConfig& run,
                           std::to_string(trajectory->start_time_s()) + " s to " +
                           std::to_string(trajectory->end_time_s()) + " s");
     }
+    // Physics (optional): each pulse is sub_rays rays; their hits become the pulse's returns.
+    std::optional<PulseSimulator> sim;
+    std::vector<Material> materials;
+    if (spec.physics) {
+        sim.emplace(*spec.physics);
+        for (const auto& m : scene.materials) {
+            Material pm;
+            pm.name = m.name;
+            pm.reflectance = m.reflectance;
+            pm.specular_weight = m.specular_weight;
+            pm.specular_exponent = m.specular_exponent;
+            if (!m.library.empty()) {
+                const auto lib =
+                    library_material(m.library, spec.physics->radiometry.wavelength_nm);
+                if (!lib) {
+                    throw ConfigError(spec.scene_file.string() + ": material '" + m.name +
+                                      "': unknown library material '" + m.library +
+                                      "' (known: " + material_library_names() + ")");
+                }
+                pm = *lib;
+                pm.name = m.name;
+            }
+            materials.push_back(pm);
+        }
+    }
+    const std::size_t sub_rays = sim ? sim->sub_ray_count() : 1;
+    const std::size_t max_returns =
+        sim ? static_cast<std::size_t>(sim->config().max_returns) : std::size_t{1};
+
     result.triangles = scene.triangle_count();
     result.pulses = pattern->pulse_count();
 
@@ -167,24 +197,6 @@ SurveyResult run_survey(const SurveySpec& spec, const SurveyRunConfig& run,
     std::vector<float> range_img(
         images ? static_cast<std::size_t>(img_w) * static_cast<std::size_t>(img_h) : 0, 0.0f);
     std::vector<std::uint16_t> label_img(range_img.size(), 0);
-
-    // Physics (optional): each pulse is sub_rays rays; their hits become the pulse's returns.
-    std::optional<PulseSimulator> sim;
-    std::vector<Material> materials;
-    if (spec.physics) {
-        sim.emplace(*spec.physics);
-        for (const auto& m : scene.materials) {
-            Material pm;
-            pm.name = m.name;
-            pm.reflectance = m.reflectance;
-            pm.specular_weight = m.specular_weight;
-            pm.specular_exponent = m.specular_exponent;
-            materials.push_back(pm);
-        }
-    }
-    const std::size_t sub_rays = sim ? sim->sub_ray_count() : 1;
-    const std::size_t max_returns =
-        sim ? static_cast<std::size_t>(sim->config().max_returns) : std::size_t{1};
 
     t0 = Clock::now();
     const std::size_t chunk = std::max<std::size_t>(1, run.chunk_pulses);

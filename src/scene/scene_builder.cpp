@@ -68,7 +68,7 @@ Scene build_scene(const SceneSpec& spec) {
     scene.materials.clear();
     for (const auto& m : spec.materials) {
         scene.materials.push_back(
-            {m.name, m.reflectance, m.specular_weight, m.specular_exponent, m.pattern});
+            {m.name, m.reflectance, m.specular_weight, m.specular_exponent, m.pattern, m.library});
     }
     // A mesh file used by several parts, and any part with array copies, is stored once and
     // instanced; every other part is copied into the scene in scene coordinates.

@@ -208,7 +208,9 @@ void parse_material(Checker& c, const YAML::Node& n, std::size_t index, SceneSpe
         c.error(n, key, "expected a map");
         return;
     }
-    c.only_keys(n, key, {"name", "reflectance", "specular_weight", "specular_exponent", "pattern"});
+    c.only_keys(
+        n, key,
+        {"name", "reflectance", "specular_weight", "specular_exponent", "pattern", "library"});
     MaterialSpec m;
     if (!n["name"] || !n["name"].IsScalar() || n["name"].Scalar().empty()) {
         c.error(n, key + ".name", "every material needs a name");
@@ -232,6 +234,18 @@ void parse_material(Checker& c, const YAML::Node& n, std::size_t index, SceneSpe
     }
     if (const auto pn = n["pattern"]) {
         parse_pattern(c, pn, key + ".pattern", m.pattern);
+    }
+    if (const auto lib = n["library"]) {
+        if (!lib.IsScalar() || lib.Scalar().empty()) {
+            c.error(lib, key + ".library", "expected a material name (docs/physics.md)");
+        } else {
+            m.library = lib.Scalar();
+        }
+        for (const char* k : {"reflectance", "specular_weight", "specular_exponent"}) {
+            if (n[k]) {
+                c.error(n[k], key + "." + k, "not with 'library', which sets it");
+            }
+        }
     }
     spec.materials.push_back(m);
 }

@@ -6,7 +6,9 @@
 #include <map>
 #include <numbers>
 
+#include "beamtrace/core/error.hpp"
 #include "beamtrace/io/las_reader.hpp"
+#include "beamtrace/physics/material_library.hpp"
 #include "beamtrace/pipeline/survey.hpp"
 #include "test_support.hpp"
 
@@ -103,6 +105,50 @@ output: {trajectory_rate_hz: 0}
         const double want = centre->intensity * cos_theta * 100.0 / (r * r);
         EXPECT_NEAR(p.intensity, want, 0.01 * want + 1.0) << p.x << " " << p.y;
     }
+}
+
+TEST(SurveyPhysics, LibraryMaterialsResolveAtTheSurveyWavelength) {
+    test::TempDir dir;
+    // Grass is bright at 1064 nm and dark at 1550 nm (leaf water); the survey looks straight
+    // down at it from 10 m, where a white panel is full scale.
+    test::write_file(dir / "lawn.yaml", R"(materials:
+  - {name: lawn, library: grass}
+parts:
+  - {plane: {point_m: [0, 0, -10], normal: [0, 0, 1], size_m: 40}, material: lawn}
+)");
+    const auto survey = [](int wavelength_nm) {
+        return R"(scene: lawn.yaml
+scanner: {type: pinhole, width: 1, height: 1, hfov_deg: 1, vfov_deg: 1}
+platform: {type: static, position_m: [0, 0, 0], rotate_deg: [0, -90, 0]}
+physics: {wavelength_nm: )" +
+               std::to_string(wavelength_nm) + R"(, atmosphere: {enabled: false}}
+output: {trajectory_rate_hz: 0}
+)";
+    };
+    const auto near_ir = run_and_read(survey(1064), dir);
+    ASSERT_EQ(near_ir.size(), 1u);
+    const auto lib = library_material("grass", 1064.0);
+    ASSERT_TRUE(lib.has_value());
+    EXPECT_NEAR(near_ir[0].intensity, lib->reflectance * 65535, 2.0);
+    test::TempDir dir2;
+    test::write_file(dir2 / "lawn.yaml", test::read_file(dir / "lawn.yaml"));
+    const auto swir = run_and_read(survey(1550), dir2);
+    ASSERT_EQ(swir.size(), 1u);
+    EXPECT_LT(swir[0].intensity, near_ir[0].intensity * 7 / 10);
+    // An unknown library name is refused before anything is written.
+    test::TempDir dir3;
+    test::write_file(dir3 / "lawn.yaml", R"(materials: [{name: lawn, library: astroturf}]
+parts: [{plane: {point_m: [0, 0, -10], normal: [0, 0, 1], size_m: 40}, material: lawn}]
+)");
+    try {
+        (void)run_and_read(survey(1064), dir3);
+        FAIL() << "expected a ConfigError";
+    } catch (const ConfigError& e) {
+        EXPECT_NE(std::string(e.what()).find("unknown library material 'astroturf'"),
+                  std::string::npos)
+            << e.what();
+    }
+    EXPECT_FALSE(std::filesystem::exists(dir3 / "out" / "points.las"));
 }
 
 TEST(SurveyPhysics, TreeGivesMultipleReturns) {

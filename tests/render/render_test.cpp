@@ -33,7 +33,7 @@ CameraConfig top_view(double width_m, int pixels) {
 
 RenderScene plane_scene(double reflectance = 1.0, double s = 0.0, double n = 10.0) {
     RenderScene rs;
-    rs.materials = {SceneMaterial{"m", reflectance, s, n, {}}};
+    rs.materials = {SceneMaterial{"m", reflectance, s, n, {}, {}}};
     rs.planes.push_back(
         {make_plane_patch({0, 0, 0}, {0, 0, 1}, std::numeric_limits<double>::infinity()), 0, 0});
     return rs;
@@ -177,7 +177,7 @@ TEST(RenderShade, SpecularPeakIsAtTheMirrorDirection) {
     // A shiny sphere seen from above, lit from azimuth 0 at 60 degrees elevation: the brightest
     // pixel is where the normal is the half-vector of light and view.
     RenderScene rs;
-    rs.materials = {SceneMaterial{"shiny", 1.0, 1.0, 200.0, {}}};
+    rs.materials = {SceneMaterial{"shiny", 1.0, 1.0, 200.0, {}, {}}};
     rs.spheres.push_back({{{0, 0, 0}, 1.0}, {}, 0, 0});
     RenderConfig cfg;
     cfg.camera = top_view(2.2, 221);

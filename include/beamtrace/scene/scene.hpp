@@ -30,6 +30,7 @@ struct SceneMaterial {
     double specular_weight = 0.0;
     double specular_exponent = 10.0;
     SurfacePattern pattern;  ///< optional stripes/checker (used by the renderer)
+    std::string library;     ///< physics library material (see MaterialSpec::library)
 };
 
 /// Exact copy of a sphere part (its triangles are in `mesh` too), for renderers that trace

@@ -50,6 +50,9 @@ struct MaterialSpec {
     double specular_weight = 0.0;     ///< s of the phenomenological specular term, [0, 1]
     double specular_exponent = 10.0;  ///< n, > 0
     SurfacePattern pattern;           ///< optional procedural albedo (stripes, checker)
+    /// A named material of the physics library (docs/physics.md), resolved at the survey's
+    /// wavelength; it replaces the three numbers above. Empty: none.
+    std::string library;
 };
 
 enum class PartKind : std::uint8_t { mesh, raster, sphere, plane };
