@@ -2,6 +2,7 @@
 #include <charconv>
 #include <chrono>
 #include <cmath>
+#include <future>
 #include <numbers>
 #include <optional>
 #include <system_error>
@@ -207,7 +208,16 @@ SurveyResult run_survey(const SurveySpec& spec, const SurveyRunConfig& run,
     std::vector<std::uint8_t> return_count;
     RayBatch rays;
     HitBatch hits;
-    std::vector<LasPoint> points;
+    // Encoding and writing chunk c (LAS, CSV) runs on its own thread while chunk c + 1 is traced:
+    // two point buffers, at most one write in flight, written in chunk order.
+    struct ChunkPoints {
+        std::vector<LasPoint> points;
+        std::vector<float> range_m;
+        std::vector<std::uint16_t> beam;
+    };
+    ChunkPoints buffers[2];
+    std::future<void> pending;
+    std::size_t chunk_index = 0;
     for (std::uint64_t first = 0; first < result.pulses; first += chunk) {
         const auto count =
             static_cast<std::size_t>(std::min<std::uint64_t>(chunk, result.pulses - first));
@@ -267,7 +277,10 @@ SurveyResult run_survey(const SurveySpec& spec, const SurveyRunConfig& run,
                 }
             });
         }
-        points.clear();
+        ChunkPoints& out = buffers[chunk_index++ % 2];
+        out.points.clear();
+        out.range_m.clear();
+        out.beam.clear();
         for (std::size_t i = 0; i < count; ++i) {
             const std::size_t n = sim ? return_count[i] : (hits.hit(i) ? 1 : 0);
             for (std::size_t r = 0; r < n; ++r) {
@@ -296,23 +309,34 @@ SurveyResult run_survey(const SurveySpec& spec, const SurveyRunConfig& run,
                 p.classification = part.label;
                 p.point_source_id = part.part_id;
                 p.user_data = static_cast<std::uint8_t>(pulses.channel[i] & 0xFFu);  // beam / row
-                points.push_back(std::move(p));
-                if (csv) {
-                    write_csv_row(*csv, points.back(), static_cast<float>(t), pulses.channel[i],
-                                  sim.has_value());
-                }
+                out.points.push_back(std::move(p));
+                out.range_m.push_back(static_cast<float>(t));
+                out.beam.push_back(pulses.channel[i]);
                 if (spec.write_ply) {
-                    ply_points.push_back({points.back().x, points.back().y, points.back().z,
-                                          static_cast<float>(t), hits.face[h],
+                    const LasPoint& q = out.points.back();
+                    ply_points.push_back({q.x, q.y, q.z, static_cast<float>(t), hits.face[h],
                                           static_cast<std::uint32_t>(first + i)});
                 }
             }
         }
-        writer.write(points);
+        if (pending.valid()) {
+            pending.get();  // the previous chunk is written (and its errors rethrown here)
+        }
+        pending = std::async(std::launch::async, [&writer, &csv, &out, physics = sim.has_value()] {
+            writer.write(out.points);
+            if (csv) {
+                for (std::size_t k = 0; k < out.points.size(); ++k) {
+                    write_csv_row(*csv, out.points[k], out.range_m[k], out.beam[k], physics);
+                }
+            }
+        });
         if (progress) {
             progress(static_cast<std::size_t>(first + count),
                      static_cast<std::size_t>(result.pulses));
         }
+    }
+    if (pending.valid()) {
+        pending.get();
     }
     writer.close();
     result.points = writer.point_count();
