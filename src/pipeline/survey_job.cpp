@@ -8,6 +8,7 @@
 #include <system_error>
 
 #include "beamtrace/core/error.hpp"
+#include "beamtrace/io/atomic_file.hpp"
 #include "beamtrace/io/colormap.hpp"
 #include "beamtrace/io/las_writer.hpp"
 #include "beamtrace/io/npy.hpp"
@@ -206,6 +207,22 @@ SurveyResult run_survey(const SurveySpec& spec, const SurveyRunConfig& run,
     std::vector<Vec3d> origin, axis;
     std::vector<PulseReturn> returns;
     std::vector<std::uint8_t> return_count;
+    // Optional waveforms.bin (physics.waveform.keep): every pulse's sampled echo power.
+    const bool keep_waves = sim && sim->config().keep_waveform;
+    std::unique_ptr<AtomicFile> waves;
+    std::vector<std::vector<float>> wave_samples;
+    std::vector<std::int64_t> wave_first_bin;
+    if (keep_waves) {
+        waves = std::make_unique<AtomicFile>(run.output_dir / "waveforms.bin");
+        waves->write("BTWAVE01", 8);
+        const std::uint32_t version = 1, reserved = 0;
+        const double bin_ns = sim->config().waveform.bin_ns;
+        const double fwhm_ns = sim->config().waveform.pulse_fwhm_ns;
+        waves->write(&version, 4);
+        waves->write(&reserved, 4);
+        waves->write(&bin_ns, 8);
+        waves->write(&fwhm_ns, 8);
+    }
     RayBatch rays;
     HitBatch hits;
     // Encoding and writing chunk c (LAS, CSV) runs on its own thread while chunk c + 1 is traced:
@@ -254,6 +271,10 @@ SurveyResult run_survey(const SurveySpec& spec, const SurveyRunConfig& run,
         if (sim) {
             returns.resize(count * max_returns);
             return_count.assign(count, 0);
+            if (keep_waves) {
+                wave_samples.resize(count);
+                wave_first_bin.assign(count, 0);
+            }
             pool.parallel_for(count, 1024, [&](std::size_t b, std::size_t e) {
                 std::vector<SubRayHit> sub(sub_rays);
                 PulseResponse response;
@@ -271,11 +292,31 @@ SurveyResult run_survey(const SurveySpec& spec, const SurveyRunConfig& run,
                                                   scene.geometry.normal(hits.face[h]), d);
                     }
                     sim->simulate(run.seed, first + i, sub, response);
+                    if (keep_waves) {
+                        const auto& w = response.waveform.samples_w;
+                        wave_samples[i].assign(w.begin(), w.end());
+                        wave_first_bin[i] = response.waveform.first_bin;
+                    }
                     const std::size_t n = std::min(response.returns.size(), max_returns);
                     std::copy_n(response.returns.begin(), n, returns.begin() + i * max_returns);
                     return_count[i] = static_cast<std::uint8_t>(n);
                 }
             });
+        }
+        if (keep_waves) {
+            for (std::size_t i = 0; i < count; ++i) {
+                const std::uint64_t index = first + i;
+                const double time_s = pulses.time_s[i];
+                const Vec3d o = origin[i] + scene.origin_m;
+                const double pose_record[7] = {time_s,    o.x,       o.y,      o.z,
+                                               axis[i].x, axis[i].y, axis[i].z};
+                const auto n = static_cast<std::uint32_t>(wave_samples[i].size());
+                waves->write(&index, 8);
+                waves->write(pose_record, sizeof pose_record);
+                waves->write(&wave_first_bin[i], 8);
+                waves->write(&n, 4);
+                waves->write(wave_samples[i].data(), 4 * std::size_t{n});
+            }
         }
         ChunkPoints& out = buffers[chunk_index++ % 2];
         out.points.clear();
@@ -341,6 +382,10 @@ SurveyResult run_survey(const SurveySpec& spec, const SurveyRunConfig& run,
     writer.close();
     result.points = writer.point_count();
     result.outputs.push_back(las_path);
+    if (waves) {
+        waves->commit();
+        result.outputs.push_back(run.output_dir / "waveforms.bin");
+    }
     if (csv) {
         csv->commit();
         result.outputs.push_back(run.output_dir / "points.csv");

@@ -2,7 +2,9 @@
 // divergence at a step edge and in a tree, and determinism with noise at any thread count.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <map>
 #include <numbers>
 
@@ -70,6 +72,48 @@ TEST(SurveyPhysics, StepEdgeStraddledByTheFootprintGivesTwoReturns) {
     EXPECT_EQ(one[0].number_of_returns, 1);
     EXPECT_NEAR(one[0].z, -20.0, 0.02);
     EXPECT_GT(one[0].intensity, two[0].intensity) << "the whole beam on one plane is stronger";
+}
+
+TEST(SurveyPhysics, WaveformSidecarHoldsBothEchoesOfTheStepEdge) {
+    test::TempDir dir;
+    test::write_file(dir / "step.yaml", kStep);
+    std::string yaml = step_survey(0.0);
+    yaml.replace(yaml.find("  atmosphere:"), 0,
+                 "  waveform: {pulse_fwhm_ns: 2, bin_ns: 0.25, keep: true}\n");
+    const auto points = run_and_read(yaml, dir);
+    ASSERT_EQ(points.size(), 2u);
+    const std::string bytes = test::read_file(dir / "out" / "waveforms.bin");
+    ASSERT_GE(bytes.size(), 32u + 72u + 4u);
+    EXPECT_EQ(bytes.substr(0, 8), "BTWAVE01");
+    const auto get = [&](std::size_t at, auto value) {
+        std::memcpy(&value, bytes.data() + at, sizeof value);
+        return value;
+    };
+    EXPECT_EQ(get(8, std::uint32_t{}), 1u);
+    EXPECT_DOUBLE_EQ(get(16, double{}), 0.25);
+    EXPECT_DOUBLE_EQ(get(24, double{}), 2.0);
+    // One record: pulse 0, time, origin, axis, first bin, count, samples.
+    EXPECT_EQ(get(32, std::uint64_t{}), 0u);
+    EXPECT_DOUBLE_EQ(get(32 + 8 + 8 * 6, double{}), -1.0);  // axis z: straight down
+    const auto first_bin = get(32 + 64, std::int64_t{});
+    const auto n = get(32 + 72, std::uint32_t{});
+    ASSERT_EQ(bytes.size(), 32u + 76u + 4u * n);
+    std::vector<float> w(n);
+    std::memcpy(w.data(), bytes.data() + 32 + 76, 4u * n);
+    // Local maxima above a tenth of the strongest: the two planes' echoes, at the round-trip
+    // times of 20 m and 21 m.
+    const float top = *std::max_element(w.begin(), w.end());
+    std::vector<double> peaks_m;
+    for (std::size_t k = 1; k + 1 < n; ++k) {
+        if (w[k] > 0.1f * top && w[k] >= w[k - 1] && w[k] > w[k + 1]) {
+            const double t_ns =
+                static_cast<double>(first_bin + static_cast<std::int64_t>(k)) * 0.25;
+            peaks_m.push_back(t_ns * 1e-9 * 299792458.0 / 2.0);
+        }
+    }
+    ASSERT_EQ(peaks_m.size(), 2u);
+    EXPECT_NEAR(peaks_m[0], 20.0, 0.04);
+    EXPECT_NEAR(peaks_m[1], 21.0, 0.04);
 }
 
 TEST(SurveyPhysics, LambertianIntensityFollowsCosineOverRangeSquared) {
