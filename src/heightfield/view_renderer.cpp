@@ -129,12 +129,13 @@ template <int SX, int SY, bool DOWN>
     constexpr std::int64_t kClimbY = SY > 0 ? 0 : 1;
     const double ox = r.ox, oy = r.oy, oz = r.oz, dx = r.dx, dy = r.dy, dz = r.dz;
     const double inv_dx = r.inv_dx, inv_dy = r.inv_dy, t_max = r.t_max;
-    const bool has_dx = dx != 0, has_dy = dy != 0;
     for (;;) {
         const auto bx = static_cast<double>((SX > 0 ? cx + 1 : cx) << level);
         const auto by = static_cast<double>((SY > 0 ? cy + 1 : cy) << level);
-        const double tx = has_dx ? (bx - ox) * inv_dx : kInf;
-        const double ty = has_dy ? (by - oy) * inv_dy : kInf;
+        // A zero dx has SX = +1 and inv_dx = +inf, and bx > ox (the ray is inside the window
+        // and its cell), so tx is +inf as in cell_exits without a test; the same for y.
+        const double tx = (bx - ox) * inv_dx;
+        const double ty = (by - oy) * inv_dy;
         const double t_out = std::min(tx, ty);
         const double t_end = std::min(t_out, t_max);
         const float h = table.height(level, cx, cy);
