@@ -125,7 +125,11 @@ void BM_ViewFrame(benchmark::State& state) {
     const std::vector<std::filesystem::path> inputs = {autzen_trim()};
     const auto cells = static_cast<int>(state.range(0));
     const auto levels = static_cast<int>(state.range(1));
-    bt::ViewSession session(inputs, session_config(cells, levels, 1.0));
+    bt::ViewSessionConfig config = session_config(cells, levels, 1.0);
+    if (state.range(2) > 0) {
+        config.threads = static_cast<unsigned>(state.range(2));
+    }
+    bt::ViewSession session(inputs, config);
     const bt::ViewCamera cam = frame_camera(session, 1920, 1080);
     static_cast<void>(session.move_to(cam.position));
     bt::RenderOptions options;
@@ -143,8 +147,9 @@ void BM_ViewFrame(benchmark::State& state) {
             fail("fewer than half the pixels hit");
         }
     }
+    bt::ViewImage img;  // reused between frames, as a viewer would
     for (auto _ : state) {
-        const bt::ViewImage img = session.render(cam, options);
+        session.render(cam, options, img);
         benchmark::DoNotOptimize(img.rgb.data());
     }
     state.counters["fps"] =
@@ -156,10 +161,13 @@ void BM_ViewFrame(benchmark::State& state) {
 
 BENCHMARK_CAPTURE(BM_ViewIngest, autzen_trim, 0)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_CAPTURE(BM_ViewIngest, autzen_8x8_tiled, 1)->Unit(benchmark::kMillisecond)->UseRealTime();
+// threads:0 = every core; threads:1 makes the CPU time the whole work of a frame (comparable
+// between runs on a loaded machine).
 BENCHMARK(BM_ViewFrame)
-    ->Args({16, 8})
-    ->Args({32, 8})
-    ->Args({64, 8})
-    ->ArgNames({"cells", "levels"})
+    ->Args({16, 8, 0})
+    ->Args({32, 8, 0})
+    ->Args({64, 8, 0})
+    ->Args({32, 8, 1})
+    ->ArgNames({"cells", "levels", "threads"})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();

@@ -159,6 +159,7 @@ int run(const ViewOptions& o) {
     }
     const bool show = !o.quiet && (o.progress || stderr_is_terminal());
     double render_s = 0;
+    ViewImage image;  // its buffers are reused frame after frame
     for (std::size_t i = 0; i < poses.size(); ++i) {
         camera.position = poses[i].position;
         camera.yaw_deg = poses[i].yaw_deg;
@@ -171,7 +172,7 @@ int run(const ViewOptions& o) {
         bar.finish();
         print_stats(stats, session, o.quiet);
         const auto start = std::chrono::steady_clock::now();
-        const ViewImage image = session.render(camera, render);
+        session.render(camera, render, image);
         render_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         std::filesystem::path out = o.output;
         if (!o.path.empty()) {

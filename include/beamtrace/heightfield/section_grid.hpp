@@ -77,6 +77,10 @@ class SectionGrid {
     [[nodiscard]] const HeightSection* slot(int slot) const {
         return slots_[static_cast<std::size_t>(slot)].get();
     }
+    /// The section in `slot` when it is loaded (visible to the renderer), else nullptr.
+    [[nodiscard]] const HeightSection* loaded(int slot) const {
+        return visible_[static_cast<std::size_t>(slot)];
+    }
     /// Makes a filled section visible (call its build_mipmap() first) and updates the height
     /// range.
     void mark_loaded(int slot);

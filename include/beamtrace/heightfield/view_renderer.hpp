@@ -40,6 +40,11 @@ struct ViewImage {
 [[nodiscard]] ViewImage render_view(const SectionGrid& grid, const ViewCamera& camera,
                                     const RenderOptions& options, ThreadPool& pool);
 
+/// The same into `image`, reusing its buffers (no allocation when the size is unchanged): for
+/// frame loops.
+void render_view(const SectionGrid& grid, const ViewCamera& camera, const RenderOptions& options,
+                 ThreadPool& pool, ViewImage& image);
+
 /// The same image by stepping through every finest cell along each ray (no hierarchy): the
 /// oracle of the tests. Same setup, hit test and shading as render_view.
 [[nodiscard]] ViewImage render_view_reference(const SectionGrid& grid, const ViewCamera& camera,

@@ -37,6 +37,10 @@ class ViewSession {
     [[nodiscard]] ViewImage render(const ViewCamera& camera, const RenderOptions& options) {
         return render_view(*grid_, camera, options, pool_);
     }
+    /// Renders into `image`, reusing its buffers.
+    void render(const ViewCamera& camera, const RenderOptions& options, ViewImage& image) {
+        render_view(*grid_, camera, options, pool_, image);
+    }
 
     /// Bytes counted against the budget: resident sections plus the loader's read buffer.
     [[nodiscard]] std::size_t budgeted_bytes() const {

@@ -25,6 +25,19 @@ struct GridRay {
     std::int64_t gx = 0, gy = 0;  ///< finest cell at t_min
 };
 
+/// std::floor of a value well inside the int64 range, without a library call (the same result).
+[[nodiscard]] inline std::int64_t floor_to_int(double v) {
+    const auto i = static_cast<std::int64_t>(v);
+    return i - static_cast<std::int64_t>(v < static_cast<double>(i));
+}
+
+/// std::lround of a value in [0, 255], without a library call (the same result: halves round
+/// up).
+[[nodiscard]] inline std::uint8_t round_byte(double v) {
+    const auto i = static_cast<int>(v);
+    return static_cast<std::uint8_t>(i + static_cast<int>(v - static_cast<double>(i) >= 0.5));
+}
+
 /// Clips the ray to the window box between the lowest and the highest loaded height; false
 /// when it misses.
 [[nodiscard]] inline bool setup_ray(const SectionGrid& grid, const Vec3d& position,
@@ -80,10 +93,8 @@ struct GridRay {
     r.t_min = t0;
     r.t_max = t1;
     const auto last = grid.window_cells() - 1;
-    r.gx =
-        std::clamp(static_cast<std::int64_t>(std::floor(r.ox + r.dx * t0)), std::int64_t{0}, last);
-    r.gy =
-        std::clamp(static_cast<std::int64_t>(std::floor(r.oy + r.dy * t0)), std::int64_t{0}, last);
+    r.gx = std::clamp(floor_to_int(r.ox + r.dx * t0), std::int64_t{0}, last);
+    r.gy = std::clamp(floor_to_int(r.oy + r.dy * t0), std::int64_t{0}, last);
     return true;
 }
 
@@ -110,9 +121,12 @@ struct GridHit {
     float h = 0;
 };
 
-/// Colour and distance of a hit.
-inline void shade_hit(const SectionGrid& grid, const GridRay& r, const GridHit& hit,
-                      const RenderOptions& options, std::uint8_t* rgb, float& depth) {
+/// Colour and distance of a hit. `finest(x, y)` is grid.height(0, x, y) (a faster lookup of the
+/// same values).
+template <typename Finest>
+inline void shade_hit(const SectionGrid& grid, const Finest& finest, const GridRay& r,
+                      const GridHit& hit, const RenderOptions& options, std::uint8_t* rgb,
+                      float& depth) {
     const double h = hit.h;
     double t = hit.t_in;
     bool top = true;
@@ -146,7 +160,7 @@ inline void shade_hit(const SectionGrid& grid, const GridRay& r, const GridHit& 
                 if (x < 0 || y < 0 || x > last || y > last) {
                     return h;
                 }
-                const float v = grid.height(0, x, y);
+                const float v = finest(x, y);
                 return v == kEmptyHeight ? h : static_cast<double>(v);
             };
             const double two_cells = 2.0 * grid.config().cell_size;
@@ -171,7 +185,7 @@ inline void shade_hit(const SectionGrid& grid, const GridRay& r, const GridHit& 
         }
     }
     for (std::size_t k = 0; k < 3; ++k) {
-        rgb[k] = static_cast<std::uint8_t>(std::lround(std::clamp(c[k], 0.0, 255.0)));
+        rgb[k] = round_byte(std::clamp(c[k], 0.0, 255.0));
     }
 }
 
