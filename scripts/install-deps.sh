@@ -2,7 +2,7 @@
 # Installs the Debian 12 packages beamtrace needs, only those that are missing.
 set -euo pipefail
 pkgs=(build-essential cmake libcli11-dev libpng-dev libtiff-dev libyaml-cpp-dev nlohmann-json3-dev
-      libgtest-dev libbenchmark-dev)
+      libgtest-dev libbenchmark-dev libembree-dev)
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

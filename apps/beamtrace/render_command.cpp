@@ -153,7 +153,7 @@ std::function<int()> add_render_command(CLI::App& app) {
     cmd->add_flag("--no-shadows", opts->no_shadows, "Do not trace shadow rays");
     cmd->add_flag("--triangles", opts->triangles,
                   "Trace sphere and plane parts as their triangles instead of exactly");
-    cmd->add_option("--backend", opts->backend, "bvh | kdtree | brute")->capture_default_str();
+    cmd->add_option("--backend", opts->backend, backend_choices())->capture_default_str();
     cmd->add_option("--threads", opts->threads, "Worker threads (0 = all cores)")
         ->capture_default_str();
     cmd->add_option("--output", opts->output, "Output PNG (written atomically)")->required();

@@ -140,7 +140,7 @@ std::function<int()> add_scan_command(CLI::App& app) {
     cmd->add_option("--vfov", opts->vfov, "Vertical field of view in radians (default 0.5)");
     cmd->add_option("--rays", opts->rays, "Rays file for --pattern rays: CSV ox,oy,oz,dx,dy,dz")
         ->check(CLI::ExistingFile);
-    cmd->add_option("--backend", opts->backend, "bvh | kdtree | brute")->capture_default_str();
+    cmd->add_option("--backend", opts->backend, backend_choices())->capture_default_str();
     cmd->add_option("--kdtree-rules", opts->kdtree_rules,
                     "k-d tree build: sah (binned SAH) or report (the ladar report's rules)")
         ->capture_default_str();

@@ -62,7 +62,7 @@ std::function<int()> add_survey_command(CLI::App& app) {
         ->capture_default_str();
     cmd->add_option("--seed", opts->seed, "Random seed (recorded in the LAS file)")
         ->capture_default_str();
-    cmd->add_option("--backend", opts->backend, "bvh | kdtree | brute")->capture_default_str();
+    cmd->add_option("--backend", opts->backend, backend_choices())->capture_default_str();
     cmd->add_flag("--quiet", opts->quiet, "No progress bar and no summary");
     cmd->add_flag("--progress", opts->progress,
                   "Show the progress bar even when not on a terminal");

@@ -1,5 +1,6 @@
-// The three backends: brute force (the oracle), the report's k-d tree and the binned-SAH BVH
-// (single-level over one mesh, or two-level over instanced meshes).
+// The three own backends: brute force (the oracle), the report's k-d tree and the binned-SAH BVH
+// (single-level over one mesh, or two-level over instanced meshes); Embree is in
+// embree_backend.cpp.
 #include <cmath>
 #include <memory>
 #include <span>
@@ -9,6 +10,7 @@
 #include "beamtrace/accel/bvh.hpp"
 #include "beamtrace/accel/kdtree.hpp"
 #include "beamtrace/core/error.hpp"
+#include "detail/embree.hpp"
 #include "detail/queries.hpp"
 
 namespace beamtrace {
@@ -268,8 +270,16 @@ BackendKind parse_backend_kind(std::string_view name) {
     if (name == "bvh") {
         return BackendKind::bvh;
     }
-    throw ConfigError("unknown backend '" + std::string(name) +
-                      "' (expected bvh, kdtree or brute)");
+    if (name == "embree") {
+        if (!embree_available()) {
+            throw ConfigError(
+                "backend 'embree': beamtrace was built without Embree (install libembree-dev "
+                "and reconfigure with -DBEAMTRACE_WITH_EMBREE=ON)");
+        }
+        return BackendKind::embree;
+    }
+    throw ConfigError("unknown backend '" + std::string(name) + "' (expected " +
+                      std::string(backend_choices()) + ")");
 }
 
 std::string_view to_string(BackendKind kind) {
@@ -280,6 +290,8 @@ std::string_view to_string(BackendKind kind) {
             return "kdtree";
         case BackendKind::bvh:
             return "bvh";
+        case BackendKind::embree:
+            return "embree";
     }
     return "?";
 }
@@ -296,6 +308,8 @@ std::unique_ptr<Backend> make_backend(BackendKind kind, const TriangleMesh& mesh
         case BackendKind::bvh:
             return std::make_unique<detail::QueryBackend<BvhTraverser, BackendKind::bvh>>(
                 BvhTraverser{&mesh, build_bvh(mesh, config.bvh, pool)});
+        case BackendKind::embree:
+            return detail::make_embree_backend(mesh, pool);
     }
     throw ConfigError("unknown backend kind");
 }
@@ -304,6 +318,9 @@ std::unique_ptr<Backend> make_backend(BackendKind kind, const SceneGeometry& geo
                                       ThreadPool& pool, const BackendConfig& config) {
     if (geometry.is_single_mesh()) {
         return make_backend(kind, geometry.meshes[geometry.instances[0].mesh], pool, config);
+    }
+    if (kind == BackendKind::embree) {
+        return detail::make_embree_backend(geometry, pool);
     }
     if (kind == BackendKind::bvh) {
         return std::make_unique<detail::QueryBackend<TwoLevelTraverser, BackendKind::bvh>>(

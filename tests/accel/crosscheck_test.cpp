@@ -1,6 +1,8 @@
 // Every backend against brute force on the same rays: real meshes, random and adversarial rays.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cstdio>
 #include <random>
 
 #include "beamtrace/accel/backend.hpp"
@@ -68,12 +70,47 @@ struct NamedBackend {
 std::vector<NamedBackend> accelerated_backends() {
     BackendConfig report;
     report.kdtree = KdTreeBuildConfig::report();
-    return {{BackendKind::kdtree, {}, "kdtree"},
-            {BackendKind::kdtree, report, "kdtree-report-rules"},
-            {BackendKind::bvh, {}, "bvh"}};
+    std::vector<NamedBackend> all{{BackendKind::kdtree, {}, "kdtree"},
+                                  {BackendKind::kdtree, report, "kdtree-report-rules"},
+                                  {BackendKind::bvh, {}, "bvh"}};
+    if (embree_available()) {
+        all.push_back({BackendKind::embree, {}, "embree"});
+    }
+    return all;
 }
 
-void expect_agreement(const TriangleMesh& mesh, const RayBatch& rays, const char* what) {
+/// True when the point at range t along ray i lies on face `face` (within float rounding): a
+/// legitimate hit of a ray that grazes an edge or vertex, which a non-watertight test may report
+/// although the watertight test gives the ray to a neighbour.
+bool on_face(const TriangleMesh& mesh, std::uint32_t face, const RayBatch& rays, std::size_t i,
+             double t) {
+    const Face& f = mesh.faces[face];
+    const Vec3d a(mesh.vertices[f[0]]), b(mesh.vertices[f[1]]), c(mesh.vertices[f[2]]);
+    const Vec3d q = rays.origin(i) + rays.direction(i) * t;
+    const Vec3d n = cross(b - a, c - a);
+    const double nn = dot(n, n);
+    const double tol = 1e-5 * std::max(1.0, t);
+    if (std::abs(dot(q - a, n)) > tol * std::sqrt(nn)) {
+        return false;
+    }
+    // Barycentrics of q's projection; slack 1e-3 (float origins move the point by ~1e-7 of the
+    // range, a sizeable fraction of a millimetre-sized triangle's barycentrics).
+    const double u = dot(cross(q - a, c - a), n) / nn;
+    const double v = dot(cross(b - a, q - a), n) / nn;
+    return u >= -1e-3 && v >= -1e-3 && u + v <= 1.0 + 1e-3;
+}
+
+/// Our backends share one watertight test and agree exactly with brute force. Embree's
+/// triangle test is not that test: on rays aimed exactly at vertices and edges it may give a
+/// grazing hit on a neighbouring face (a point of that face within float rounding, nearer than
+/// the oracle's), which is counted and limited separately.
+bool shares_watertight_test(BackendKind kind) {
+    return kind != BackendKind::embree;
+}
+
+/// `edge_rays`: rays aimed exactly at vertices and edges, where Embree may differ (see above).
+void expect_agreement(const TriangleMesh& mesh, const RayBatch& rays, const char* what,
+                      bool edge_rays = false) {
     ThreadPool pool(0);
     const auto brute = make_backend(BackendKind::brute, mesh, pool);
     const HitBatch oracle = brute->intersect(rays, pool);
@@ -85,26 +122,54 @@ void expect_agreement(const TriangleMesh& mesh, const RayBatch& rays, const char
     for (const auto& [kind, config, name] : accelerated_backends()) {
         const auto backend = make_backend(kind, mesh, pool, config);
         const HitBatch got = backend->intersect(rays, pool);
-        std::size_t bad = 0;
+        std::size_t bad = 0, grazing = 0, slipped = 0;
         for (std::size_t i = 0; i < rays.size(); ++i) {
             const bool same_face = got.face[i] == oracle.face[i];
             const bool same_range =
                 oracle.hit(i) && got.hit(i) &&
                 std::abs(double(got.t[i]) - double(oracle.t[i])) <= 1e-6 * double(oracle.t[i]);
+            if (!same_face && !same_range && !shares_watertight_test(kind) && got.hit(i) &&
+                (!oracle.hit(i) || got.t[i] < oracle.t[i]) &&
+                on_face(mesh, got.face[i], rays, i, double(got.t[i]))) {
+                ++grazing;
+                continue;
+            }
+            if (!same_face && !same_range && !shares_watertight_test(kind) && oracle.hit(i) &&
+                (!got.hit(i) || got.t[i] > oracle.t[i]) &&
+                std::min({double(oracle.u[i]), double(oracle.v[i]),
+                          1.0 - double(oracle.u[i]) - double(oracle.v[i])}) < 1e-3) {
+                ++slipped;  // through an edge or vertex the oracle's hit lies on
+                continue;
+            }
             if (!same_face && !same_range) {
-                if (++bad <= 5) {
+                if (++bad <= 5 && shares_watertight_test(kind)) {
                     ADD_FAILURE() << what << " " << name << " ray " << i << ": face " << got.face[i]
                                   << " t " << got.t[i] << " vs brute face " << oracle.face[i]
                                   << " t " << oracle.t[i];
                 }
             }
         }
-        EXPECT_EQ(bad, 0u) << what << " " << name;
+        if (shares_watertight_test(kind) || !edge_rays) {
+            EXPECT_EQ(bad, 0u) << what << " " << name;
+            EXPECT_EQ(grazing + slipped, 0u) << what << " " << name;
+        } else {
+            // Edge rays that neither graze nor slip by the tests above (a wider grazing angle
+            // than their tolerance): at most 1 in 1000. Random rays must agree exactly.
+            EXPECT_LE(bad, rays.size() / 1000) << what << " " << name;
+        }
+        // Grazing and slipping only on rays aimed at edges and vertices, and rarely there.
+        EXPECT_LE(grazing + slipped, rays.size() / 50) << what << " " << name;
+        if (grazing + slipped > 0) {
+            std::printf(
+                "  %s %s: of %zu rays, %zu graze a neighbouring face, %zu slip through "
+                "an edge or vertex\n",
+                what, name, rays.size(), grazing, slipped);
+        }
         // Occlusion agrees with the nearest-hit query.
         std::vector<std::uint8_t> occ;
         backend->occluded(rays, 0, rays.size(), occ, pool);
         for (std::size_t i = 0; i < rays.size(); ++i) {
-            ASSERT_EQ(occ[i] != 0, oracle.hit(i)) << what << " " << name << " ray " << i;
+            ASSERT_EQ(occ[i] != 0, got.hit(i)) << what << " " << name << " ray " << i;
         }
     }
 }
@@ -128,7 +193,7 @@ TEST(CrossCheck, BunnyVertexAndEdgeRays) {
     BEAMTRACE_REQUIRE_FILE(path);
     const TriangleMesh mesh = load_mesh(path);
     expect_agreement(mesh, vertex_and_edge_rays(mesh, test::heavy_scale(10000), 3),
-                     "bunny-vertices");
+                     "bunny-vertices", true);
 }
 
 TEST(CrossCheck, TerrainVertexAndEdgeRays) {
@@ -136,7 +201,7 @@ TEST(CrossCheck, TerrainVertexAndEdgeRays) {
     BEAMTRACE_REQUIRE_FILE(path);
     const TriangleMesh mesh = load_mesh(path);
     expect_agreement(mesh, vertex_and_edge_rays(mesh, test::heavy_scale(10000), 4),
-                     "terrain-vertices");
+                     "terrain-vertices", true);
 }
 
 /// Rays from inside a closed mesh through its vertices and edges must hit: no leaks.
@@ -210,11 +275,25 @@ TEST(CrossCheck, AxisAlignedRaysThroughGridVerticesAndEdges) {
         const auto backend = make_backend(kind, grid, pool, config);
         const HitBatch hits = backend->intersect(rays, pool);
         for (std::size_t i = 0; i < rays.size(); ++i) {
+            const double x = rays.ox[i], y = rays.oy[i];
+            if (!shares_watertight_test(kind) && (x == 32.0 || y == 32.0 || x == 0.0 || y == 0.0)) {
+                // Embree's edge test is not closed on every side: rays exactly along the outer
+                // boundary of an open mesh may miss it (a ray off the mesh by any amount does).
+                continue;
+            }
             ASSERT_TRUE(hits.hit(i)) << name << " ray " << i << " leaked";
             EXPECT_EQ(hits.t[i], 10.0f);
         }
     }
-    expect_agreement(grid, rays, "grid");
+    // Embree against brute force on the interior rays only (see above).
+    RayBatch interior;
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+        const double x = rays.ox[i], y = rays.oy[i];
+        if (x > 0.0 && x < 32.0 && y > 0.0 && y < 32.0) {
+            interior.push_back(rays.origin(i), rays.direction(i));
+        }
+    }
+    expect_agreement(grid, interior, "grid", true);
 }
 
 TEST(CrossCheck, AllHitsMatchBruteForceAndMollerTrumbore) {
@@ -229,7 +308,11 @@ TEST(CrossCheck, AllHitsMatchBruteForceAndMollerTrumbore) {
     }
     AllHits ref;
     make_backend(BackendKind::brute, sphere, pool)->intersect_all(rays, Facing::both, ref, pool);
-    for (BackendKind kind : {BackendKind::kdtree, BackendKind::bvh}) {
+    std::vector<BackendKind> kinds{BackendKind::kdtree, BackendKind::bvh};
+    if (embree_available()) {
+        kinds.push_back(BackendKind::embree);
+    }
+    for (BackendKind kind : kinds) {
         for (Facing facing : {Facing::front, Facing::back, Facing::both}) {
             AllHits got;
             make_backend(kind, sphere, pool)->intersect_all(rays, facing, got, pool);
@@ -265,7 +348,11 @@ TEST(CrossCheck, ResultsDoNotDependOnThreadCount) {
         rays.push_back(o, normalize(Vec3d{g(rng), g(rng), g(rng)} - o));
     }
     ThreadPool one(1), four(4);
-    for (BackendKind kind : {BackendKind::kdtree, BackendKind::bvh}) {
+    std::vector<BackendKind> kinds{BackendKind::kdtree, BackendKind::bvh};
+    if (embree_available()) {
+        kinds.push_back(BackendKind::embree);
+    }
+    for (BackendKind kind : kinds) {
         const HitBatch a = make_backend(kind, sphere, one)->intersect(rays, one);
         const HitBatch b = make_backend(kind, sphere, four)->intersect(rays, four);
         EXPECT_EQ(a.t, b.t);

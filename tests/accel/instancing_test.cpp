@@ -128,9 +128,15 @@ TEST(Instancing, TwoLevelBvhAgreesWithBruteForceOnTheFlattenedScene) {
     const auto brute = make_backend(BackendKind::brute, g, pool);
     const auto bvh = make_backend(BackendKind::bvh, g, pool);
     const auto kd = make_backend(BackendKind::kdtree, g, pool);
+    std::vector<const Backend*> backends{bvh.get(), kd.get()};
+    std::unique_ptr<Backend> embree;
+    if (embree_available()) {
+        embree = make_backend(BackendKind::embree, g, pool);
+        backends.push_back(embree.get());
+    }
     const HitBatch oracle = brute->intersect(rays, pool);
     std::size_t hits = 0, per_instance[5] = {0, 0, 0, 0, 0};
-    for (const auto* backend : {bvh.get(), kd.get()}) {
+    for (const auto* backend : backends) {
         const HitBatch got = backend->intersect(rays, pool);
         for (std::size_t i = 0; i < rays.size(); ++i) {
             ASSERT_EQ(got.hit(i), oracle.hit(i)) << to_string(backend->kind()) << " ray " << i;
@@ -159,6 +165,11 @@ TEST(Instancing, TwoLevelBvhAgreesWithBruteForceOnTheFlattenedScene) {
     brute->occluded(rays, 0, rays.size(), occ_brute, pool);
     bvh->occluded(rays, 0, rays.size(), occ_bvh, pool);
     EXPECT_EQ(occ_brute, occ_bvh);
+    if (embree) {
+        std::vector<std::uint8_t> occ_embree;
+        embree->occluded(rays, 0, rays.size(), occ_embree, pool);
+        EXPECT_EQ(occ_brute, occ_embree);
+    }
 }
 
 TEST(Instancing, AllHitsAndFacingSurviveMirroredPlacements) {
@@ -168,14 +179,21 @@ TEST(Instancing, AllHitsAndFacingSurviveMirroredPlacements) {
     const RayBatch rays = rays_at(g.bounds(), test::heavy_scale(4000), 11);
     const auto brute = make_backend(BackendKind::brute, g, pool);
     const auto bvh = make_backend(BackendKind::bvh, g, pool);
-    for (const Facing facing : {Facing::both, Facing::front, Facing::back}) {
-        AllHits want, got;
-        brute->intersect_all(rays, facing, want, pool);
-        bvh->intersect_all(rays, facing, got, pool);
-        ASSERT_EQ(want.offsets, got.offsets);
-        EXPECT_EQ(want.face, got.face);
-        EXPECT_EQ(want.front, got.front);
-        EXPECT_GT(want.face.size(), rays.size() / (facing == Facing::both ? 3 : 5));
+    std::vector<BackendKind> kinds{BackendKind::bvh};
+    if (embree_available()) {
+        kinds.push_back(BackendKind::embree);
+    }
+    for (const BackendKind kind : kinds) {
+        const auto backend = make_backend(kind, g, pool);
+        for (const Facing facing : {Facing::both, Facing::front, Facing::back}) {
+            AllHits want, got;
+            brute->intersect_all(rays, facing, want, pool);
+            backend->intersect_all(rays, facing, got, pool);
+            ASSERT_EQ(want.offsets, got.offsets) << to_string(kind);
+            EXPECT_EQ(want.face, got.face) << to_string(kind);
+            EXPECT_EQ(want.front, got.front) << to_string(kind);
+            EXPECT_GT(want.face.size(), rays.size() / (facing == Facing::both ? 3 : 5));
+        }
     }
     // Every ray that enters the closed, outward-facing spheres from outside meets a front face
     // first, mirrored or not.
@@ -233,18 +251,26 @@ TEST(Instancing, LargeArrayTracesLikeTheSingleMesh) {
         local.push_back({x, y, 10.0}, {0, 0, -1});
         copy.push_back(j * n + i);
     }
-    const HitBatch hw = bvh->intersect(world, pool);
-    const HitBatch hl = single->intersect(local, pool);
-    for (std::size_t k = 0; k < world.size(); ++k) {
-        ASSERT_TRUE(hw.hit(k) && hl.hit(k)) << k;
-        const auto c = static_cast<std::uint32_t>(copy[k]);
-        EXPECT_EQ(hw.face[k], c * 12800u + hl.face[k]) << k;
-        EXPECT_NEAR(hw.t[k], 10.0 - 0.5 * ((c % n + c / n) % 3), 1e-5) << k;
+    std::vector<BackendKind> kinds{BackendKind::bvh};
+    if (embree_available()) {
+        kinds.push_back(BackendKind::embree);
     }
-    // Between the tiles there is nothing.
-    RayBatch gaps;
-    gaps.push_back({90.0, 50.0, 10.0}, {0, 0, -1});
-    EXPECT_FALSE(bvh->intersect(gaps, pool).hit(0));
+    const HitBatch hl = single->intersect(local, pool);
+    for (const BackendKind kind : kinds) {
+        const auto backend = kind == BackendKind::bvh ? nullptr : make_backend(kind, g, pool);
+        const Backend& b = backend ? *backend : *bvh;
+        const HitBatch hw = b.intersect(world, pool);
+        for (std::size_t k = 0; k < world.size(); ++k) {
+            ASSERT_TRUE(hw.hit(k) && hl.hit(k)) << to_string(kind) << " " << k;
+            const auto c = static_cast<std::uint32_t>(copy[k]);
+            EXPECT_EQ(hw.face[k], c * 12800u + hl.face[k]) << to_string(kind) << " " << k;
+            EXPECT_NEAR(hw.t[k], 10.0 - 0.5 * ((c % n + c / n) % 3), 1e-5) << k;
+        }
+        // Between the tiles there is nothing.
+        RayBatch gaps;
+        gaps.push_back({90.0, 50.0, 10.0}, {0, 0, -1});
+        EXPECT_FALSE(b.intersect(gaps, pool).hit(0)) << to_string(kind);
+    }
 }
 
 }  // namespace

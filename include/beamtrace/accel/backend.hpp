@@ -20,9 +20,26 @@
 
 namespace beamtrace {
 
-enum class BackendKind : std::uint8_t { brute, kdtree, bvh };
+/// `embree` exists in every build; make_backend and parse_backend_kind refuse it when beamtrace
+/// was built without Embree (see embree_available()).
+enum class BackendKind : std::uint8_t { brute, kdtree, bvh, embree };
 
-/// "brute", "kdtree" or "bvh"; throws ConfigError otherwise.
+/// True when this build has the Embree backend (BEAMTRACE_HAVE_EMBREE).
+[[nodiscard]] constexpr bool embree_available() {
+#ifdef BEAMTRACE_HAVE_EMBREE
+    return true;
+#else
+    return false;
+#endif
+}
+
+/// Help text for --backend options: the backends this build has.
+[[nodiscard]] constexpr const char* backend_choices() {
+    return embree_available() ? "bvh | kdtree | brute | embree" : "bvh | kdtree | brute";
+}
+
+/// "brute", "kdtree", "bvh" or "embree"; throws ConfigError otherwise, and for "embree" when
+/// beamtrace was built without Embree.
 [[nodiscard]] BackendKind parse_backend_kind(std::string_view name);
 [[nodiscard]] std::string_view to_string(BackendKind kind);
 
@@ -57,15 +74,18 @@ struct BackendConfig {
     KdTreeBuildConfig kdtree;
 };
 
-/// Builds a backend over `mesh`, which must outlive it (geometry is never copied).
+/// Builds a backend over `mesh`, which must outlive it (geometry is never copied; the Embree
+/// backend copies the vertices once into an Embree buffer when the vector has no spare capacity
+/// for Embree's 16-byte loads of the last vertex).
 [[nodiscard]] std::unique_ptr<Backend> make_backend(BackendKind kind, const TriangleMesh& mesh,
                                                     ThreadPool& pool,
                                                     const BackendConfig& config = {});
 
 /// Builds a backend over instanced geometry, which must outlive it. One mesh placed once is
 /// traced exactly as above; otherwise the BVH backend is two-level (a BVH over instances, one per
-/// unique mesh: triangles are never copied) and brute/kdtree trace a flattened copy. Face IDs are
-/// global (SceneGeometry).
+/// unique mesh: triangles are never copied), Embree places identity instances directly in its top
+/// scene and the others as Embree instances of one sub-scene per mesh, and brute/kdtree trace a
+/// flattened copy. Face IDs are global (SceneGeometry).
 [[nodiscard]] std::unique_ptr<Backend> make_backend(BackendKind kind, const SceneGeometry& geometry,
                                                     ThreadPool& pool,
                                                     const BackendConfig& config = {});
