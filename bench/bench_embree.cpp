@@ -22,48 +22,14 @@
 #include "beamtrace/scene/demo_scene.hpp"
 #include "beamtrace/scene/mesh_loader.hpp"
 #include "beamtrace/sensor/image_sensor.hpp"
+#include "bench_scenes.hpp"
 
 namespace bt = beamtrace;
 
 namespace {
 
-/// The same 708 x 708-cell terrain as bench_trace.cpp: 1 002 528 triangles.
-const bt::TriangleMesh& terrain() {
-    static const bt::TriangleMesh mesh = [] {
-        constexpr int n = 708;
-        bt::TriangleMesh m;
-        for (int j = 0; j <= n; ++j) {
-            for (int i = 0; i <= n; ++i) {
-                const double x = i - n / 2.0, y = j - n / 2.0;
-                m.vertices.emplace_back(static_cast<float>(x), static_cast<float>(y),
-                                        static_cast<float>(bt::demo_terrain_height(x, y)));
-            }
-        }
-        auto idx = [](int i, int j) { return static_cast<std::uint32_t>(j * (n + 1) + i); };
-        for (int j = 0; j < n; ++j) {
-            for (int i = 0; i < n; ++i) {
-                m.faces.push_back({idx(i, j), idx(i + 1, j), idx(i + 1, j + 1)});
-                m.faces.push_back({idx(i, j), idx(i + 1, j + 1), idx(i, j + 1)});
-            }
-        }
-        return m;
-    }();
-    return mesh;
-}
-
-const bt::RayBatch& nadir() {
-    static const bt::RayBatch rays = [] {
-        bt::ImageSensorConfig c;
-        c.position_m = {0.0, 0.0, 400.0};
-        c.orientation = {0.0, -std::numbers::pi / 2, 0.0};
-        c.width = 512;
-        c.height = 512;
-        c.hfov_rad = std::numbers::pi / 3;
-        c.vfov_rad = std::numbers::pi / 3;
-        return bt::cast_rays_pinhole(c);
-    }();
-    return rays;
-}
+using bt::bench::nadir_rays;
+using bt::bench::terrain_1m;
 
 [[noreturn]] void fail(const std::string& what) {
     std::fprintf(stderr, "benchmark check failed: %s\n", what.c_str());
@@ -151,16 +117,16 @@ void check_terrain_once() {
     }
     done = true;
     bt::ThreadPool pool(0);
-    const RawEmbree raw(terrain());
+    const RawEmbree raw(terrain_1m());
     std::vector<std::uint32_t> faces;
-    raw.trace(nadir(), faces, pool);
+    raw.trace(nadir_rays(), faces, pool);
     const std::size_t limit_hits = count_hits(faces);
-    if (limit_hits != nadir().size()) {
+    if (limit_hits != nadir_rays().size()) {
         fail("raw Embree: a nadir ray missed");
     }
     for (auto kind : {bt::BackendKind::embree, bt::BackendKind::bvh}) {
-        const auto backend = bt::make_backend(kind, terrain(), pool);
-        const bt::HitBatch hits = backend->intersect(nadir(), pool);
+        const auto backend = bt::make_backend(kind, terrain_1m(), pool);
+        const bt::HitBatch hits = backend->intersect(nadir_rays(), pool);
         if (count_hits(hits.face) != limit_hits) {
             fail(std::string(bt::to_string(kind)) + ": hit count differs from raw Embree");
         }
@@ -170,13 +136,13 @@ void check_terrain_once() {
 void BM_EmbreeLimitTerrain(benchmark::State& state) {
     check_terrain_once();
     bt::ThreadPool pool(threads_arg(state));
-    const RawEmbree raw(terrain());
+    const RawEmbree raw(terrain_1m());
     std::vector<std::uint32_t> faces;
     for (auto _ : state) {
-        raw.trace(nadir(), faces, pool);
+        raw.trace(nadir_rays(), faces, pool);
         benchmark::DoNotOptimize(faces.data());
     }
-    state.counters["rays/s"] = benchmark::Counter(static_cast<double>(nadir().size()),
+    state.counters["rays/s"] = benchmark::Counter(static_cast<double>(nadir_rays().size()),
                                                   benchmark::Counter::kIsIterationInvariantRate);
 }
 
@@ -184,14 +150,14 @@ template <bt::BackendKind Kind>
 void BM_EmbreeCompareTerrain(benchmark::State& state) {
     check_terrain_once();
     bt::ThreadPool pool(threads_arg(state));
-    const auto backend = bt::make_backend(Kind, terrain(), pool);
+    const auto backend = bt::make_backend(Kind, terrain_1m(), pool);
     bt::HitBatch hits;
-    hits.resize(nadir().size());
+    hits.resize(nadir_rays().size());
     for (auto _ : state) {
-        backend->intersect(nadir(), 0, nadir().size(), hits, pool);
+        backend->intersect(nadir_rays(), 0, nadir_rays().size(), hits, pool);
         benchmark::DoNotOptimize(hits.t.data());
     }
-    state.counters["rays/s"] = benchmark::Counter(static_cast<double>(nadir().size()),
+    state.counters["rays/s"] = benchmark::Counter(static_cast<double>(nadir_rays().size()),
                                                   benchmark::Counter::kIsIterationInvariantRate);
 }
 

@@ -6,23 +6,19 @@
 #include <random>
 
 #include "beamtrace/accel/backend.hpp"
-#include "beamtrace/core/quat.hpp"
 #include "beamtrace/scene/mesh_loader.hpp"
+#include "beamtrace/scene/scene_spec.hpp"
 #include "test_support.hpp"
 
 namespace beamtrace {
 namespace {
 
 Affine3 placement(const Vec3d& t, const RollPitchYaw& rpy, const Vec3d& scale) {
-    const Mat3 r = Quat::from_rpy(rpy).to_matrix();
-    Affine3 a;
-    for (int i = 0; i < 3; ++i) {
-        a.linear.m[i][0] = r.m[i][0] * scale.x;
-        a.linear.m[i][1] = r.m[i][1] * scale.y;
-        a.linear.m[i][2] = r.m[i][2] * scale.z;
-    }
-    a.translation = t;
-    return a;
+    PartTransform p;
+    p.translate_m = t;
+    p.rotate = rpy;
+    p.scale = scale;
+    return p.to_affine();
 }
 
 /// Two meshes: a sphere placed four times (rotated, non-uniformly scaled, one mirrored), a flat

@@ -12,23 +12,13 @@
 #include "beamtrace/io/las_reader.hpp"
 #include "beamtrace/physics/material_library.hpp"
 #include "beamtrace/pipeline/survey.hpp"
+#include "pipeline/survey_test_support.hpp"
 #include "test_support.hpp"
 
 namespace beamtrace {
 namespace {
 
-std::vector<LasPoint> run_and_read(const std::string& yaml, const test::TempDir& dir,
-                                   unsigned threads = 2, std::size_t chunk = 1 << 16) {
-    test::write_file(dir / "survey.yaml", yaml);
-    const SurveySpec spec = load_survey_spec(dir / "survey.yaml");
-    SurveyRunConfig run;
-    run.output_dir = dir / "out";
-    run.threads = threads;
-    run.chunk_pulses = chunk;
-    run.seed = 7;
-    (void)run_survey(spec, run);
-    return read_las_points(dir / "out" / "points.las");
-}
+using test::run_and_read;
 
 // Two horizontal planes meeting at x = 0: z = -20 for x < 0, z = -21 for x > 0.
 constexpr const char* kStep = R"(parts:

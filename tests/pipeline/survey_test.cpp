@@ -11,22 +11,13 @@
 #include "beamtrace/core/error.hpp"
 #include "beamtrace/io/las_reader.hpp"
 #include "beamtrace/io/npy.hpp"
+#include "pipeline/survey_test_support.hpp"
 #include "test_support.hpp"
 
 namespace beamtrace {
 namespace {
 
-std::vector<LasPoint> run_and_read(const std::string& yaml, const test::TempDir& dir,
-                                   unsigned threads = 2, std::size_t chunk = 1 << 16) {
-    test::write_file(dir / "survey.yaml", yaml);
-    const SurveySpec spec = load_survey_spec(dir / "survey.yaml");
-    SurveyRunConfig run;
-    run.output_dir = dir / "out";
-    run.threads = threads;
-    run.chunk_pulses = chunk;
-    (void)run_survey(spec, run);
-    return read_las_points(dir / "out" / "points.las");
-}
+using test::run_and_read;
 
 constexpr const char* kRoom = R"(parts:
   - {plane: {point_m: [0, 0, -5], normal: [0, 0, 1], size_m: 20}, label: 2}

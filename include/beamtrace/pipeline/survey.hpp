@@ -60,7 +60,7 @@ struct SurveySpec {
 struct SurveyRunConfig {
     std::filesystem::path output_dir;
     unsigned threads = 0;    ///< 0 = all cores; results identical for any value
-    std::uint64_t seed = 1;  ///< recorded; consumed by noise models (later)
+    std::uint64_t seed = 1;  ///< recorded in the LAS VLR; keys the physics noise (counter RNG)
     BackendKind backend = BackendKind::bvh;
     std::size_t chunk_pulses = std::size_t{1} << 16;  ///< pulses traced and written per step
 };

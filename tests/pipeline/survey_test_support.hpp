@@ -1,0 +1,27 @@
+// Runs a survey file written into a temporary folder and reads its LAS output back.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "beamtrace/io/las_reader.hpp"
+#include "beamtrace/pipeline/survey.hpp"
+#include "test_support.hpp"
+
+namespace beamtrace::test {
+
+inline std::vector<LasPoint> run_and_read(const std::string& yaml, const TempDir& dir,
+                                          unsigned threads = 2, std::size_t chunk = 1 << 16,
+                                          std::uint64_t seed = SurveyRunConfig{}.seed) {
+    write_file(dir / "survey.yaml", yaml);
+    const SurveySpec spec = load_survey_spec(dir / "survey.yaml");
+    SurveyRunConfig run;
+    run.output_dir = dir / "out";
+    run.threads = threads;
+    run.chunk_pulses = chunk;
+    run.seed = seed;
+    (void)run_survey(spec, run);
+    return read_las_points(dir / "out" / "points.las");
+}
+
+}  // namespace beamtrace::test
