@@ -154,8 +154,9 @@ void expect_agreement(const TriangleMesh& mesh, const RayBatch& rays, const char
             EXPECT_EQ(grazing + slipped, 0u) << what << " " << name;
         } else {
             // Edge rays that neither graze nor slip by the tests above (a wider grazing angle
-            // than their tolerance): at most 1 in 1000. Random rays must agree exactly.
-            EXPECT_LE(bad, rays.size() / 1000) << what << " " << name;
+            // than their tolerance): at most 1 in 1000 (3 on the small sanitizer runs). Random
+            // rays must agree exactly.
+            EXPECT_LE(bad, std::max<std::size_t>(3, rays.size() / 1000)) << what << " " << name;
         }
         // Grazing and slipping only on rays aimed at edges and vertices, and rarely there.
         EXPECT_LE(grazing + slipped, rays.size() / 50) << what << " " << name;
