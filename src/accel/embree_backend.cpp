@@ -204,32 +204,11 @@ class EmbreeBackend final : public Backend {
                 rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
                 rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
                 rtcIntersect1(scene_, &c.ctx, &rh);
-                const auto first = out.begin() + static_cast<std::ptrdiff_t>(before);
-                std::sort(first, out.end(), [](const AllHit& x, const AllHit& y) {
-                    return x.t < y.t || (x.t == y.t && x.face < y.face);
-                });
-                out.erase(
-                    std::unique(first, out.end(),
-                                [](const AllHit& x, const AllHit& y) { return x.face == y.face; }),
-                    out.end());
+                sort_unique_hits(out, before);
                 counts[i] = static_cast<std::uint32_t>(out.size() - before);
             }
         });
-        hits.offsets.assign(n + 1, 0);
-        std::partial_sum(counts.begin(), counts.end(), hits.offsets.begin() + 1);
-        const std::size_t total = hits.offsets[n];
-        hits.t.resize(total);
-        hits.face.resize(total);
-        hits.front.resize(total);
-        std::size_t k = 0;
-        for (const auto& chunk : per_chunk) {
-            for (const auto& h : chunk) {
-                hits.t[k] = h.t;
-                hits.face[k] = h.face;
-                hits.front[k] = h.front;
-                ++k;
-            }
-        }
+        gather_all_hits(per_chunk, counts, hits);
     }
 
   private:

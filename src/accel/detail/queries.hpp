@@ -104,6 +104,38 @@ struct AllHit {
     std::uint8_t front;
 };
 
+/// Sorts the hits of one ray, out[first..], by (t, face) and drops duplicates (a face met twice).
+inline void sort_unique_hits(std::vector<AllHit>& out, std::size_t first) {
+    const auto b = out.begin() + static_cast<std::ptrdiff_t>(first);
+    std::sort(b, out.end(), [](const AllHit& x, const AllHit& y) {
+        return x.t < y.t || (x.t == y.t && x.face < y.face);
+    });
+    out.erase(std::unique(b, out.end(),
+                          [](const AllHit& x, const AllHit& y) { return x.face == y.face; }),
+              out.end());
+}
+
+/// Packs per-chunk hit lists (chunks in ray order) and per-ray counts into `hits` (CSR).
+inline void gather_all_hits(const std::vector<std::vector<AllHit>>& per_chunk,
+                            const std::vector<std::uint32_t>& counts, AllHits& hits) {
+    const std::size_t n = counts.size();
+    hits.offsets.assign(n + 1, 0);
+    std::partial_sum(counts.begin(), counts.end(), hits.offsets.begin() + 1);
+    const std::size_t total = hits.offsets[n];
+    hits.t.resize(total);
+    hits.face.resize(total);
+    hits.front.resize(total);
+    std::size_t k = 0;
+    for (const auto& chunk : per_chunk) {
+        for (const auto& h : chunk) {
+            hits.t[k] = h.t;
+            hits.face[k] = h.face;
+            hits.front[k] = h.front;
+            ++k;
+        }
+    }
+}
+
 class AllVisitor : public VisitorBase {
   public:
     AllVisitor(const TraceRay& ray, Facing facing, std::vector<AllHit>& out)
@@ -122,15 +154,7 @@ class AllVisitor : public VisitorBase {
         return false;
     }
     /// Sorts this ray's hits by (t, face) and drops duplicates (a face met in several leaves).
-    void finish() {
-        auto b = out_.begin() + static_cast<std::ptrdiff_t>(first_);
-        std::sort(b, out_.end(), [](const AllHit& x, const AllHit& y) {
-            return x.t < y.t || (x.t == y.t && x.face < y.face);
-        });
-        out_.erase(std::unique(b, out_.end(),
-                               [](const AllHit& x, const AllHit& y) { return x.face == y.face; }),
-                   out_.end());
-    }
+    void finish() { sort_unique_hits(out_, first_); }
 
   private:
     float tmax_;
@@ -187,21 +211,7 @@ class QueryBackend final : public Backend {
                 counts[i] = static_cast<std::uint32_t>(out.size() - before);
             }
         });
-        hits.offsets.assign(n + 1, 0);
-        std::partial_sum(counts.begin(), counts.end(), hits.offsets.begin() + 1);
-        const std::size_t total = hits.offsets[n];
-        hits.t.resize(total);
-        hits.face.resize(total);
-        hits.front.resize(total);
-        std::size_t k = 0;
-        for (const auto& chunk : per_chunk) {
-            for (const auto& h : chunk) {
-                hits.t[k] = h.t;
-                hits.face[k] = h.face;
-                hits.front[k] = h.front;
-                ++k;
-            }
-        }
+        gather_all_hits(per_chunk, counts, hits);
     }
 
   private:
