@@ -20,5 +20,7 @@ std::function<int()> add_survey_command(CLI::App& app);
 std::function<int()> add_view_command(CLI::App& app);
 /// Registers `render [SCENE.yaml]`: a shaded image (see docs/render.md).
 std::function<int()> add_render_command(CLI::App& app);
+/// Registers `bench [SURVEYS...]`: throughput against raw Embree on the surveys' own rays.
+std::function<int()> add_bench_command(CLI::App& app);
 
 }  // namespace beamtrace::cli

@@ -17,6 +17,7 @@ int main(int argc, char** argv) {
     const auto run_survey = beamtrace::cli::add_survey_command(app);
     const auto run_view = beamtrace::cli::add_view_command(app);
     const auto run_render = beamtrace::cli::add_render_command(app);
+    const auto run_bench = beamtrace::cli::add_bench_command(app);
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {
@@ -44,6 +45,9 @@ int main(int argc, char** argv) {
         }
         if (app.got_subcommand("view")) {
             return run_view();
+        }
+        if (app.got_subcommand("bench")) {
+            return run_bench();
         }
     } catch (const beamtrace::Error& e) {
         std::fprintf(stderr, "beamtrace: error: %s\n", e.what());

@@ -26,7 +26,7 @@ struct RenderOptions {
     std::vector<std::string> lights;
     double ambient = 0.1, background = 0.0, exposure = 1.0, gamma = 1.0;
     bool no_shadows = false, triangles = false, quiet = false;
-    std::string backend = "bvh";
+    std::string backend{to_string(default_backend_kind())};
     unsigned threads = 0;
     std::string output;
 };

@@ -49,7 +49,7 @@ struct ScanOptions {
     std::optional<int> width, height;
     std::optional<double> hfov, vfov;
     std::string rays;
-    std::string backend = "bvh";
+    std::string backend{to_string(default_backend_kind())};
     std::string kdtree_rules = "sah";
     unsigned threads = 0;
     std::string output;

@@ -3,6 +3,7 @@
 #include <string>
 
 #include "beamtrace/core/error.hpp"
+#include "beamtrace/core/memory_usage.hpp"
 #include "beamtrace/pipeline/survey.hpp"
 #include "commands.hpp"
 #include "progress_bar.hpp"
@@ -15,7 +16,7 @@ struct SurveyOptions {
     std::string output;
     unsigned threads = 0;
     std::uint64_t seed = 1;
-    std::string backend = "bvh";
+    std::string backend{to_string(default_backend_kind())};
     bool quiet = false;
     bool progress = false;
 };
@@ -39,6 +40,7 @@ int run(const SurveyOptions& o) {
                     r.build_s, r.survey_s,
                     r.survey_s > 0 ? static_cast<double>(r.pulses) / r.survey_s / 1e6 : 0.0,
                     r.survey_s > 0 ? static_cast<double>(r.points) / r.survey_s / 1e6 : 0.0);
+        std::printf("peak memory: %.1f MB resident\n", static_cast<double>(peak_rss_bytes()) / 1e6);
         for (const auto& p : r.outputs) {
             std::printf("wrote %s\n", p.string().c_str());
         }

@@ -1,8 +1,10 @@
 // The Embree 3 backend: Intel's kernels behind the same batch interface as our own backends.
 //
 // - One RTCDevice per backend. Embree's TBB threads only build the BVHs (while our pool waits);
-//   tracing runs on our ThreadPool, one rtcIntersect1/rtcOccluded1 per ray, so results never
-//   depend on the thread count.
+//   tracing runs on our ThreadPool. Nearest hits go 16 rays at a time through rtcIntersect16
+//   (incoherent mode: watertight, about 1.2x rtcIntersect1 on survey rays), in packets aligned on
+//   absolute ray indices so results never depend on the thread count or on how batches are
+//   split; occlusion and all-hits are one rtcOccluded1/rtcIntersect1 per ray.
 // - Meshes are Embree triangle geometries over our own buffers (rtcNewSharedBuffer). Embree reads
 //   vertices with 16-byte loads, so the last vertex needs 4 readable bytes after it: we share the
 //   vertex vector when its capacity leaves that slack, and otherwise copy the vertices once per
@@ -117,6 +119,8 @@ void set_ray(RTCRay& r, const RayBatch& rays, std::size_t i) {
 }
 
 class EmbreeBackend final : public Backend {
+    static constexpr std::size_t kPacket = 16;  ///< rays per rtcIntersect16 packet
+
   public:
     EmbreeBackend(const std::vector<const TriangleMesh*>& meshes,
                   const std::vector<MeshInstance>& instances, ThreadPool& pool) {
@@ -149,19 +153,51 @@ class EmbreeBackend final : public Backend {
 
     void intersect(const RayBatch& rays, std::size_t begin, std::size_t end, HitBatch& hits,
                    ThreadPool& pool) const override {
-        pool.parallel_for(end - begin, ray_grain(end - begin, pool),
-                          [&](std::size_t b, std::size_t e) {
-                              RTCIntersectContext ctx;
-                              rtcInitIntersectContext(&ctx);
-                              for (std::size_t i = begin + b; i < begin + e; ++i) {
-                                  RTCRayHit rh;
-                                  set_ray(rh.ray, rays, i);
-                                  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-                                  rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-                                  rtcIntersect1(scene_, &ctx, &rh);
-                                  store(rh, hits, i);
-                              }
-                          });
+        // Packets of kPacket rays aligned on absolute ray indices (i / kPacket), whatever
+        // `begin` and the grain, so a ray always shares its packet with the same neighbours and
+        // results never depend on the thread count or on how a caller splits its batches.
+        if (begin >= end) {
+            return;
+        }
+        const std::size_t first_packet = begin / kPacket;
+        const std::size_t packets = (end + kPacket - 1) / kPacket - first_packet;
+        const std::size_t grain = std::max<std::size_t>(1, ray_grain(end - begin, pool) / kPacket);
+        pool.parallel_for(packets, grain, [&](std::size_t pb, std::size_t pe) {
+            RTCIntersectContext ctx;
+            rtcInitIntersectContext(&ctx);
+            // Incoherent: Embree 3.13's coherent packet traversal is not watertight (rays
+            // through shared edges of closed meshes slip through); this one is.
+            ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
+            alignas(64) RTCRayHit16 rh;
+            alignas(64) int valid[kPacket];
+            for (std::size_t pk = first_packet + pb; pk < first_packet + pe; ++pk) {
+                const std::size_t p = std::max(begin, pk * kPacket);
+                const std::size_t n = std::min(end, (pk + 1) * kPacket) - p;
+                for (std::size_t k = 0; k < kPacket; ++k) {
+                    const std::size_t i = p + std::min(k, n - 1);  // idle lanes repeat a ray
+                    valid[k] = k < n ? -1 : 0;
+                    rh.ray.org_x[k] = static_cast<float>(rays.ox[i]);
+                    rh.ray.org_y[k] = static_cast<float>(rays.oy[i]);
+                    rh.ray.org_z[k] = static_cast<float>(rays.oz[i]);
+                    rh.ray.dir_x[k] = static_cast<float>(rays.dx[i]);
+                    rh.ray.dir_y[k] = static_cast<float>(rays.dy[i]);
+                    rh.ray.dir_z[k] = static_cast<float>(rays.dz[i]);
+                    rh.ray.tnear[k] = static_cast<float>(rays.tmin[i]);
+                    rh.ray.tfar[k] = static_cast<float>(rays.tmax[i]);
+                    rh.ray.time[k] = 0.0f;
+                    rh.ray.mask[k] = 0xFFFFFFFFu;
+                    rh.ray.id[k] = 0;
+                    rh.ray.flags[k] = 0;
+                    rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
+                    rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
+                }
+                rtcIntersect16(valid, scene_, &ctx, &rh);
+                for (std::size_t k = 0; k < n; ++k) {
+                    store(rh.hit.geomID[k], rh.hit.instID[0][k], rh.hit.primID[k], rh.ray.tfar[k],
+                          rh.hit.u[k], rh.hit.v[k], hits, p + k);
+                }
+            }
+        });
     }
 
     void occluded(const RayBatch& rays, std::size_t begin, std::size_t end,
@@ -227,19 +263,19 @@ class EmbreeBackend final : public Backend {
         }
     }
 
-    void store(const RTCRayHit& rh, HitBatch& hits, std::size_t i) const {
-        if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) {
+    void store(unsigned geom_id, unsigned inst_id, unsigned prim_id, float t, float u, float v,
+               HitBatch& hits, std::size_t i) const {
+        if (geom_id == RTC_INVALID_GEOMETRY_ID) {
             hits.t[i] = std::numeric_limits<float>::infinity();
             hits.face[i] = kNoFace;
             hits.u[i] = hits.v[i] = 0.0f;
             return;
         }
-        const unsigned id =
-            rh.hit.instID[0] != RTC_INVALID_GEOMETRY_ID ? rh.hit.instID[0] : rh.hit.geomID;
-        hits.t[i] = rh.ray.tfar;
-        hits.face[i] = placements_[id].first_face + rh.hit.primID;
-        hits.u[i] = rh.hit.u;
-        hits.v[i] = rh.hit.v;
+        const unsigned id = inst_id != RTC_INVALID_GEOMETRY_ID ? inst_id : geom_id;
+        hits.t[i] = t;
+        hits.face[i] = placements_[id].first_face + prim_id;
+        hits.u[i] = u;
+        hits.v[i] = v;
     }
 
     /// The vertex buffer of mesh m: shared when Embree's 16-byte loads stay inside the

@@ -43,13 +43,6 @@ Mat3 Quat::to_matrix() const {
     return m;
 }
 
-Vec3d Quat::rotate(const Vec3d& v) const {
-    // v + 2 w (u x v) + 2 u x (u x v), u = (x, y, z)
-    const Vec3d u{x, y, z};
-    const Vec3d t = cross(u, v) * 2.0;
-    return v + t * w + cross(u, t);
-}
-
 Quat Quat::normalized() const {
     const double n = std::sqrt(w * w + x * x + y * y + z * z);
     return {w / n, x / n, y / n, z / n};

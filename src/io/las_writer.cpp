@@ -235,38 +235,46 @@ void LasWriter::write_header() {
     file_->write(b, sizeof b);
 }
 
-void LasWriter::encode(const LasPoint& p, std::uint64_t index, std::uint8_t* r) {
+void LasRecordBlock::clear() {
+    bytes.clear();
+    count = 0;
+    by_return.fill(0);
+}
+
+void LasWriter::encode_record(const LasPoint& p, std::uint64_t index, std::uint8_t* r,
+                              std::int32_t q[3]) const {
+    const auto reject = [&](const std::string& what) {
+        throw OutputError(path_.string() + ": point " + std::to_string(index) + ": " + what);
+    };
     const double xyz[3] = {p.x, p.y, p.z};
-    std::int32_t q[3];
     for (std::size_t k = 0; k < 3; ++k) {
         const double steps = std::round((xyz[k] - header_.offset[k]) / header_.scale[k]);
         if (!(steps >= std::numeric_limits<std::int32_t>::min() &&
               steps <= std::numeric_limits<std::int32_t>::max())) {
-            fail("point " + std::to_string(index) + ": " + "xyz"[k] + " = " + number(xyz[k]) +
-                 " does not fit in a 32-bit LAS coordinate with scale " + number(header_.scale[k]) +
-                 " and offset " + number(header_.offset[k]) + " (see las_config_for_extent)");
+            reject(std::string(1, "xyz"[k]) + " = " + number(xyz[k]) +
+                   " does not fit in a 32-bit LAS coordinate with scale " +
+                   number(header_.scale[k]) + " and offset " + number(header_.offset[k]) +
+                   " (see las_config_for_extent)");
         }
         q[k] = static_cast<std::int32_t>(steps);
     }
     if (p.return_number > 15 || p.number_of_returns > 15) {
-        fail("point " + std::to_string(index) + ": return " + std::to_string(p.return_number) +
-             " of " + std::to_string(p.number_of_returns) + " exceeds 15");
+        reject("return " + std::to_string(p.return_number) + " of " +
+               std::to_string(p.number_of_returns) + " exceeds 15");
     }
     if (p.scanner_channel > 3) {
-        fail("point " + std::to_string(index) + ": scanner channel " +
-             std::to_string(p.scanner_channel) + " exceeds 3");
+        reject("scanner channel " + std::to_string(p.scanner_channel) + " exceeds 3");
     }
     const double angle_steps =
         std::round(static_cast<double>(p.scan_angle_deg) / kScanAngleStepDeg);
     if (!(std::fabs(angle_steps) <= 30000.0)) {
-        fail("point " + std::to_string(index) + ": scan angle " + number(p.scan_angle_deg) +
-             " deg is outside [-180, 180]");
+        reject("scan angle " + number(p.scan_angle_deg) + " deg is outside [-180, 180]");
     }
     if (p.extra_bytes.size() != config_.extra_bytes_per_point) {
-        fail("point " + std::to_string(index) + ": " + std::to_string(p.extra_bytes.size()) +
-             " extra bytes, expected " + std::to_string(config_.extra_bytes_per_point));
+        reject(std::to_string(p.extra_bytes.size()) + " extra bytes, expected " +
+               std::to_string(config_.extra_bytes_per_point));
     }
-    std::memcpy(r, q, sizeof q);
+    std::memcpy(r, q, 3 * sizeof(std::int32_t));
     store<std::uint16_t>(r + 12, p.intensity);
     r[14] = static_cast<std::uint8_t>(p.return_number | (p.number_of_returns << 4));
     r[15] = static_cast<std::uint8_t>((p.synthetic ? 0x01 : 0) | (p.key_point ? 0x02 : 0) |
@@ -292,7 +300,17 @@ void LasWriter::encode(const LasPoint& p, std::uint64_t index, std::uint8_t* r) 
     if (!p.extra_bytes.empty()) {
         std::memcpy(r + pos, p.extra_bytes.data(), p.extra_bytes.size());
     }
+}
 
+void LasWriter::encode(const LasPoint& p, std::uint64_t index, std::uint8_t* r) {
+    std::int32_t q[3];
+    try {
+        encode_record(p, index, r, q);
+    } catch (...) {
+        failed_ = true;
+        file_.reset();  // removes the temporary file
+        throw;
+    }
     for (std::size_t k = 0; k < 3; ++k) {
         if (header_.point_count == 0 && chunk_points_ == 0) {
             lo_[k] = hi_[k] = q[k];
@@ -304,6 +322,48 @@ void LasWriter::encode(const LasPoint& p, std::uint64_t index, std::uint8_t* r) 
     if (p.return_number >= 1) {
         ++header_.points_by_return[p.return_number - 1u];
     }
+}
+
+void LasWriter::encode(const LasPoint& p, LasRecordBlock& block) const {
+    const std::size_t size = header_.point_record_length;
+    block.bytes.resize((block.count + 1) * size);
+    std::int32_t q[3];
+    encode_record(p, block.count, block.bytes.data() + block.count * size, q);
+    for (std::size_t k = 0; k < 3; ++k) {
+        block.lo[k] = block.count == 0 ? q[k] : std::min(block.lo[k], q[k]);
+        block.hi[k] = block.count == 0 ? q[k] : std::max(block.hi[k], q[k]);
+    }
+    if (p.return_number >= 1) {
+        ++block.by_return[p.return_number - 1u];
+    }
+    ++block.count;
+}
+
+void LasWriter::write_block(const LasRecordBlock& block) {
+    if (failed_ || closed_ || !file_) {
+        throw OutputError(path_.string() + ": LAS writer used after " +
+                          (closed_ ? "close()" : "an error"));
+    }
+    if (block.count == 0) {
+        return;
+    }
+    flush_chunk();  // points written one by one go first
+    const bool first = header_.point_count == 0;
+    for (std::size_t k = 0; k < 3; ++k) {
+        lo_[k] = first ? block.lo[k] : std::min(lo_[k], block.lo[k]);
+        hi_[k] = first ? block.hi[k] : std::max(hi_[k], block.hi[k]);
+    }
+    for (std::size_t i = 0; i < 15; ++i) {
+        header_.points_by_return[i] += block.by_return[i];
+    }
+    try {
+        file_->write(block.bytes.data(), block.count * std::size_t{header_.point_record_length});
+    } catch (...) {
+        failed_ = true;
+        file_.reset();
+        throw;
+    }
+    header_.point_count += block.count;
 }
 
 void LasWriter::flush_chunk() {

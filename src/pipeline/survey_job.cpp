@@ -18,7 +18,7 @@
 #include "beamtrace/pipeline/survey.hpp"
 #include "beamtrace/scene/demo_scene.hpp"
 #include "beamtrace/scene/scene_builder.hpp"
-#include "io/detail/row_writer.hpp"
+#include "pipeline/detail/survey_rays.hpp"
 
 namespace beamtrace {
 namespace {
@@ -29,25 +29,17 @@ double seconds_since(Clock::time_point t0) {
     return std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
-/// The LAS 1.4 scan angle of a world direction: the rotation from straight down about the
-/// platform's direction of travel, counter-clockwise seen from behind (so positive to the right),
-/// in degrees. Beams above the horizontal are clamped to +/-90 degrees, the range most LAS
-/// readers accept.
-float las_scan_angle_deg(const Vec3d& dir, const Vec3d& forward) {
-    const Vec3d up{0, 0, 1};
-    Vec3d right = cross(forward, up);
-    if (length(right) < 1e-9) {  // travelling vertically: use the world x axis
-        right = {1, 0, 0};
-    }
-    right = normalize(right);
-    const double a = std::atan2(dot(dir, right), -dir.z) * 180.0 / std::numbers::pi;
-    return static_cast<float>(std::clamp(a, -90.0, 90.0));
-}
+/// Longest CSV row: 3 doubles, a double time, a float, 3 + 3 integers, a float (to_chars
+/// shortest forms, 24 characters at most each).
+constexpr std::size_t kMaxCsvRow = 400;
 
-void write_csv_row(detail::RowWriter& out, const LasPoint& p, float range_m, std::uint16_t beam,
-                   bool physics) {
-    char* c = out.row();
-    char* const end = out.end();
+/// Appends one CSV row to `out`.
+void append_csv_row(std::string& out, const LasPoint& p, float range_m, std::uint16_t beam,
+                    bool physics) {
+    const std::size_t at = out.size();
+    out.resize(at + kMaxCsvRow);
+    char* c = out.data() + at;
+    char* const end = out.data() + out.size();
     const auto num = [&](double v) {
         c = std::to_chars(c, end, v).ptr;
         *c++ = ',';
@@ -71,10 +63,95 @@ void write_csv_row(detail::RowWriter& out, const LasPoint& p, float range_m, std
         }
     }
     *c++ = '\n';
-    out.end_row(c);
+    out.resize(static_cast<std::size_t>(c - out.data()));
+}
+
+/// What one block of pulses produces (encoded on a pool thread, written in block order).
+struct BlockOutput {
+    LasRecordBlock las;
+    std::string csv;
+    std::vector<PointRecord> ply;
+    void clear() {
+        las.clear();
+        csv.clear();
+        ply.clear();
+    }
+};
+
+/// Pulses per block: each block is generated, traced, simulated and encoded by one thread.
+constexpr std::size_t kBlockPulses = 1024;
+
+}  // namespace
+
+namespace detail {
+
+namespace {
+
+/// The unit vector to the right of travel: the axis the LAS scan angle is measured about.
+Vec3d right_of(const Vec3d& forward) {
+    const Vec3d right = cross(forward, Vec3d{0, 0, 1});
+    return length(right) < 1e-9 ? Vec3d{1, 0, 0}  // travelling vertically: the world x axis
+                                : normalize(right);
+}
+
+/// Single precision: the angle is stored in 0.006 degree steps, and atan2f costs half as much.
+float scan_angle_about(const Vec3d& dir, const Vec3d& right) {
+    const float a = std::atan2(static_cast<float>(dot(dir, right)), static_cast<float>(-dir.z)) *
+                    (180.0f / std::numbers::pi_v<float>);
+    return std::clamp(a, -90.0f, 90.0f);
 }
 
 }  // namespace
+
+float las_scan_angle_deg(const Vec3d& dir, const Vec3d& forward) {
+    return scan_angle_about(dir, right_of(forward));
+}
+
+void SurveyRaySource::generate(const PulseBatch& pulses, std::uint64_t first, RayBatch& rays,
+                               std::size_t ray_offset, Vec3d* origin, Vec3d* axis,
+                               float* scan_angle, std::vector<Vec3d>& dirs) const {
+    const std::size_t n_sub = sub_rays();
+    dirs.resize(n_sub);
+    const Pose& mount = spec->mount.sensor_to_platform;
+    // What depends on the platform's attitude alone, kept while the attitude stays the same
+    // (a straight leg, a tripod): the sensor's attitude, the lever arm in the world and the scan
+    // angle's axis. Reused only for bit-identical attitudes, so nothing depends on it.
+    bool have_frame = false;
+    Quat platform_attitude, sensor_attitude;
+    Vec3d lever_world, right;
+    for (std::size_t i = 0; i < pulses.time_s.size(); ++i) {
+        const Pose platform = trajectory->pose_at(pulses.time_s[i]);
+        const Quat& q = platform.attitude;
+        if (!have_frame || q.w != platform_attitude.w || q.x != platform_attitude.x ||
+            q.y != platform_attitude.y || q.z != platform_attitude.z) {
+            have_frame = true;
+            platform_attitude = q;
+            sensor_attitude = q * mount.attitude;
+            lever_world = q.rotate(mount.position_m);
+            right = right_of(q.rotate({1, 0, 0}));
+        }
+        // platform * mount, term by term.
+        Pose pose{platform.position_m + lever_world, sensor_attitude};
+        if (sim) {
+            pose = sim->perturb_pose(seed, first + i, pose);
+        }
+        const Vec3d dir = pose.apply_direction(pulses.direction[i]);
+        origin[i] = pose.position_m;
+        axis[i] = dir;
+        scan_angle[i] = scan_angle_about(dir, right);
+        if (!sim) {
+            rays.set(ray_offset + i, pose.position_m, dir, spec->range_min_m, spec->range_max_m);
+            continue;
+        }
+        sim->sub_ray_directions(seed, first + i, dir, dirs);
+        for (std::size_t j = 0; j < n_sub; ++j) {
+            rays.set(ray_offset + i * n_sub + j, pose.position_m, dirs[j], spec->range_min_m,
+                     spec->range_max_m);
+        }
+    }
+}
+
+}  // namespace detail
 
 std::unique_ptr<ScanPattern> SurveySpec::make_pattern() const {
     switch (scanner) {
@@ -98,6 +175,32 @@ std::unique_ptr<Trajectory> SurveySpec::make_trajectory() const {
             return std::make_unique<SampledTrajectory>(read_trajectory_csv(trajectory_file));
     }
     throw ConfigError("unknown platform kind");
+}
+
+RayBatch survey_rays(const SurveySpec& spec, std::uint64_t seed, std::uint64_t max_pulses,
+                     ThreadPool& pool) {
+    const auto pattern = spec.make_pattern();
+    const auto trajectory = spec.make_trajectory();
+    std::optional<PulseSimulator> sim;
+    if (spec.physics) {
+        sim.emplace(*spec.physics);
+    }
+    const detail::SurveyRaySource source{&spec, trajectory.get(), sim ? &*sim : nullptr, seed};
+    const std::uint64_t pulses =
+        max_pulses > 0 ? std::min(pattern->pulse_count(), max_pulses) : pattern->pulse_count();
+    const std::size_t sub_rays = source.sub_rays();
+    RayBatch rays;
+    rays.resize(static_cast<std::size_t>(pulses) * sub_rays);
+    std::vector<Vec3d> origin(static_cast<std::size_t>(pulses)), axis(origin.size());
+    std::vector<float> scan_angle(origin.size());
+    pool.parallel_for(origin.size(), kBlockPulses, [&](std::size_t b, std::size_t e) {
+        PulseBatch batch;
+        std::vector<Vec3d> dirs;
+        pattern->generate(b, e - b, batch);
+        source.generate(batch, b, rays, b * sub_rays, origin.data() + b, axis.data() + b,
+                        scan_angle.data() + b, dirs);
+    });
+    return rays;
 }
 
 SurveyResult run_survey(const SurveySpec& spec, const SurveyRunConfig& run,
@@ -152,7 +255,8 @@ SurveyResult run_survey(const SurveySpec& spec, const SurveyRunConfig& run,
         sim ? static_cast<std::size_t>(sim->config().max_returns) : std::size_t{1};
 
     result.triangles = scene.triangle_count();
-    result.pulses = pattern->pulse_count();
+    result.pulses = run.max_pulses > 0 ? std::min(pattern->pulse_count(), run.max_pulses)
+                                       : pattern->pulse_count();
 
     auto t0 = Clock::now();
     const auto backend = make_backend(run.backend, scene.geometry, pool);
@@ -183,14 +287,13 @@ SurveyResult run_survey(const SurveySpec& spec, const SurveyRunConfig& run,
     const auto las_path = run.output_dir / "points.las";
     LasWriter writer(las_path, las);
     std::vector<PointRecord> ply_points;
-    std::unique_ptr<detail::RowWriter> csv;
+    std::unique_ptr<AtomicFile> csv;
     if (spec.write_csv) {
-        csv = std::make_unique<detail::RowWriter>(
-            run.output_dir / "points.csv",
+        csv = std::make_unique<AtomicFile>(run.output_dir / "points.csv");
+        csv->write(
             std::string(
                 "x,y,z,gps_time,range_m,classification,point_source_id,beam,scan_angle_deg") +
-                (spec.physics ? ",intensity,return_number,number_of_returns" : ""),
-            400);
+            (spec.physics ? ",intensity,return_number,number_of_returns" : "") + "\n");
     }
 
     // Image scanners firing one frame also get the report's range image and a label image.
@@ -201,8 +304,10 @@ SurveyResult run_survey(const SurveySpec& spec, const SurveyRunConfig& run,
     std::vector<std::uint16_t> label_img(range_img.size(), 0);
 
     t0 = Clock::now();
-    const std::size_t chunk = std::max<std::size_t>(1, run.chunk_pulses);
-    PulseBatch pulses;
+    // Whole blocks per chunk, so every block starts at a multiple of kBlockPulses whatever the
+    // chunk size: blocks (and the ray packets inside them) never depend on the chunking.
+    const std::size_t chunk = (std::max<std::size_t>(1, run.chunk_pulses) + kBlockPulses - 1) /
+                              kBlockPulses * kBlockPulses;
     std::vector<float> scan_angle;
     std::vector<Vec3d> origin, axis;
     std::vector<PulseReturn> returns;
@@ -212,6 +317,7 @@ SurveyResult run_survey(const SurveySpec& spec, const SurveyRunConfig& run,
     std::unique_ptr<AtomicFile> waves;
     std::vector<std::vector<float>> wave_samples;
     std::vector<std::int64_t> wave_first_bin;
+    std::vector<double> pulse_time;  // of each pulse of the chunk, for waveforms.bin
     if (keep_waves) {
         waves = std::make_unique<AtomicFile>(run.output_dir / "waveforms.bin");
         waves->write("BTWAVE01", 8);
@@ -225,57 +331,48 @@ SurveyResult run_survey(const SurveySpec& spec, const SurveyRunConfig& run,
     }
     RayBatch rays;
     HitBatch hits;
-    // Encoding and writing chunk c (LAS, CSV) runs on its own thread while chunk c + 1 is traced:
-    // two point buffers, at most one write in flight, written in chunk order.
-    struct ChunkPoints {
-        std::vector<LasPoint> points;
-        std::vector<float> range_m;
-        std::vector<std::uint16_t> beam;
-    };
-    ChunkPoints buffers[2];
+    const detail::SurveyRaySource source{&spec, trajectory.get(), sim ? &*sim : nullptr, run.seed};
+    const bool physics = sim.has_value();
+    // Every block of a chunk goes through all stages on one thread (pose and rays, trace,
+    // physics, points, LAS/CSV encoding) into its own output; the blocks are written in order by
+    // one writer thread while the next chunk is processed. Two chunk outputs, at most one write
+    // in flight.
+    std::vector<BlockOutput> outputs[2];
     std::future<void> pending;
     std::size_t chunk_index = 0;
     for (std::uint64_t first = 0; first < result.pulses; first += chunk) {
         const auto count =
             static_cast<std::size_t>(std::min<std::uint64_t>(chunk, result.pulses - first));
-        pattern->generate(first, count, pulses);
         rays.resize(count * sub_rays);
+        hits.resize(count * sub_rays);
         scan_angle.resize(count);
         origin.resize(count);
         axis.resize(count);
-        pool.parallel_for(count, 4096, [&](std::size_t b, std::size_t e) {
-            std::vector<Vec3d> dirs(sub_rays);
-            for (std::size_t i = b; i < e; ++i) {
-                const Pose platform = trajectory->pose_at(pulses.time_s[i]);
-                Pose pose = platform * spec.mount.sensor_to_platform;
-                if (sim) {
-                    pose = sim->perturb_pose(run.seed, first + i, pose);
-                }
-                const Vec3d dir = pose.apply_direction(pulses.direction[i]);
-                origin[i] = pose.position_m;
-                axis[i] = dir;
-                scan_angle[i] = las_scan_angle_deg(dir, platform.apply_direction({1, 0, 0}));
-                if (!sim) {
-                    rays.set(i, pose.position_m, dir, spec.range_min_m, spec.range_max_m);
-                    continue;
-                }
-                sim->sub_ray_directions(run.seed, first + i, dir, dirs);
-                for (std::size_t j = 0; j < sub_rays; ++j) {
-                    rays.set(i * sub_rays + j, pose.position_m, dirs[j], spec.range_min_m,
-                             spec.range_max_m);
-                }
-            }
-        });
-        hits.resize(count * sub_rays);
-        backend->intersect(rays, 0, count * sub_rays, hits, pool);
         if (sim) {
             returns.resize(count * max_returns);
             return_count.assign(count, 0);
             if (keep_waves) {
                 wave_samples.resize(count);
                 wave_first_bin.assign(count, 0);
+                pulse_time.resize(count);
             }
-            pool.parallel_for(count, 1024, [&](std::size_t b, std::size_t e) {
+        }
+        std::vector<BlockOutput>& out = outputs[chunk_index++ % 2];
+        out.resize((count + kBlockPulses - 1) / kBlockPulses);
+        pool.parallel_for(count, kBlockPulses, [&](std::size_t b, std::size_t e) {
+            BlockOutput& block = out[b / kBlockPulses];
+            block.clear();
+            ThreadPool this_thread(1);  // no workers: the backend traces the block right here
+            std::vector<Vec3d> dirs;
+            PulseBatch pulses;  // this block's pulses, indexed from b
+            pattern->generate(first + b, e - b, pulses);
+            if (keep_waves) {
+                std::copy(pulses.time_s.begin(), pulses.time_s.end(), pulse_time.begin() + b);
+            }
+            source.generate(pulses, first + b, rays, b * sub_rays, origin.data() + b,
+                            axis.data() + b, scan_angle.data() + b, dirs);
+            backend->intersect(rays, b * sub_rays, e * sub_rays, hits, this_thread);
+            if (sim) {
                 std::vector<SubRayHit> sub(sub_rays);
                 PulseResponse response;
                 for (std::size_t i = b; i < e; ++i) {
@@ -301,12 +398,56 @@ SurveyResult run_survey(const SurveySpec& spec, const SurveyRunConfig& run,
                     std::copy_n(response.returns.begin(), n, returns.begin() + i * max_returns);
                     return_count[i] = static_cast<std::uint8_t>(n);
                 }
-            });
-        }
+            }
+            block.las.bytes.reserve((e - b) * max_returns *
+                                    std::size_t{writer.header().point_record_length});
+            LasPoint p;
+            for (std::size_t i = b; i < e; ++i) {
+                const std::size_t n = sim ? return_count[i] : (hits.hit(i) ? 1 : 0);
+                for (std::size_t r = 0; r < n; ++r) {
+                    const PulseReturn* ret = sim ? &returns[i * max_returns + r] : nullptr;
+                    const std::size_t h = sim ? i * sub_rays + ret->sub_ray : i;
+                    const double t = sim ? ret->range_m : double{hits.t[i]};
+                    const ScenePart& part = scene.parts[scene.part_of_face(hits.face[h])];
+                    if (images && r == 0) {
+                        // Pulse index u * h + v is pixel (row v, column u).
+                        const std::uint64_t k = first + i;
+                        const auto u =
+                            static_cast<std::size_t>(k / static_cast<std::uint64_t>(img_h));
+                        const auto v =
+                            static_cast<std::size_t>(k % static_cast<std::uint64_t>(img_h));
+                        range_img[v * static_cast<std::size_t>(img_w) + u] = static_cast<float>(t);
+                        label_img[v * static_cast<std::size_t>(img_w) + u] = part.label;
+                    }
+                    const Vec3d xyz = origin[i] + axis[i] * t + scene.origin_m;
+                    p.x = xyz.x;
+                    p.y = xyz.y;
+                    p.z = xyz.z;
+                    p.gps_time = pulses.time_s[i - b];
+                    p.scan_angle_deg = scan_angle[i];
+                    p.return_number = ret ? ret->return_number : 1;
+                    p.number_of_returns = ret ? ret->number_of_returns : 1;
+                    p.intensity = ret ? ret->intensity : 0;
+                    p.classification = part.label;
+                    p.point_source_id = part.part_id;
+                    p.user_data =
+                        static_cast<std::uint8_t>(pulses.channel[i - b] & 0xFFu);  // beam / row
+                    writer.encode(p, block.las);
+                    if (csv) {
+                        append_csv_row(block.csv, p, static_cast<float>(t), pulses.channel[i - b],
+                                       physics);
+                    }
+                    if (spec.write_ply) {
+                        block.ply.push_back({p.x, p.y, p.z, static_cast<float>(t), hits.face[h],
+                                             static_cast<std::uint32_t>(first + i)});
+                    }
+                }
+            }
+        });
         if (keep_waves) {
             for (std::size_t i = 0; i < count; ++i) {
                 const std::uint64_t index = first + i;
-                const double time_s = pulses.time_s[i];
+                const double time_s = pulse_time[i];
                 const Vec3d o = origin[i] + scene.origin_m;
                 const double pose_record[7] = {time_s,    o.x,       o.y,      o.z,
                                                axis[i].x, axis[i].y, axis[i].z};
@@ -318,56 +459,19 @@ SurveyResult run_survey(const SurveySpec& spec, const SurveyRunConfig& run,
                 waves->write(wave_samples[i].data(), 4 * std::size_t{n});
             }
         }
-        ChunkPoints& out = buffers[chunk_index++ % 2];
-        out.points.clear();
-        out.range_m.clear();
-        out.beam.clear();
-        for (std::size_t i = 0; i < count; ++i) {
-            const std::size_t n = sim ? return_count[i] : (hits.hit(i) ? 1 : 0);
-            for (std::size_t r = 0; r < n; ++r) {
-                const PulseReturn* ret = sim ? &returns[i * max_returns + r] : nullptr;
-                const std::size_t h = sim ? i * sub_rays + ret->sub_ray : i;
-                const double t = sim ? ret->range_m : double{hits.t[i]};
-                const ScenePart& part = scene.parts[scene.part_of_face(hits.face[h])];
-                if (images && r == 0) {
-                    // Pulse index u * h + v is pixel (row v, column u).
-                    const std::uint64_t k = first + i;
-                    const auto u = static_cast<std::size_t>(k / static_cast<std::uint64_t>(img_h));
-                    const auto v = static_cast<std::size_t>(k % static_cast<std::uint64_t>(img_h));
-                    range_img[v * static_cast<std::size_t>(img_w) + u] = static_cast<float>(t);
-                    label_img[v * static_cast<std::size_t>(img_w) + u] = part.label;
-                }
-                LasPoint p;
-                const Vec3d xyz = origin[i] + axis[i] * t + scene.origin_m;
-                p.x = xyz.x;
-                p.y = xyz.y;
-                p.z = xyz.z;
-                p.gps_time = pulses.time_s[i];
-                p.scan_angle_deg = scan_angle[i];
-                p.return_number = ret ? ret->return_number : 1;
-                p.number_of_returns = ret ? ret->number_of_returns : 1;
-                p.intensity = ret ? ret->intensity : 0;
-                p.classification = part.label;
-                p.point_source_id = part.part_id;
-                p.user_data = static_cast<std::uint8_t>(pulses.channel[i] & 0xFFu);  // beam / row
-                out.points.push_back(std::move(p));
-                out.range_m.push_back(static_cast<float>(t));
-                out.beam.push_back(pulses.channel[i]);
-                if (spec.write_ply) {
-                    const LasPoint& q = out.points.back();
-                    ply_points.push_back({q.x, q.y, q.z, static_cast<float>(t), hits.face[h],
-                                          static_cast<std::uint32_t>(first + i)});
-                }
+        if (spec.write_ply) {
+            for (const BlockOutput& block : out) {
+                ply_points.insert(ply_points.end(), block.ply.begin(), block.ply.end());
             }
         }
         if (pending.valid()) {
             pending.get();  // the previous chunk is written (and its errors rethrown here)
         }
-        pending = std::async(std::launch::async, [&writer, &csv, &out, physics = sim.has_value()] {
-            writer.write(out.points);
-            if (csv) {
-                for (std::size_t k = 0; k < out.points.size(); ++k) {
-                    write_csv_row(*csv, out.points[k], out.range_m[k], out.beam[k], physics);
+        pending = std::async(std::launch::async, [&writer, &csv, &out] {
+            for (const BlockOutput& block : out) {
+                writer.write_block(block.las);
+                if (csv) {
+                    csv->write(block.csv);
                 }
             }
         });

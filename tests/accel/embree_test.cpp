@@ -5,6 +5,8 @@
 #include <random>
 
 #include "beamtrace/accel/backend.hpp"
+#include "beamtrace/accel/embree_limit.hpp"
+#include "beamtrace/pipeline/survey.hpp"
 #include "test_support.hpp"
 
 namespace beamtrace {
@@ -121,6 +123,46 @@ TEST(EmbreeBackend, PartialRangeLeavesOtherSlotsAlone) {
             EXPECT_EQ(hits.face[i], kNoFace) << i;
         }
     }
+}
+
+TEST(EmbreeBackend, PacketsGiveTheSameHitsWhateverTheSplitAndThreads) {
+#ifdef BEAMTRACE_HAVE_EMBREE
+    const TriangleMesh sphere = test::make_icosphere(4, 2.0f);
+    const RayBatch rays = sphere_rays(5003, 23);
+    ThreadPool one(1), three(3);
+    const auto backend = make_backend(BackendKind::embree, sphere, one);
+    const HitBatch whole = backend->intersect(rays, one);
+    HitBatch split;
+    split.resize(rays.size());
+    // Pieces that cut packets of 16 in the middle, traced on another pool.
+    for (const auto& [b, e] : std::vector<std::pair<std::size_t, std::size_t>>{
+             {0, 7}, {7, 1237}, {1237, 1238}, {1238, 4999}, {4999, 5003}}) {
+        backend->intersect(rays, b, e, split, three);
+    }
+    EXPECT_EQ(whole.t, split.t);
+    EXPECT_EQ(whole.face, split.face);
+    EXPECT_EQ(whole.u, split.u);
+    EXPECT_EQ(whole.v, split.v);
+    // The same faces as a plain rtcIntersect1 loop, but for rays aimed exactly at an edge.
+    const EmbreeLimit limit(sphere, 1);
+    std::vector<std::uint32_t> face;
+    limit.trace(rays, EmbreeCall::single, face, one);
+    std::size_t hits = 0, same = 0;
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+        ASSERT_EQ(face[i] == kNoFace, !whole.hit(i)) << "ray " << i;
+        hits += whole.hit(i) ? 1 : 0;
+        same += whole.hit(i) && face[i] == whole.face[i] ? 1 : 0;
+    }
+    EXPECT_GT(hits, rays.size() / 2);
+    EXPECT_GE(same + 2, hits);
+#else
+    GTEST_SKIP() << "built without Embree";
+#endif
+}
+
+TEST(EmbreeBackend, IsTheDefaultOfSurveysWhenBuilt) {
+    EXPECT_EQ(SurveyRunConfig{}.backend,
+              embree_available() ? BackendKind::embree : BackendKind::bvh);
 }
 
 }  // namespace

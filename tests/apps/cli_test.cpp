@@ -7,6 +7,7 @@
 #include <fstream>
 #include <string>
 
+#include "beamtrace/accel/backend.hpp"
 #include "beamtrace/io/hits_csv.hpp"
 #include "beamtrace/io/npy.hpp"
 #include "beamtrace/io/point_cloud_ply.hpp"
@@ -74,8 +75,14 @@ TEST(Cli, DemoScanWritesAllOutputsConsistently) {
 TEST(Cli, OutputsAreIdenticalForAnyThreadCountAndBackend) {
     test::TempDir dir;
     const std::string common = "scan --demo --quiet --width 96 --height 48 ";
+    // The default backend (Embree where built) at 1 and 3 threads; our own backends, which
+    // agree bit for bit (ties to the lowest face ID), at their defaults.
     ASSERT_EQ(run(common + "--threads 1 --output " + (dir / "t1").string()).exit_code, 0);
     ASSERT_EQ(run(common + "--threads 3 --output " + (dir / "t3").string()).exit_code, 0);
+    ASSERT_EQ(run(common + "--backend bvh --threads 1 --output " + (dir / "b1").string()).exit_code,
+              0);
+    ASSERT_EQ(run(common + "--backend bvh --threads 3 --output " + (dir / "b3").string()).exit_code,
+              0);
     ASSERT_EQ(run(common + "--backend kdtree --output " + (dir / "kd").string()).exit_code, 0);
     ASSERT_EQ(run(common + "--backend brute --output " + (dir / "bf").string()).exit_code, 0);
     ASSERT_EQ(
@@ -83,15 +90,70 @@ TEST(Cli, OutputsAreIdenticalForAnyThreadCountAndBackend) {
             .exit_code,
         0);
     for (const char* f : {"hits.csv", "points.ply", "range.npy", "range.png"}) {
-        const std::string ref = test::read_file(dir / "t1" / f);
+        const std::string def = test::read_file(dir / "t1" / f);
+        EXPECT_FALSE(def.empty());
+        EXPECT_EQ(def, test::read_file(dir / "t3" / f)) << f;
+        const std::string ref = test::read_file(dir / "b1" / f);
         EXPECT_FALSE(ref.empty());
-        EXPECT_EQ(ref, test::read_file(dir / "t3" / f)) << f;
+        EXPECT_EQ(ref, test::read_file(dir / "b3" / f)) << f;
         if (std::string(f) != "points.ply") {  // the PLY comment names the backend
             EXPECT_EQ(ref, test::read_file(dir / "kd" / f)) << f;
             EXPECT_EQ(ref, test::read_file(dir / "bf" / f)) << f;
             EXPECT_EQ(ref, test::read_file(dir / "kr" / f)) << f;
         }
     }
+    // Embree (the default where built) finds the same faces at ranges within float rounding.
+    const HitsCsv a = read_hits_csv(dir / "t1" / "hits.csv");
+    const HitsCsv b = read_hits_csv(dir / "b1" / "hits.csv");
+    ASSERT_EQ(a.face_id.size(), b.face_id.size());
+    std::size_t other_face = 0;
+    for (std::size_t i = 0; i < a.face_id.size(); ++i) {
+        ASSERT_EQ(a.face_id[i] < 0, b.face_id[i] < 0) << "ray " << i;
+        other_face += a.face_id[i] != b.face_id[i] ? 1 : 0;
+        if (b.face_id[i] >= 0) {
+            EXPECT_NEAR(a.range_m[i], b.range_m[i], 1e-4 * b.range_m[i]) << "ray " << i;
+        }
+    }
+    EXPECT_LE(other_face, 2u);  // rays aimed exactly at a shared edge
+}
+
+TEST(Cli, BenchMeasuresTheLimitBackendsAndSurveysOnTheSameRays) {
+    const std::string survey = std::string(BEAMTRACE_EXAMPLES_DIR) + "/surveys/car_hdl64.yaml";
+    test::TempDir dir;
+    const auto r = run("bench " + survey +
+                       " --pulses 20000 --repeats 1 --min-time 0 --threads 1 2 --quiet --output " +
+                       (dir / "report.md").string());
+    ASSERT_EQ(r.exit_code, 0) << r.out;
+    EXPECT_EQ(test::read_file(dir / "report.md"), r.out);
+    // "### car_hdl64: 80182 triangles, 20000 pulses, 20000 rays, H hits, H points"
+    const auto head = r.out.find("### car_hdl64: ");
+    ASSERT_NE(head, std::string::npos) << r.out;
+    unsigned long long triangles = 0, pulses = 0, rays = 0, hits = 0, points = 0;
+    ASSERT_EQ(std::sscanf(r.out.c_str() + head,
+                          "### car_hdl64: %llu triangles, %llu pulses, %llu rays, %llu hits, "
+                          "%llu points",
+                          &triangles, &pulses, &rays, &hits, &points),
+              5)
+        << r.out;
+    EXPECT_EQ(triangles, make_demo_scene().triangle_count());
+    EXPECT_EQ(pulses, 20000u);
+    EXPECT_EQ(rays, 20000u);
+    EXPECT_GT(hits, 15000u);
+    EXPECT_EQ(points, hits);
+    for (const char* row :
+         {"| 1 | our bvh | ", "| 2 | our bvh | ", "| 1 | **survey end to end** (LAS written) | ",
+          "| 2 | **survey end to end** (LAS written) | ", "Scaling 1 -> 2"}) {
+        EXPECT_NE(r.out.find(row), std::string::npos) << row << "\n" << r.out;
+    }
+    if (embree_available()) {
+        EXPECT_NE(r.out.find("| 1 | Embree rtcIntersect1 | "), std::string::npos) << r.out;
+        EXPECT_NE(r.out.find("| 1 | our embree | "), std::string::npos) << r.out;
+    }
+    // Bad settings: one line, exit code 2.
+    const auto bad = run("bench " + survey + " --threads 0 --quiet");
+    EXPECT_EQ(bad.exit_code, 2) << bad.out;
+    EXPECT_NE(bad.out.find("threads: 0"), std::string::npos) << bad.out;
+    EXPECT_EQ(count_lines(bad.out), 1u) << bad.out;
 }
 
 TEST(Cli, BadInputsGiveOneLineErrorExitCode2AndNoOutputs) {

@@ -236,6 +236,65 @@ TEST_F(LasWriterTest, NaNCoordinateAndBadFieldsThrow) {
     EXPECT_EQ(entry_count(dir_.path()), 0u);
 }
 
+TEST_F(LasWriterTest, BlocksEncodedApartGiveTheSameFileAsPointByPoint) {
+    const auto points = make_points(200000, 7);
+    LasWriterConfig config = las_config_for_extent({634000, 4849000, 0}, {636000, 4851000, 200});
+    config.point_format = 7;
+    config.creation_day_of_year = 100;
+    config.creation_year = 2026;
+    {
+        LasWriter one(dir_ / "one.las", config);
+        one.write(std::span(points).first(1000));  // mixed: some points one by one first
+        for (std::size_t i = 1000; i < points.size(); ++i) {
+            one.write(std::span(points).subspan(i, 1));
+        }
+        one.close();
+    }
+    {
+        LasWriter blocks(dir_ / "blocks.las", config);
+        blocks.write(std::span(points).first(1000));
+        // Blocks of uneven sizes, encoded out of order (as pool threads would), written in order.
+        std::vector<LasRecordBlock> parts(7);
+        const std::size_t step = (points.size() - 1000) / parts.size() + 1;
+        for (std::size_t k = parts.size(); k-- > 0;) {
+            const std::size_t b = 1000 + k * step;
+            const std::size_t e = std::min(points.size(), b + step);
+            for (std::size_t i = b; i < e; ++i) {
+                blocks.encode(points[i], parts[k]);
+            }
+        }
+        blocks.write_block(LasRecordBlock{});  // empty blocks are fine
+        for (const auto& part : parts) {
+            blocks.write_block(part);
+        }
+        EXPECT_EQ(blocks.point_count(), points.size());
+        blocks.close();
+    }
+    EXPECT_EQ(test::read_file(dir_ / "one.las"), test::read_file(dir_ / "blocks.las"));
+}
+
+TEST_F(LasWriterTest, BlockEncodingRejectsBadPointsWithoutHarmingTheWriter) {
+    LasWriter writer(dir_ / "x.las", {});
+    LasRecordBlock block;
+    LasPoint good;
+    good.return_number = good.number_of_returns = 1;
+    writer.encode(good, block);
+    LasPoint bad = good;
+    bad.y = 1e7;
+    try {
+        writer.encode(bad, block);
+        FAIL() << "expected OutputError";
+    } catch (const OutputError& e) {
+        EXPECT_NE(std::string(e.what()).find("point 1: y = 10000000"), std::string::npos)
+            << e.what();
+    }
+    writer.write_block(block);
+    writer.close();
+    LasReader reader(dir_ / "x.las");
+    EXPECT_EQ(reader.header().point_count, 1u);
+    EXPECT_EQ(reader.header().points_by_return[0], 1u);
+}
+
 TEST_F(LasWriterTest, UnclosedWriterLeavesNothing) {
     const auto points = make_points(1000, 6);
     {

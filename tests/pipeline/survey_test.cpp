@@ -11,6 +11,7 @@
 #include "beamtrace/core/error.hpp"
 #include "beamtrace/io/las_reader.hpp"
 #include "beamtrace/io/npy.hpp"
+#include "beamtrace/scene/demo_scene.hpp"
 #include "pipeline/survey_test_support.hpp"
 #include "test_support.hpp"
 
@@ -136,6 +137,44 @@ platform: {type: legs, speed_mps: 10, waypoints_m: [[-10, -10, 2], [10, -10, 3]]
               "x,y,z,gps_time,range_m,classification,point_source_id,beam,scan_angle_deg");
     EXPECT_EQ(test::read_file(a / "out" / "trajectory.csv"),
               test::read_file(b / "out" / "trajectory.csv"));
+}
+
+TEST(Survey, SurveyRaysAreTheRaysItTracesAndMaxPulsesStopsEarly) {
+    test::TempDir dir;
+    test::write_file(dir / "survey.yaml", R"(scene: demo
+scanner: {type: rotating, preset: hdl32, duration_s: 0.1}
+platform: {type: legs, speed_mps: 10, waypoints_m: [[-10, -10, 2], [10, -10, 3]]}
+mount: {lever_arm_m: [0.5, 0, 0.3], boresight_deg: [1, 2, 3]}
+)");
+    const SurveySpec spec = load_survey_spec(dir / "survey.yaml");
+    SurveyRunConfig run;
+    run.output_dir = dir / "out";
+    run.backend = BackendKind::bvh;
+    run.max_pulses = 30000;
+    const SurveyResult result = run_survey(spec, run);
+    ASSERT_EQ(result.pulses, 30000u);
+    ThreadPool pool(2);
+    const RayBatch rays = survey_rays(spec, run.seed, run.max_pulses, pool);
+    ASSERT_EQ(rays.size(), 30000u);
+    const Scene scene = make_demo_scene();
+    const HitBatch hits =
+        make_backend(BackendKind::bvh, scene.geometry, pool)->intersect(rays, pool);
+    const auto points = read_las_points(dir / "out" / "points.las");
+    ASSERT_EQ(points.size(), result.points);
+    std::size_t k = 0;
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+        if (!hits.hit(i)) {
+            continue;
+        }
+        ASSERT_LT(k, points.size());
+        const Vec3d p = rays.origin(i) + rays.direction(i) * double{hits.t[i]} + scene.origin_m;
+        ASSERT_NEAR(points[k].x, p.x, 0.0006) << "ray " << i;
+        ASSERT_NEAR(points[k].y, p.y, 0.0006) << "ray " << i;
+        ASSERT_NEAR(points[k].z, p.z, 0.0006) << "ray " << i;
+        ++k;
+    }
+    EXPECT_EQ(k, points.size());
+    EXPECT_GT(k, rays.size() / 2);
 }
 
 TEST(Survey, FileErrorsAreListedWithLinesAndKeys) {

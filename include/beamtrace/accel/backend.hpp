@@ -33,6 +33,12 @@ enum class BackendKind : std::uint8_t { brute, kdtree, bvh, embree };
 #endif
 }
 
+/// The backend used unless one is asked for: Embree where this build has it (the fastest, see
+/// README "Performance"), else our BVH.
+[[nodiscard]] constexpr BackendKind default_backend_kind() {
+    return embree_available() ? BackendKind::embree : BackendKind::bvh;
+}
+
 /// Help text for --backend options: the backends this build has.
 [[nodiscard]] constexpr const char* backend_choices() {
     return embree_available() ? "bvh | kdtree | brute | embree" : "bvh | kdtree | brute";

@@ -21,7 +21,12 @@ struct Quat {
     [[nodiscard]] static Quat from_axis_angle(const Vec3d& axis, double angle_rad);
 
     [[nodiscard]] Mat3 to_matrix() const;
-    [[nodiscard]] Vec3d rotate(const Vec3d& v) const;
+    /// v + 2 w (u x v) + 2 u x (u x v), u = (x, y, z). Inline: it runs several times per pulse.
+    [[nodiscard]] Vec3d rotate(const Vec3d& v) const {
+        const Vec3d u{x, y, z};
+        const Vec3d t = cross(u, v) * 2.0;
+        return v + t * w + cross(u, t);
+    }
     [[nodiscard]] Quat conjugate() const { return {w, -x, -y, -z}; }
     [[nodiscard]] Quat normalized() const;
 };

@@ -1,6 +1,7 @@
 // Streaming writer for LAS 1.4 files with point data record formats 6, 7 and 8.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
@@ -16,6 +17,18 @@
 namespace beamtrace {
 
 class AtomicFile;
+
+/// Point records encoded away from the writer (LasWriter::encode into a block, on any thread),
+/// appended in order by LasWriter::write_block: the bytes plus what the header needs of them.
+struct LasRecordBlock {
+    std::vector<std::uint8_t> bytes;
+    std::size_t count = 0;
+    std::int32_t lo[3] = {0, 0, 0};  ///< integer bounds of the block's points (count > 0)
+    std::int32_t hi[3] = {0, 0, 0};
+    std::array<std::uint64_t, 15> by_return{};
+    /// Empties the block (keeps its capacity).
+    void clear();
+};
 
 /// What LasWriter writes besides the points. Defaults give a valid LAS 1.4 / format 6 file with
 /// millimetre coordinates around the origin (±2147 km); use las_config_for_extent() for data
@@ -76,6 +89,12 @@ class LasWriter {
     /// Appends points (any number per call).
     void write(std::span<const LasPoint> points);
 
+    /// Encodes one point at the end of `block` without writing anything: const, so blocks can
+    /// be encoded on many threads at once. Throws OutputError (naming the point's index in the
+    /// block) for a point the file cannot hold; the writer is unaffected.
+    void encode(const LasPoint& point, LasRecordBlock& block) const;
+    /// Appends an encoded block (after any points given to write()).
+    void write_block(const LasRecordBlock& block);
     /// Finalizes the header and commits the file. The writer accepts nothing afterwards.
     void close();
 
@@ -87,6 +106,8 @@ class LasWriter {
 
   private:
     void encode(const LasPoint& p, std::uint64_t index, std::uint8_t* record);
+    void encode_record(const LasPoint& p, std::uint64_t index, std::uint8_t* record,
+                       std::int32_t q[3]) const;
     void flush_chunk();
     void write_header();
     [[noreturn]] void fail(const std::string& what);

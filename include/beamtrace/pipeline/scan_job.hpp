@@ -29,7 +29,7 @@ struct ScanJobConfig {
     std::filesystem::path rays_file;  ///< for rays: CSV ox,oy,oz,dx,dy,dz
     /// For rays: write range images of this width x height (must equal the ray count).
     std::optional<int> image_width, image_height;
-    BackendKind backend = BackendKind::bvh;
+    BackendKind backend = default_backend_kind();
     BackendConfig backend_config;  ///< build settings (e.g. the k-d tree's rules)
     unsigned threads = 0;          ///< 0 = all hardware threads
     std::filesystem::path output_dir;

@@ -12,6 +12,8 @@
 
 #include "beamtrace/accel/backend.hpp"
 #include "beamtrace/core/progress.hpp"
+#include "beamtrace/core/ray_batch.hpp"
+#include "beamtrace/core/thread_pool.hpp"
 #include "beamtrace/physics/pulse.hpp"
 #include "beamtrace/sensor/image_pattern.hpp"
 #include "beamtrace/sensor/line_scanner.hpp"
@@ -61,8 +63,12 @@ struct SurveyRunConfig {
     std::filesystem::path output_dir;
     unsigned threads = 0;    ///< 0 = all cores; results identical for any value
     std::uint64_t seed = 1;  ///< recorded in the LAS VLR; keys the physics noise (counter RNG)
-    BackendKind backend = BackendKind::bvh;
-    std::size_t chunk_pulses = std::size_t{1} << 16;  ///< pulses traced and written per step
+    BackendKind backend = default_backend_kind();
+    /// Pulses traced and written per step (rounded up to a multiple of 1024, the pulses one
+    /// thread takes at a time).
+    std::size_t chunk_pulses = std::size_t{1} << 16;
+    /// Stop after this many pulses (the first ones; previews and benchmarks). 0: all of them.
+    std::uint64_t max_pulses = 0;
 };
 
 struct SurveyResult {
@@ -72,6 +78,11 @@ struct SurveyResult {
     double build_s = 0, survey_s = 0;
     std::vector<std::filesystem::path> outputs;
 };
+
+/// The rays run_survey traces for the first `max_pulses` pulses (0: all), in pulse order with
+/// the physics' sub-rays of a pulse side by side: the same values bit for bit. For benchmarks.
+[[nodiscard]] RayBatch survey_rays(const SurveySpec& spec, std::uint64_t seed,
+                                   std::uint64_t max_pulses, ThreadPool& pool);
 
 /// Runs the survey: memory stays bounded by the chunk size whatever the number of pulses.
 [[nodiscard]] SurveyResult run_survey(const SurveySpec& spec, const SurveyRunConfig& run,

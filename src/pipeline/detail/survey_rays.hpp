@@ -1,0 +1,37 @@
+// The rays of a survey's pulses, exactly as run_survey traces them: the platform's pose at each
+// pulse's time, the mount, the physics' pose noise and sub-ray pattern. Shared by run_survey and
+// the throughput benchmark (which traces the same rays with raw Embree).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "beamtrace/core/ray_batch.hpp"
+#include "beamtrace/physics/pulse.hpp"
+#include "beamtrace/pipeline/survey.hpp"
+
+namespace beamtrace::detail {
+
+/// The LAS 1.4 scan angle of a world direction: the rotation from straight down about the
+/// platform's direction of travel, counter-clockwise seen from behind (so positive to the right),
+/// in degrees, clamped to [-90, 90].
+[[nodiscard]] float las_scan_angle_deg(const Vec3d& dir, const Vec3d& forward);
+
+struct SurveyRaySource {
+    const SurveySpec* spec = nullptr;
+    const Trajectory* trajectory = nullptr;
+    const PulseSimulator* sim = nullptr;  ///< null: one ray per pulse, no pose noise
+    std::uint64_t seed = 1;
+
+    [[nodiscard]] std::size_t sub_rays() const { return sim ? sim->sub_ray_count() : 1; }
+
+    /// Rays of pulses[i] (global pulse index first + i) into rays[ray_offset + i * sub_rays(),
+    /// ... + sub_rays()); each pulse's origin, beam axis and LAS scan angle into origin[i],
+    /// axis[i], scan_angle[i]. `rays` must be large enough; `dirs` is scratch space.
+    void generate(const PulseBatch& pulses, std::uint64_t first, RayBatch& rays,
+                  std::size_t ray_offset, Vec3d* origin, Vec3d* axis, float* scan_angle,
+                  std::vector<Vec3d>& dirs) const;
+};
+
+}  // namespace beamtrace::detail

@@ -1,0 +1,335 @@
+#include "beamtrace/pipeline/throughput_bench.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <optional>
+#include <stdexcept>
+#include <thread>
+
+#include "beamtrace/accel/embree_limit.hpp"
+#include "beamtrace/core/error.hpp"
+#include "beamtrace/core/memory_usage.hpp"
+#include "beamtrace/io/las_reader.hpp"
+#include "beamtrace/pipeline/survey.hpp"
+#include "beamtrace/scene/demo_scene.hpp"
+#include "beamtrace/scene/scene_builder.hpp"
+
+namespace beamtrace {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point t0) {
+    return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+std::string machine_description() {
+    std::ifstream in("/proc/cpuinfo");
+    std::string line, model = "unknown CPU";
+    while (std::getline(in, line)) {
+        if (line.rfind("model name", 0) == 0) {
+            const auto colon = line.find(':');
+            if (colon != std::string::npos) {
+                model = line.substr(colon + 2);
+            }
+            break;
+        }
+    }
+    return model + ", " + std::to_string(std::max(1u, std::thread::hardware_concurrency())) +
+           " hardware threads";
+}
+
+std::size_t count_hits(const std::vector<std::uint32_t>& face) {
+    return static_cast<std::size_t>(
+        std::count_if(face.begin(), face.end(), [](std::uint32_t f) { return f != kNoFace; }));
+}
+
+/// Best rays/s of `repeats` timed runs, each repeating `trace` for at least `min_time_s`.
+template <class Trace>
+double best_rate(std::size_t rays, std::size_t repeats, double min_time_s, Trace&& trace) {
+    double best = 0.0;
+    for (std::size_t r = 0; r < repeats; ++r) {
+        std::size_t runs = 0;
+        const auto t0 = Clock::now();
+        double elapsed = 0.0;
+        do {
+            trace();
+            ++runs;
+            elapsed = seconds_since(t0);
+        } while (elapsed < min_time_s);
+        best = std::max(best, static_cast<double>(rays * runs) / elapsed);
+    }
+    return best;
+}
+
+/// Hit counts of two tracers on the same rays may differ only by rays aimed exactly at the
+/// silhouette of the scene (a handful); anything more is a bug.
+void check_hits(const std::string& survey, const std::string& what, std::size_t expected,
+                std::size_t got, std::size_t rays) {
+    const std::size_t allowed = std::max<std::size_t>(4, rays / 100000);
+    const std::size_t diff = expected > got ? expected - got : got - expected;
+    if (diff > allowed) {
+        throw std::runtime_error("bench check failed: " + survey + ": " + what + " hit " +
+                                 std::to_string(got) + " rays, the reference " +
+                                 std::to_string(expected));
+    }
+}
+
+std::string fixed(double v, int digits) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%.*f", digits, v);
+    return buf;
+}
+
+std::string millions(double v) {
+    return fixed(v / 1e6, 2) + " M";
+}
+
+}  // namespace
+
+std::vector<std::string> ThroughputBenchConfig::validate() const {
+    std::vector<std::string> p;
+    if (surveys.empty()) {
+        p.emplace_back("no survey files");
+    }
+    for (unsigned t : threads) {
+        if (t == 0 || t > 1024) {
+            p.push_back("threads: " + std::to_string(t) + " is not in 1..1024");
+        }
+    }
+    if (repeats == 0 || repeats > 100) {
+        p.push_back("repeats: " + std::to_string(repeats) + " is not in 1..100");
+    }
+    if (!(min_time_s >= 0.0 && min_time_s <= 60.0)) {
+        p.emplace_back("min_time_s must be in [0, 60]");
+    }
+    for (BackendKind b : backends) {
+        if (b == BackendKind::embree && !embree_available()) {
+            p.emplace_back("backend embree: this build has no Embree");
+        }
+    }
+    return p;
+}
+
+double ThreadFigures::limit_rays_per_s() const {
+    double best = 0.0;
+    for (const auto& f : trace) {
+        if (f.limit) {
+            best = std::max(best, f.rays_per_s);
+        }
+    }
+    return best;
+}
+
+ThroughputReport run_throughput_bench(const ThroughputBenchConfig& config,
+                                      const std::function<void(const std::string&)>& log) {
+    const auto problems = config.validate();
+    if (!problems.empty()) {
+        std::string message = "bench settings:";
+        for (const auto& p : problems) {
+            message += " " + p + ";";
+        }
+        message.pop_back();
+        throw ConfigError(message);
+    }
+    const auto say = [&](const std::string& s) {
+        if (log) {
+            log(s);
+        }
+    };
+    std::vector<unsigned> threads = config.threads;
+    if (threads.empty()) {
+        threads.push_back(1);
+        const unsigned hw = std::max(1u, std::thread::hardware_concurrency());
+        if (hw > 1) {
+            threads.push_back(hw);
+        }
+    }
+    std::vector<BackendKind> backends = config.backends;
+    if (backends.empty()) {
+        if (embree_available()) {
+            backends.push_back(BackendKind::embree);
+        }
+        backends.push_back(BackendKind::bvh);
+    }
+    const std::filesystem::path scratch =
+        config.scratch_dir.empty() ? std::filesystem::temp_directory_path() / "beamtrace-bench"
+                                   : config.scratch_dir;
+
+    // Every survey file is parsed first: a typo fails before minutes of benchmarking.
+    std::vector<SurveySpec> specs;
+    for (const auto& path : config.surveys) {
+        specs.push_back(load_survey_spec(path));
+    }
+
+    ThroughputReport report;
+    report.machine = machine_description();
+    report.backend = std::string(to_string(default_backend_kind()));
+    for (const SurveySpec& spec : specs) {
+        SurveyBenchResult res;
+        res.name = spec.source.stem().string();
+        say(res.name + ": loading the scene and generating the rays");
+        const Scene scene =
+            spec.scene_file.empty() ? make_demo_scene() : load_scene_file(spec.scene_file);
+        res.triangles = scene.geometry.triangle_count();
+        res.stored_triangles = scene.geometry.stored_triangle_count();
+        RayBatch rays;
+        {
+            ThreadPool pool(threads.back());
+            rays = survey_rays(spec, config.seed, config.max_pulses, pool);
+        }
+        res.rays = rays.size();
+#ifdef BEAMTRACE_HAVE_EMBREE
+        std::optional<TriangleMesh> flat;
+        if (!scene.geometry.is_single_mesh()) {
+            flat = scene.geometry.flatten();
+        }
+        const TriangleMesh& limit_mesh = flat ? *flat : scene.geometry.meshes[0];
+#endif
+
+        for (unsigned t : threads) {
+            ThreadFigures fig;
+            fig.threads = t;
+            ThreadPool pool(t);
+            say(res.name + ", " + std::to_string(t) + " thread(s): tracing " +
+                std::to_string(rays.size()) + " rays");
+            std::optional<std::size_t> reference_hits;
+#ifdef BEAMTRACE_HAVE_EMBREE
+            {
+                const EmbreeLimit limit(limit_mesh, t);
+                std::vector<std::uint32_t> face;
+                for (EmbreeCall call :
+                     {EmbreeCall::single, EmbreeCall::packet16, EmbreeCall::packet16_coherent}) {
+                    limit.trace(rays, call, face, pool);  // checked before it is timed
+                    const std::size_t hits = count_hits(face);
+                    if (!reference_hits) {
+                        reference_hits = hits;
+                    }
+                    const std::string name = "Embree " + std::string(to_string(call));
+                    check_hits(res.name, name, *reference_hits, hits, rays.size());
+                    fig.trace.push_back({name, true,
+                                         best_rate(rays.size(), config.repeats, config.min_time_s,
+                                                   [&] { limit.trace(rays, call, face, pool); })});
+                }
+            }
+#endif
+            for (BackendKind kind : backends) {
+                const auto backend = make_backend(kind, scene.geometry, pool);
+                HitBatch hits;
+                hits.resize(rays.size());
+                backend->intersect(rays, 0, rays.size(), hits, pool);
+                const std::size_t n = count_hits(hits.face);
+                if (!reference_hits) {
+                    reference_hits = n;
+                }
+                const std::string name = "our " + std::string(to_string(kind));
+                check_hits(res.name, name, *reference_hits, n, rays.size());
+                fig.trace.push_back(
+                    {name, false, best_rate(rays.size(), config.repeats, config.min_time_s, [&] {
+                         backend->intersect(rays, 0, rays.size(), hits, pool);
+                     })});
+            }
+            res.hits = reference_hits.value_or(0);
+
+            // End to end, with the default backend, as `beamtrace survey` runs it.
+            say(res.name + ", " + std::to_string(t) + " thread(s): end-to-end survey");
+            SurveyRunConfig run;
+            run.output_dir = scratch / res.name;
+            run.threads = t;
+            run.seed = config.seed;
+            run.max_pulses = config.max_pulses;
+            for (std::size_t r = 0; r < config.repeats; ++r) {
+                std::filesystem::remove_all(run.output_dir);
+                reset_peak_rss();
+                const auto t0 = Clock::now();
+                const SurveyResult sr = run_survey(spec, run);
+                const double total_s = seconds_since(t0);
+                fig.peak_rss_bytes = std::max(fig.peak_rss_bytes, peak_rss_bytes());
+                if (r == 0) {
+                    const LasReader las(run.output_dir / "points.las");
+                    if (las.header().point_count != sr.points) {
+                        throw std::runtime_error(
+                            "bench check failed: " + res.name + ": the LAS file holds " +
+                            std::to_string(las.header().point_count) +
+                            " points, the survey wrote " + std::to_string(sr.points));
+                    }
+                    if (!spec.physics) {  // one point per hit
+                        check_hits(res.name, "the survey", res.hits, sr.points, rays.size());
+                    }
+                    res.pulses = sr.pulses;
+                    res.points = sr.points;
+                }
+                if (fig.survey_s == 0.0 || sr.survey_s < fig.survey_s) {
+                    fig.survey_s = sr.survey_s;
+                    fig.survey_pulses_per_s = static_cast<double>(sr.pulses) / sr.survey_s;
+                    fig.survey_points_per_s = static_cast<double>(sr.points) / sr.survey_s;
+                }
+                const double load_build = total_s - sr.survey_s;
+                fig.load_build_s = r == 0 ? load_build : std::min(fig.load_build_s, load_build);
+            }
+            std::filesystem::remove_all(run.output_dir);
+            res.runs.push_back(std::move(fig));
+        }
+        report.surveys.push_back(std::move(res));
+    }
+    std::error_code ec;
+    if (config.scratch_dir.empty()) {
+        std::filesystem::remove_all(scratch, ec);
+    }
+    return report;
+}
+
+std::string format_throughput_report(const ThroughputReport& report) {
+    std::string out = "Machine: " + report.machine + ". End-to-end surveys use the " +
+                      report.backend + " backend; every figure is the best of the timed runs.\n";
+    for (const auto& s : report.surveys) {
+        out += "\n### " + s.name + ": " + std::to_string(s.triangles) + " triangles";
+        if (s.stored_triangles != s.triangles) {
+            out += " (" + std::to_string(s.stored_triangles) + " stored)";
+        }
+        out += ", " + std::to_string(s.pulses) + " pulses, " + std::to_string(s.rays) + " rays, " +
+               std::to_string(s.hits) + " hits, " + std::to_string(s.points) + " points\n\n";
+        out += "| threads | tracer | rays/s | of the limit |\n|---|---|---|---|\n";
+        for (const auto& f : s.runs) {
+            const double limit = f.limit_rays_per_s();
+            for (const auto& tr : f.trace) {
+                out += "| " + std::to_string(f.threads) + " | " + tr.tracer + " | " +
+                       millions(tr.rays_per_s) + " | " +
+                       (limit > 0 ? fixed(tr.rays_per_s / limit, 2) : std::string("-")) + " |\n";
+            }
+            out +=
+                "| " + std::to_string(f.threads) + " | **survey end to end** (LAS written) | " +
+                millions(f.survey_pulses_per_s) + " pulses/s, " + millions(f.survey_points_per_s) +
+                " points/s | " +
+                (limit > 0
+                     ? fixed(f.survey_pulses_per_s * static_cast<double>(s.rays) /
+                                 static_cast<double>(std::max<std::uint64_t>(1, s.pulses)) / limit,
+                             2)
+                     : std::string("-")) +
+                " |\n";
+        }
+        out += "\n| threads | scene load + build | survey stage | peak RSS |\n|---|---|---|---|\n";
+        for (const auto& f : s.runs) {
+            out += "| " + std::to_string(f.threads) + " | " + fixed(f.load_build_s, 3) + " s | " +
+                   fixed(f.survey_s, 3) + " s | " +
+                   fixed(static_cast<double>(f.peak_rss_bytes) / 1e6, 1) + " MB |\n";
+        }
+        if (s.runs.size() > 1) {
+            const ThreadFigures& a = s.runs.front();
+            const ThreadFigures& b = s.runs.back();
+            out += "\nScaling " + std::to_string(a.threads) + " -> " + std::to_string(b.threads) +
+                   " threads:";
+            for (std::size_t k = 0; k < a.trace.size() && k < b.trace.size(); ++k) {
+                out += " " + a.trace[k].tracer + " " +
+                       fixed(b.trace[k].rays_per_s / a.trace[k].rays_per_s, 2) + "x;";
+            }
+            out += " survey " + fixed(b.survey_pulses_per_s / a.survey_pulses_per_s, 2) + "x\n";
+        }
+    }
+    return out;
+}
+
+}  // namespace beamtrace
