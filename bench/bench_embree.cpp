@@ -1,12 +1,11 @@
-// Embree: the limit (a minimal loop calling rtcIntersect1 directly over the same RayBatch, on our
-// ThreadPool) against our Embree backend and our BVH on the 1 M-triangle terrain / 512x512 nadir
-// pinhole of bench_trace.cpp, and a 10^8-triangle instanced scene (1440 Stanford bunnies) traced
-// by the two-level BVH and Embree with peak RSS. Hit counts are checked before timing.
-// Compare ratios with --benchmark_filter='BM_Embree.*Terrain'; run the instanced cases in their
-// own process (--benchmark_filter=BM_EmbreeInstanced) so peak RSS is theirs alone.
+// Embree: the limit (EmbreeLimit: a minimal loop calling rtcIntersect1 directly over the same
+// RayBatch, on our ThreadPool) against our Embree backend and our BVH on the 1 M-triangle
+// terrain / 512x512 nadir pinhole of bench_trace.cpp, and a 10^8-triangle instanced scene (1440
+// Stanford bunnies) traced by the two-level BVH and Embree with peak RSS. Hit counts are checked
+// before timing. Compare ratios with --benchmark_filter='BM_Embree.*Terrain'; run the instanced
+// cases in their own process (--benchmark_filter=BM_EmbreeInstanced) so peak RSS is theirs alone.
 #ifdef BEAMTRACE_HAVE_EMBREE
 #include <benchmark/benchmark.h>
-#include <embree3/rtcore.h>
 #include <sys/resource.h>
 
 #include <algorithm>
@@ -19,6 +18,7 @@
 #include <thread>
 
 #include "beamtrace/accel/backend.hpp"
+#include "beamtrace/accel/embree_limit.hpp"
 #include "beamtrace/scene/demo_scene.hpp"
 #include "beamtrace/scene/mesh_loader.hpp"
 #include "beamtrace/sensor/image_sensor.hpp"
@@ -40,68 +40,6 @@ unsigned threads_arg(const benchmark::State& state) {
     return static_cast<unsigned>(state.range(0));
 }
 
-std::size_t grain_for(std::size_t n, const bt::ThreadPool& pool) {
-    return std::clamp<std::size_t>(n / (8 * std::size_t{pool.size()}), 16, 1024);
-}
-
-/// The limit: one Embree scene over the mesh (vertices copied once into an Embree buffer), one
-/// rtcIntersect1 per ray, nothing else.
-struct RawEmbree {
-    RTCDevice device = nullptr;
-    RTCScene scene = nullptr;
-    explicit RawEmbree(const bt::TriangleMesh& mesh) {
-        device = rtcNewDevice("threads=2,set_affinity=0");
-        scene = rtcNewScene(device);
-        RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
-        auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(
-            g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 12, mesh.vertices.size()));
-        std::memcpy(v, mesh.vertices.data(), mesh.vertices.size() * 12);
-        rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, mesh.faces.data(),
-                                   0, 12, mesh.faces.size());
-        rtcCommitGeometry(g);
-        rtcAttachGeometry(scene, g);
-        rtcReleaseGeometry(g);
-        rtcCommitScene(scene);
-    }
-    ~RawEmbree() {
-        rtcReleaseScene(scene);
-        rtcReleaseDevice(device);
-    }
-    RawEmbree(const RawEmbree&) = delete;
-    RawEmbree& operator=(const RawEmbree&) = delete;
-
-    /// Returns nothing; writes the face (or -1) of each ray.
-    void trace(const bt::RayBatch& rays, std::vector<std::uint32_t>& face,
-               bt::ThreadPool& pool) const {
-        face.resize(rays.size());
-        pool.parallel_for(
-            rays.size(), grain_for(rays.size(), pool), [&](std::size_t b, std::size_t e) {
-                RTCIntersectContext ctx;
-                rtcInitIntersectContext(&ctx);
-                for (std::size_t i = b; i < e; ++i) {
-                    RTCRayHit rh;
-                    rh.ray.org_x = static_cast<float>(rays.ox[i]);
-                    rh.ray.org_y = static_cast<float>(rays.oy[i]);
-                    rh.ray.org_z = static_cast<float>(rays.oz[i]);
-                    rh.ray.dir_x = static_cast<float>(rays.dx[i]);
-                    rh.ray.dir_y = static_cast<float>(rays.dy[i]);
-                    rh.ray.dir_z = static_cast<float>(rays.dz[i]);
-                    rh.ray.tnear = static_cast<float>(rays.tmin[i]);
-                    rh.ray.tfar = static_cast<float>(rays.tmax[i]);
-                    rh.ray.time = 0.0f;
-                    rh.ray.mask = 0xFFFFFFFFu;
-                    rh.ray.id = 0;
-                    rh.ray.flags = 0;
-                    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-                    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-                    rtcIntersect1(scene, &ctx, &rh);
-                    face[i] =
-                        rh.hit.geomID == RTC_INVALID_GEOMETRY_ID ? bt::kNoFace : rh.hit.primID;
-                }
-            });
-    }
-};
-
 std::size_t count_hits(const std::vector<std::uint32_t>& face) {
     std::size_t n = 0;
     for (auto f : face) {
@@ -117,9 +55,9 @@ void check_terrain_once() {
     }
     done = true;
     bt::ThreadPool pool(0);
-    const RawEmbree raw(terrain_1m());
+    const bt::EmbreeLimit raw(terrain_1m(), pool.size());
     std::vector<std::uint32_t> faces;
-    raw.trace(nadir_rays(), faces, pool);
+    raw.trace(nadir_rays(), bt::EmbreeCall::single, faces, pool);
     const std::size_t limit_hits = count_hits(faces);
     if (limit_hits != nadir_rays().size()) {
         fail("raw Embree: a nadir ray missed");
@@ -136,10 +74,10 @@ void check_terrain_once() {
 void BM_EmbreeLimitTerrain(benchmark::State& state) {
     check_terrain_once();
     bt::ThreadPool pool(threads_arg(state));
-    const RawEmbree raw(terrain_1m());
+    const bt::EmbreeLimit raw(terrain_1m(), pool.size());
     std::vector<std::uint32_t> faces;
     for (auto _ : state) {
-        raw.trace(nadir_rays(), faces, pool);
+        raw.trace(nadir_rays(), bt::EmbreeCall::single, faces, pool);
         benchmark::DoNotOptimize(faces.data());
     }
     state.counters["rays/s"] = benchmark::Counter(static_cast<double>(nadir_rays().size()),

@@ -20,7 +20,7 @@ std::filesystem::path scratch_dir(const std::string& name) {
     return dir;
 }
 
-void BM_Survey(benchmark::State& state, const std::string& file) {
+void BM_Survey(benchmark::State& state, const std::string& file, bt::BackendKind backend) {
     const std::filesystem::path path =
         std::filesystem::path(BEAMTRACE_EXAMPLES_DIR) / "surveys" / file;
     if (!std::filesystem::exists(path)) {
@@ -31,6 +31,7 @@ void BM_Survey(benchmark::State& state, const std::string& file) {
     bt::SurveyRunConfig run;
     run.output_dir = scratch_dir(file);
     run.threads = static_cast<unsigned>(state.range(0));
+    run.backend = backend;
     // Check once: every point is read back, inside the header bounds.
     const bt::SurveyResult check = bt::run_survey(spec, run);
     bt::LasReader reader(run.output_dir / "points.las");
@@ -66,11 +67,21 @@ void survey_args(benchmark::internal::Benchmark* b) {
         ->MinTime(2.0);
 }
 
-BENCHMARK_CAPTURE(BM_Survey, airborne_srtm, std::string("airborne_srtm.yaml"))->Apply(survey_args);
+// With the default backend (Embree where built), and with our BVH.
+constexpr bt::BackendKind kDefault = bt::default_backend_kind();
+BENCHMARK_CAPTURE(BM_Survey, airborne_srtm, std::string("airborne_srtm.yaml"), kDefault)
+    ->Apply(survey_args);
+BENCHMARK_CAPTURE(BM_Survey, airborne_srtm_bvh, std::string("airborne_srtm.yaml"),
+                  bt::BackendKind::bvh)
+    ->Apply(survey_args);
 // The same flight with a 19-sub-ray beam and the physics (issue target: >= 0.8 / 19 of the
 // single-ray survey_pulses/s).
-BENCHMARK_CAPTURE(BM_Survey, airborne_srtm_19_subrays, std::string("airborne_srtm_divergence.yaml"))
+BENCHMARK_CAPTURE(BM_Survey, airborne_srtm_19_subrays, std::string("airborne_srtm_divergence.yaml"),
+                  kDefault)
     ->Apply(survey_args);
-BENCHMARK_CAPTURE(BM_Survey, car_hdl64, std::string("car_hdl64.yaml"))->Apply(survey_args);
+BENCHMARK_CAPTURE(BM_Survey, car_hdl64, std::string("car_hdl64.yaml"), kDefault)
+    ->Apply(survey_args);
+BENCHMARK_CAPTURE(BM_Survey, car_hdl64_bvh, std::string("car_hdl64.yaml"), bt::BackendKind::bvh)
+    ->Apply(survey_args);
 
 }  // namespace
