@@ -34,6 +34,7 @@
 #include "beamtrace/accel/backend.hpp"
 #include "beamtrace/core/error.hpp"
 #include "detail/embree.hpp"
+#include "detail/embree_rays.hpp"
 #include "detail/queries.hpp"
 
 namespace beamtrace::detail {
@@ -103,21 +104,6 @@ const char* error_name(RTCError code) {
     }
 }
 
-void set_ray(RTCRay& r, const RayBatch& rays, std::size_t i) {
-    r.org_x = static_cast<float>(rays.ox[i]);
-    r.org_y = static_cast<float>(rays.oy[i]);
-    r.org_z = static_cast<float>(rays.oz[i]);
-    r.dir_x = static_cast<float>(rays.dx[i]);
-    r.dir_y = static_cast<float>(rays.dy[i]);
-    r.dir_z = static_cast<float>(rays.dz[i]);
-    r.tnear = static_cast<float>(rays.tmin[i]);
-    r.tfar = static_cast<float>(rays.tmax[i]);
-    r.time = 0.0f;
-    r.mask = 0xFFFFFFFFu;
-    r.id = 0;
-    r.flags = 0;
-}
-
 class EmbreeBackend final : public Backend {
     static constexpr std::size_t kPacket = 16;  ///< rays per rtcIntersect16 packet
 
@@ -173,24 +159,7 @@ class EmbreeBackend final : public Backend {
             for (std::size_t pk = first_packet + pb; pk < first_packet + pe; ++pk) {
                 const std::size_t p = std::max(begin, pk * kPacket);
                 const std::size_t n = std::min(end, (pk + 1) * kPacket) - p;
-                for (std::size_t k = 0; k < kPacket; ++k) {
-                    const std::size_t i = p + std::min(k, n - 1);  // idle lanes repeat a ray
-                    valid[k] = k < n ? -1 : 0;
-                    rh.ray.org_x[k] = static_cast<float>(rays.ox[i]);
-                    rh.ray.org_y[k] = static_cast<float>(rays.oy[i]);
-                    rh.ray.org_z[k] = static_cast<float>(rays.oz[i]);
-                    rh.ray.dir_x[k] = static_cast<float>(rays.dx[i]);
-                    rh.ray.dir_y[k] = static_cast<float>(rays.dy[i]);
-                    rh.ray.dir_z[k] = static_cast<float>(rays.dz[i]);
-                    rh.ray.tnear[k] = static_cast<float>(rays.tmin[i]);
-                    rh.ray.tfar[k] = static_cast<float>(rays.tmax[i]);
-                    rh.ray.time[k] = 0.0f;
-                    rh.ray.mask[k] = 0xFFFFFFFFu;
-                    rh.ray.id[k] = 0;
-                    rh.ray.flags[k] = 0;
-                    rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
-                    rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
-                }
+                set_embree_packet(rh, valid, rays, p, n);
                 rtcIntersect16(valid, scene_, &ctx, &rh);
                 for (std::size_t k = 0; k < n; ++k) {
                     store(rh.hit.geomID[k], rh.hit.instID[0][k], rh.hit.primID[k], rh.ray.tfar[k],
@@ -209,7 +178,7 @@ class EmbreeBackend final : public Backend {
                               rtcInitIntersectContext(&ctx);
                               for (std::size_t i = begin + b; i < begin + e; ++i) {
                                   RTCRay r;
-                                  set_ray(r, rays, i);
+                                  set_embree_ray(r, rays, i);
                                   rtcOccluded1(scene_, &ctx, &r);
                                   // A hit sets tfar to -inf.
                                   occluded[i] = r.tfar < 0.0f ? 1 : 0;
@@ -236,7 +205,7 @@ class EmbreeBackend final : public Backend {
                 const std::size_t before = out.size();
                 c.dir = rays.direction(i);
                 RTCRayHit rh;
-                set_ray(rh.ray, rays, i);
+                set_embree_ray(rh.ray, rays, i);
                 rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
                 rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
                 rtcIntersect1(scene_, &c.ctx, &rh);

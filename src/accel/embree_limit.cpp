@@ -8,6 +8,7 @@
 
 #include "beamtrace/accel/hit_batch.hpp"
 #include "beamtrace/core/error.hpp"
+#include "detail/embree_rays.hpp"
 
 namespace beamtrace {
 
@@ -73,18 +74,7 @@ void EmbreeLimit::trace(const RayBatch& rays, EmbreeCall call, std::vector<std::
         if (call == EmbreeCall::single) {
             for (std::size_t i = b; i < e; ++i) {
                 RTCRayHit rh;
-                rh.ray.org_x = static_cast<float>(rays.ox[i]);
-                rh.ray.org_y = static_cast<float>(rays.oy[i]);
-                rh.ray.org_z = static_cast<float>(rays.oz[i]);
-                rh.ray.dir_x = static_cast<float>(rays.dx[i]);
-                rh.ray.dir_y = static_cast<float>(rays.dy[i]);
-                rh.ray.dir_z = static_cast<float>(rays.dz[i]);
-                rh.ray.tnear = static_cast<float>(rays.tmin[i]);
-                rh.ray.tfar = static_cast<float>(rays.tmax[i]);
-                rh.ray.time = 0.0f;
-                rh.ray.mask = 0xFFFFFFFFu;
-                rh.ray.id = 0;
-                rh.ray.flags = 0;
+                detail::set_embree_ray(rh.ray, rays, i);
                 rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
                 rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
                 rtcIntersect1(scene, &ctx, &rh);
@@ -98,24 +88,7 @@ void EmbreeLimit::trace(const RayBatch& rays, EmbreeCall call, std::vector<std::
         alignas(64) int valid[16];
         for (std::size_t p = b; p < e; p += 16) {
             const std::size_t n = std::min<std::size_t>(16, e - p);
-            for (std::size_t k = 0; k < 16; ++k) {
-                const std::size_t i = p + std::min(k, n - 1);
-                valid[k] = k < n ? -1 : 0;
-                rh.ray.org_x[k] = static_cast<float>(rays.ox[i]);
-                rh.ray.org_y[k] = static_cast<float>(rays.oy[i]);
-                rh.ray.org_z[k] = static_cast<float>(rays.oz[i]);
-                rh.ray.dir_x[k] = static_cast<float>(rays.dx[i]);
-                rh.ray.dir_y[k] = static_cast<float>(rays.dy[i]);
-                rh.ray.dir_z[k] = static_cast<float>(rays.dz[i]);
-                rh.ray.tnear[k] = static_cast<float>(rays.tmin[i]);
-                rh.ray.tfar[k] = static_cast<float>(rays.tmax[i]);
-                rh.ray.time[k] = 0.0f;
-                rh.ray.mask[k] = 0xFFFFFFFFu;
-                rh.ray.id[k] = 0;
-                rh.ray.flags[k] = 0;
-                rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
-                rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
-            }
+            detail::set_embree_packet(rh, valid, rays, p, n);
             rtcIntersect16(valid, scene, &ctx, &rh);
             for (std::size_t k = 0; k < n; ++k) {
                 face[p + k] =
