@@ -36,6 +36,19 @@ void store_text(std::uint8_t* p, std::string_view text, std::size_t size) {
     std::memcpy(p, text.data(), std::min(text.size(), size));
 }
 
+/// std::round (halves away from zero) for |x| < 2^31, without a library call: truncation is one
+/// instruction, and x - trunc(x) is exact in that range.
+[[nodiscard]] inline std::int32_t round_to_int32(double x) {
+    const auto i = static_cast<std::int32_t>(x);
+    const double f = x - static_cast<double>(i);
+    return i + (f >= 0.5 ? 1 : 0) - (f <= -0.5 ? 1 : 0);
+}
+
+/// True when std::round(x) fits in an int32 (false for NaN).
+[[nodiscard]] inline bool rounds_into_int32(double x) {
+    return x > -2147483648.5 && x < 2147483647.5;
+}
+
 [[nodiscard]] std::string number(double v) {
     char buf[32];
     std::snprintf(buf, sizeof buf, "%.17g", v);
@@ -248,15 +261,14 @@ void LasWriter::encode_record(const LasPoint& p, std::uint64_t index, std::uint8
     };
     const double xyz[3] = {p.x, p.y, p.z};
     for (std::size_t k = 0; k < 3; ++k) {
-        const double steps = std::round((xyz[k] - header_.offset[k]) / header_.scale[k]);
-        if (!(steps >= std::numeric_limits<std::int32_t>::min() &&
-              steps <= std::numeric_limits<std::int32_t>::max())) {
+        const double steps = (xyz[k] - header_.offset[k]) / header_.scale[k];
+        if (!rounds_into_int32(steps)) {
             reject(std::string(1, "xyz"[k]) + " = " + number(xyz[k]) +
                    " does not fit in a 32-bit LAS coordinate with scale " +
                    number(header_.scale[k]) + " and offset " + number(header_.offset[k]) +
                    " (see las_config_for_extent)");
         }
-        q[k] = static_cast<std::int32_t>(steps);
+        q[k] = round_to_int32(steps);
     }
     if (p.return_number > 15 || p.number_of_returns > 15) {
         reject("return " + std::to_string(p.return_number) + " of " +
@@ -265,9 +277,9 @@ void LasWriter::encode_record(const LasPoint& p, std::uint64_t index, std::uint8
     if (p.scanner_channel > 3) {
         reject("scanner channel " + std::to_string(p.scanner_channel) + " exceeds 3");
     }
-    const double angle_steps =
-        std::round(static_cast<double>(p.scan_angle_deg) / kScanAngleStepDeg);
-    if (!(std::fabs(angle_steps) <= 30000.0)) {
+    const double angle = static_cast<double>(p.scan_angle_deg) / kScanAngleStepDeg;
+    const std::int32_t angle_steps = rounds_into_int32(angle) ? round_to_int32(angle) : 1 << 30;
+    if (!(angle_steps >= -30000 && angle_steps <= 30000)) {
         reject("scan angle " + number(p.scan_angle_deg) + " deg is outside [-180, 180]");
     }
     if (p.extra_bytes.size() != config_.extra_bytes_per_point) {

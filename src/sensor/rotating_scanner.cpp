@@ -1,6 +1,7 @@
 #include "beamtrace/sensor/rotating_scanner.hpp"
 
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <utility>
 
@@ -130,10 +131,18 @@ RotatingScanner::RotatingScanner(RotatingScannerConfig config) : config_(std::mo
     }
     cos_elevation_.resize(beams);
     sin_elevation_.resize(beams);
+    cos_beam_azimuth_.resize(beams);
+    sin_beam_azimuth_.resize(beams);
+    const double sign = config_.spin_clockwise ? -1.0 : 1.0;
     for (std::size_t b = 0; b < beams; ++b) {
         const double e = config_.beam_elevations_deg[b] * kDegToRad;
         cos_elevation_[b] = std::cos(e);
         sin_elevation_[b] = std::sin(e);
+        const double within_deg =
+            config_.azimuth_resolution_deg * static_cast<double>(b) / static_cast<double>(beams);
+        const double a = (sign * within_deg + config_.beam_azimuth_offsets_deg[b]) * kDegToRad;
+        cos_beam_azimuth_[b] = std::cos(a);
+        sin_beam_azimuth_[b] = std::sin(a);
     }
 }
 
@@ -142,19 +151,30 @@ void RotatingScanner::generate_pulses(std::uint64_t first, std::size_t count,
     const std::uint64_t beams = beam_count();
     const double res = config_.azimuth_resolution_deg;
     const double sign = config_.spin_clockwise ? -1.0 : 1.0;
+    // The firing's heading, as cos/sin, computed once per firing: a beam's direction is the
+    // heading rotated by the beam's own azimuth (angle addition, within 1e-15 of a direct sincos).
+    std::uint64_t firing = std::numeric_limits<std::uint64_t>::max();
+    double cos_head = 1.0, sin_head = 0.0, head_deg = 0.0;
     for (std::size_t j = 0; j < count; ++j) {
         const std::uint64_t i = first + j;
         const std::uint64_t k = i / beams;
         const std::size_t b = static_cast<std::size_t>(i % beams);
-        const double head_deg = firings_per_revolution_ > 0
-                                    ? static_cast<double>(k % firings_per_revolution_) * res
-                                    : std::fmod(static_cast<double>(k) * res, 360.0);
+        if (k != firing) {
+            firing = k;
+            head_deg = firings_per_revolution_ > 0
+                           ? static_cast<double>(k % firings_per_revolution_) * res
+                           : std::fmod(static_cast<double>(k) * res, 360.0);
+            const double head = (config_.start_azimuth_deg + sign * head_deg) * kDegToRad;
+            cos_head = std::cos(head);
+            sin_head = std::sin(head);
+        }
         const double within_deg = res * static_cast<double>(b) / static_cast<double>(beams);
         const double az_deg = wrap_deg(config_.start_azimuth_deg + sign * (head_deg + within_deg) +
                                        config_.beam_azimuth_offsets_deg[b]);
-        const double az = az_deg * kDegToRad;
+        const double cos_az = cos_head * cos_beam_azimuth_[b] - sin_head * sin_beam_azimuth_[b];
+        const double sin_az = sin_head * cos_beam_azimuth_[b] + cos_head * sin_beam_azimuth_[b];
         out.time_s[j] = pulse_time_s(i);
-        out.direction[j] = {cos_elevation_[b] * std::cos(az), cos_elevation_[b] * std::sin(az),
+        out.direction[j] = {cos_elevation_[b] * cos_az, cos_elevation_[b] * sin_az,
                             sin_elevation_[b]};
         out.channel[j] = static_cast<std::uint16_t>(b);
         out.scan_angle_deg[j] = static_cast<float>(az_deg);

@@ -83,6 +83,9 @@ class RotatingScanner final : public ScanPattern {
     /// from the firing index modulo a revolution, exactly periodic); 0 otherwise.
     std::uint64_t firings_per_revolution_ = 0;
     std::vector<double> cos_elevation_, sin_elevation_;
+    /// cos/sin of each beam's azimuth within a firing (its share of the step plus its offset):
+    /// a pulse's azimuth is the firing's heading plus this, so one sincos per firing suffices.
+    std::vector<double> cos_beam_azimuth_, sin_beam_azimuth_;
 };
 
 }  // namespace beamtrace
