@@ -11,6 +11,7 @@
 
 #include "beamtrace/core/error.hpp"
 #include "beamtrace/io/atomic_file.hpp"
+#include "io/detail/direct_sink.hpp"
 
 namespace beamtrace {
 
@@ -188,7 +189,9 @@ LasWriter::LasWriter(std::filesystem::path path, LasWriterConfig config)
     h.offset = config_.offset;
 
     file_ = std::make_unique<AtomicFile>(path_);
-    write_header();  // a placeholder until close() knows the counts and bounds
+    sink_ = std::make_unique<detail::DirectSink>(file_->temp_path(), path_);
+    const auto header = encode_header();  // a placeholder until close() knows the counts and bounds
+    sink_->append(header.data(), header.size());
     std::vector<std::uint8_t> b(kVlrHeaderBytes);
     for (const auto& v : config_.vlrs) {
         if (v.extended) {
@@ -199,8 +202,8 @@ LasWriter::LasWriter(std::filesystem::path path, LasWriterConfig config)
         store<std::uint16_t>(b.data() + 18, v.record_id);
         store<std::uint16_t>(b.data() + 20, static_cast<std::uint16_t>(v.data.size()));
         store_text(b.data() + 22, v.description, 32);
-        file_->write(b.data(), b.size());
-        file_->write(v.data.data(), v.data.size());
+        sink_->append(b.data(), b.size());
+        sink_->append(v.data.data(), v.data.size());
     }
     chunk_.resize(kChunkPoints * h.point_record_length);
 }
@@ -213,9 +216,11 @@ void LasWriter::fail(const std::string& what) {
     throw OutputError(path_.string() + ": " + what);
 }
 
-void LasWriter::write_header() {
+std::array<std::uint8_t, 375> LasWriter::encode_header() const {
+    static_assert(kHeaderBytes == 375);
     const LasHeader& h = header_;
-    std::uint8_t b[kHeaderBytes] = {};
+    std::array<std::uint8_t, kHeaderBytes> header{};
+    std::uint8_t* b = header.data();
     std::memcpy(b, "LASF", 4);
     store<std::uint16_t>(b + 4, h.file_source_id);
     store<std::uint16_t>(b + 6, h.global_encoding);
@@ -245,7 +250,7 @@ void LasWriter::write_header() {
     for (std::size_t i = 0; i < 15; ++i) {
         store<std::uint64_t>(b + 255 + 8 * i, h.points_by_return[i]);
     }
-    file_->write(b, sizeof b);
+    return header;
 }
 
 void LasRecordBlock::clear() {
@@ -369,7 +374,7 @@ void LasWriter::write_block(const LasRecordBlock& block) {
         header_.points_by_return[i] += block.by_return[i];
     }
     try {
-        file_->write(block.bytes.data(), block.count * std::size_t{header_.point_record_length});
+        sink_->append(block.bytes.data(), block.count * std::size_t{header_.point_record_length});
     } catch (...) {
         failed_ = true;
         file_.reset();
@@ -379,7 +384,7 @@ void LasWriter::write_block(const LasRecordBlock& block) {
 }
 
 void LasWriter::flush_chunk() {
-    file_->write(chunk_.data(), chunk_points_ * header_.point_record_length);
+    sink_->append(chunk_.data(), chunk_points_ * header_.point_record_length);
     header_.point_count += chunk_points_;
     chunk_points_ = 0;
 }
@@ -405,6 +410,8 @@ void LasWriter::close() {
     }
     try {
         flush_chunk();
+        sink_->finish(file_->stream());  // the stream continues at the end of the points
+        sink_.reset();
         LasHeader& h = header_;
         for (std::size_t k = 0; k < 3; ++k) {
             h.min[k] = h.point_count == 0 ? 0.0 : lo_[k] * h.scale[k] + h.offset[k];
@@ -429,7 +436,8 @@ void LasWriter::close() {
         if (::fseeko(file_->stream(), 0, SEEK_SET) != 0) {
             fail("cannot seek back to the header");
         }
-        write_header();
+        const auto header = encode_header();
+        file_->write(header.data(), header.size());
         file_->commit();
         closed_ = true;
     } catch (...) {

@@ -171,6 +171,53 @@ ThroughputReport run_throughput_bench(const ThroughputBenchConfig& config,
     for (const SurveySpec& spec : specs) {
         SurveyBenchResult res;
         res.name = spec.source.stem().string();
+        res.runs.resize(threads.size());
+
+        // End to end first, with nothing else of the benchmark in memory, so the peak RSS is the
+        // survey's own: the default backend, as `beamtrace survey` runs it.
+        for (std::size_t ti = 0; ti < threads.size(); ++ti) {
+            ThreadFigures& fig = res.runs[ti];
+            fig.threads = threads[ti];
+            say(res.name + ", " + std::to_string(fig.threads) + " thread(s): end-to-end survey");
+            SurveyRunConfig run;
+            run.output_dir = scratch / res.name;
+            run.threads = fig.threads;
+            run.seed = config.seed;
+            run.max_pulses = config.max_pulses;
+            for (std::size_t r = 0; r < config.repeats; ++r) {
+                std::filesystem::remove_all(run.output_dir);
+                reset_peak_rss();
+                const auto t0 = Clock::now();
+                const SurveyResult sr = run_survey(spec, run);
+                const double total_s = seconds_since(t0);
+                fig.peak_rss_bytes = std::max(fig.peak_rss_bytes, peak_rss_bytes());
+                if (ti == 0 && r == 0) {
+                    const LasReader las(run.output_dir / "points.las");
+                    if (las.header().point_count != sr.points) {
+                        throw std::runtime_error(
+                            "bench check failed: " + res.name + ": the LAS file holds " +
+                            std::to_string(las.header().point_count) +
+                            " points, the survey wrote " + std::to_string(sr.points));
+                    }
+                    res.pulses = sr.pulses;
+                    res.points = sr.points;
+                } else if (sr.points != res.points) {
+                    throw std::runtime_error("bench check failed: " + res.name +
+                                             ": the survey wrote " + std::to_string(sr.points) +
+                                             " points, before " + std::to_string(res.points));
+                }
+                if (fig.survey_s == 0.0 || sr.survey_s < fig.survey_s) {
+                    fig.survey_s = sr.survey_s;
+                    fig.survey_pulses_per_s = static_cast<double>(sr.pulses) / sr.survey_s;
+                    fig.survey_points_per_s = static_cast<double>(sr.points) / sr.survey_s;
+                }
+                const double load_build = total_s - sr.survey_s;
+                fig.load_build_s = r == 0 ? load_build : std::min(fig.load_build_s, load_build);
+            }
+            std::filesystem::remove_all(run.output_dir);
+        }
+
+        // Then every tracer on the survey's own rays.
         say(res.name + ": loading the scene and generating the rays");
         const Scene scene =
             spec.scene_file.empty() ? make_demo_scene() : load_scene_file(spec.scene_file);
@@ -189,17 +236,14 @@ ThroughputReport run_throughput_bench(const ThroughputBenchConfig& config,
         }
         const TriangleMesh& limit_mesh = flat ? *flat : scene.geometry.meshes[0];
 #endif
-
-        for (unsigned t : threads) {
-            ThreadFigures fig;
-            fig.threads = t;
-            ThreadPool pool(t);
-            say(res.name + ", " + std::to_string(t) + " thread(s): tracing " +
+        for (ThreadFigures& fig : res.runs) {
+            ThreadPool pool(fig.threads);
+            say(res.name + ", " + std::to_string(fig.threads) + " thread(s): tracing " +
                 std::to_string(rays.size()) + " rays");
             std::optional<std::size_t> reference_hits;
 #ifdef BEAMTRACE_HAVE_EMBREE
             {
-                const EmbreeLimit limit(limit_mesh, t);
+                const EmbreeLimit limit(limit_mesh, fig.threads);
                 std::vector<std::uint32_t> face;
                 for (EmbreeCall call :
                      {EmbreeCall::single, EmbreeCall::packet16, EmbreeCall::packet16_coherent}) {
@@ -233,45 +277,9 @@ ThroughputReport run_throughput_bench(const ThroughputBenchConfig& config,
                      })});
             }
             res.hits = reference_hits.value_or(0);
-
-            // End to end, with the default backend, as `beamtrace survey` runs it.
-            say(res.name + ", " + std::to_string(t) + " thread(s): end-to-end survey");
-            SurveyRunConfig run;
-            run.output_dir = scratch / res.name;
-            run.threads = t;
-            run.seed = config.seed;
-            run.max_pulses = config.max_pulses;
-            for (std::size_t r = 0; r < config.repeats; ++r) {
-                std::filesystem::remove_all(run.output_dir);
-                reset_peak_rss();
-                const auto t0 = Clock::now();
-                const SurveyResult sr = run_survey(spec, run);
-                const double total_s = seconds_since(t0);
-                fig.peak_rss_bytes = std::max(fig.peak_rss_bytes, peak_rss_bytes());
-                if (r == 0) {
-                    const LasReader las(run.output_dir / "points.las");
-                    if (las.header().point_count != sr.points) {
-                        throw std::runtime_error(
-                            "bench check failed: " + res.name + ": the LAS file holds " +
-                            std::to_string(las.header().point_count) +
-                            " points, the survey wrote " + std::to_string(sr.points));
-                    }
-                    if (!spec.physics) {  // one point per hit
-                        check_hits(res.name, "the survey", res.hits, sr.points, rays.size());
-                    }
-                    res.pulses = sr.pulses;
-                    res.points = sr.points;
-                }
-                if (fig.survey_s == 0.0 || sr.survey_s < fig.survey_s) {
-                    fig.survey_s = sr.survey_s;
-                    fig.survey_pulses_per_s = static_cast<double>(sr.pulses) / sr.survey_s;
-                    fig.survey_points_per_s = static_cast<double>(sr.points) / sr.survey_s;
-                }
-                const double load_build = total_s - sr.survey_s;
-                fig.load_build_s = r == 0 ? load_build : std::min(fig.load_build_s, load_build);
-            }
-            std::filesystem::remove_all(run.output_dir);
-            res.runs.push_back(std::move(fig));
+        }
+        if (!spec.physics) {  // one point per hit
+            check_hits(res.name, "the survey", res.hits, res.points, rays.size());
         }
         report.surveys.push_back(std::move(res));
     }

@@ -17,6 +17,9 @@
 namespace beamtrace {
 
 class AtomicFile;
+namespace detail {
+class DirectSink;
+}
 
 /// Point records encoded away from the writer (LasWriter::encode into a block, on any thread),
 /// appended in order by LasWriter::write_block: the bytes plus what the header needs of them.
@@ -109,13 +112,14 @@ class LasWriter {
     void encode_record(const LasPoint& p, std::uint64_t index, std::uint8_t* record,
                        std::int32_t q[3]) const;
     void flush_chunk();
-    void write_header();
+    [[nodiscard]] std::array<std::uint8_t, 375> encode_header() const;
     [[noreturn]] void fail(const std::string& what);
 
     std::filesystem::path path_;
     LasWriterConfig config_;
     LasHeader header_;
     std::unique_ptr<AtomicFile> file_;
+    std::unique_ptr<detail::DirectSink> sink_;  ///< header, VLRs and points, by large writes
     std::vector<std::uint8_t> chunk_;
     std::size_t chunk_points_ = 0;
     std::int32_t lo_[3] = {0, 0, 0};  ///< integer bounds of the points written so far
