@@ -35,6 +35,7 @@ struct ViewOptions {
     unsigned threads = 0;
     bool quiet = false;
     bool progress = false;
+    bool no_prefetch = false;
 };
 
 /// "WxH" with positive integers.
@@ -160,17 +161,24 @@ int run(const ViewOptions& o) {
     const bool show = !o.quiet && (o.progress || stderr_is_terminal());
     double render_s = 0;
     ViewImage image;  // its buffers are reused frame after frame
+    int prefetched = 0;
     for (std::size_t i = 0; i < poses.size(); ++i) {
         camera.position = poses[i].position;
         camera.yaw_deg = poses[i].yaw_deg;
         camera.pitch_deg = poses[i].pitch_deg;
         ProgressBar bar("loading sections", show);
+        // Waits for the sections prefetched while the previous frame rendered, then loads
+        // whatever did not fit next to them: frame i is the same as without prefetching.
         const IngestStats stats =
             session.move_to(camera.position, [&](std::uint64_t done, std::uint64_t total) {
                 bar.update(static_cast<std::size_t>(done), static_cast<std::size_t>(total));
             });
         bar.finish();
         print_stats(stats, session, o.quiet);
+        prefetched += stats.sections_prefetched;
+        if (i + 1 < poses.size() && !o.no_prefetch) {
+            session.prefetch(poses[i + 1].position);  // loads on the loader thread meanwhile
+        }
         const auto start = std::chrono::steady_clock::now();
         session.render(camera, render, image);
         render_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -188,9 +196,12 @@ int run(const ViewOptions& o) {
         }
     }
     if (!o.quiet && !o.path.empty()) {
-        std::printf("rendered %zu frames of %dx%d, %.1f ms per frame; wrote %s/frame_*.png\n",
-                    poses.size(), camera.width, camera.height,
-                    render_s * 1e3 / static_cast<double>(poses.size()), o.output.c_str());
+        std::printf(
+            "rendered %zu frames of %dx%d, %.1f ms per frame; %d sections loaded in the "
+            "background; peak %.1f MB of the budget; wrote %s/frame_*.png\n",
+            poses.size(), camera.width, camera.height,
+            render_s * 1e3 / static_cast<double>(poses.size()), prefetched,
+            static_cast<double>(session.peak_budgeted_bytes()) / 1e6, o.output.c_str());
     }
     return 0;
 }
@@ -230,6 +241,9 @@ std::function<int()> add_view_command(CLI::App& app) {
     cmd->add_flag("--no-shading", opts->no_shading, "Flat colours, no normal shading");
     cmd->add_option("--threads", opts->threads, "Worker threads (0 = all cores)")
         ->capture_default_str();
+    cmd->add_flag("--no-prefetch", opts->no_prefetch,
+                  "--path: load each frame's sections only when it is due (no background "
+                  "loading while the previous frame renders)");
     cmd->add_flag("--quiet", opts->quiet, "No progress bar and no summary");
     cmd->add_flag("--progress", opts->progress,
                   "Show the progress bar even when not on a terminal");
