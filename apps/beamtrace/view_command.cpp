@@ -13,6 +13,7 @@
 #include "beamtrace/io/png_writer.hpp"
 #include "commands.hpp"
 #include "progress_bar.hpp"
+#include "view_window.hpp"
 
 namespace beamtrace::cli {
 namespace {
@@ -36,6 +37,9 @@ struct ViewOptions {
     bool quiet = false;
     bool progress = false;
     bool no_prefetch = false;
+    bool interactive = false;
+    std::string screenshot;
+    int frames = 0;
 };
 
 /// "WxH" with positive integers.
@@ -109,8 +113,28 @@ void print_stats(const IngestStats& s, const ViewSession& session, bool quiet) {
 }
 
 int run(const ViewOptions& o) {
-    if (o.camera.empty() == o.path.empty()) {
-        throw ConfigError("view: give exactly one of --camera x,y,z,yaw,pitch and --path FILE.csv");
+    if (o.interactive) {
+        if (!o.path.empty()) {
+            throw ConfigError("view: --interactive starts at --camera (optional), not --path");
+        }
+        require_view_window();  // before reading any file
+    } else {
+        if (o.camera.empty() == o.path.empty()) {
+            throw ConfigError(
+                "view: give exactly one of --camera x,y,z,yaw,pitch and --path FILE.csv (or "
+                "--interactive)");
+        }
+        if (o.output.empty()) {
+            throw ConfigError(
+                "view: --output is required (a PNG file with --camera, a folder "
+                "with --path)");
+        }
+        if (!o.screenshot.empty() || o.frames != 0) {
+            throw ConfigError("view: --screenshot and --frames go with --interactive");
+        }
+    }
+    if (o.frames < 0) {
+        throw ConfigError("view: --frames " + std::to_string(o.frames) + " is negative");
     }
     ViewSessionConfig config;
     config.field.cell_size = o.cell_size;
@@ -133,7 +157,9 @@ int run(const ViewOptions& o) {
     render.fog_distance = o.fog;
 
     std::vector<CameraPose> poses;
-    if (!o.camera.empty()) {
+    if (o.interactive && o.camera.empty()) {
+        // Decided once the files' bounds are known (below).
+    } else if (!o.camera.empty()) {
         poses.push_back(parse_camera_pose(o.camera, "--camera"));
     } else {
         poses = read_camera_path(o.path);
@@ -150,6 +176,28 @@ int run(const ViewOptions& o) {
     ViewSession session(inputs, config);
     for (const auto& w : session.sources().warnings()) {
         std::fprintf(stderr, "beamtrace: warning: %s\n", w.c_str());
+    }
+    if (o.interactive) {
+        if (poses.empty()) {
+            // Above the middle of the data, a tenth of its extent over its highest point,
+            // looking 30 degrees down along +x.
+            const Vec3d lo = session.sources().min(), hi = session.sources().max();
+            const double extent = std::max(hi.x - lo.x, hi.y - lo.y);
+            camera.position = {0.5 * (lo.x + hi.x) - 0.3 * (hi.x - lo.x), 0.5 * (lo.y + hi.y),
+                               hi.z + 0.1 * extent};
+            camera.yaw_deg = 0.0;
+            camera.pitch_deg = -30.0;
+        } else {
+            camera.position = poses[0].position;
+            camera.yaw_deg = poses[0].yaw_deg;
+            camera.pitch_deg = poses[0].pitch_deg;
+        }
+        WindowOptions window;
+        window.screenshot = o.screenshot;
+        window.frames = o.frames;
+        window.quiet = o.quiet;
+        run_view_window(session, camera, render, window);
+        return 0;
     }
     if (!o.path.empty()) {
         std::error_code ec;
@@ -218,8 +266,7 @@ std::function<int()> add_view_command(CLI::App& app) {
                     "toward +y, pitch in degrees (positive up, -90 = straight down)");
     cmd->add_option("--path", opts->path,
                     "Camera path CSV (header x,y,z,yaw,pitch): one frame per row into --output/");
-    cmd->add_option("--output", opts->output, "PNG file (--camera) or directory (--path)")
-        ->required();
+    cmd->add_option("--output", opts->output, "PNG file (--camera) or directory (--path)");
     cmd->add_option("--fov", opts->fov_deg, "Horizontal field of view in degrees")
         ->capture_default_str();
     cmd->add_option("--size", opts->size, "Image size WxH")->capture_default_str();
@@ -244,6 +291,14 @@ std::function<int()> add_view_command(CLI::App& app) {
     cmd->add_flag("--no-prefetch", opts->no_prefetch,
                   "--path: load each frame's sections only when it is due (no background "
                   "loading while the previous frame renders)");
+    cmd->add_flag("--interactive", opts->interactive,
+                  "Open a window (GLFW/OpenGL): WASD/arrows/Q/E and mouse drag to fly, frame time "
+                  "in the title; starts at --camera when given");
+    cmd->add_option("--screenshot", opts->screenshot,
+                    "--interactive: write the window's last frame (read back from OpenGL) to "
+                    "this PNG and close");
+    cmd->add_option("--frames", opts->frames,
+                    "--interactive: close after this many frames (0 = when the window is closed)");
     cmd->add_flag("--quiet", opts->quiet, "No progress bar and no summary");
     cmd->add_flag("--progress", opts->progress,
                   "Show the progress bar even when not on a terminal");
