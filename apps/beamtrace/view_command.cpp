@@ -10,6 +10,7 @@
 #include "beamtrace/core/error.hpp"
 #include "beamtrace/heightfield/camera_path.hpp"
 #include "beamtrace/heightfield/view_session.hpp"
+#include "beamtrace/io/mp4_writer.hpp"
 #include "beamtrace/io/png_writer.hpp"
 #include "commands.hpp"
 #include "progress_bar.hpp"
@@ -40,6 +41,8 @@ struct ViewOptions {
     bool interactive = false;
     std::string screenshot;
     int frames = 0;
+    std::string mp4;
+    double fps = 25.0;
 };
 
 /// "WxH" with positive integers.
@@ -133,6 +136,18 @@ int run(const ViewOptions& o) {
             throw ConfigError("view: --screenshot and --frames go with --interactive");
         }
     }
+    if (!o.mp4.empty()) {
+        if (o.path.empty()) {
+            throw ConfigError("view: --mp4 goes with --path (a fly-through)");
+        }
+        if (!(o.fps > 0) || !std::isfinite(o.fps)) {
+            throw ConfigError("view: --fps " + std::to_string(o.fps) + " is not positive");
+        }
+        if (!find_ffmpeg()) {
+            throw ConfigError("view: --mp4 " + o.mp4 +
+                              " needs ffmpeg on PATH (apt install ffmpeg); the PNG frames do not");
+        }
+    }
     if (o.frames < 0) {
         throw ConfigError("view: --frames " + std::to_string(o.frames) + " is negative");
     }
@@ -210,6 +225,10 @@ int run(const ViewOptions& o) {
     double render_s = 0;
     ViewImage image;  // its buffers are reused frame after frame
     int prefetched = 0;
+    std::unique_ptr<Mp4Writer> video;
+    if (!o.mp4.empty()) {
+        video = std::make_unique<Mp4Writer>(o.mp4, camera.width, camera.height, o.fps);
+    }
     for (std::size_t i = 0; i < poses.size(); ++i) {
         camera.position = poses[i].position;
         camera.yaw_deg = poses[i].yaw_deg;
@@ -237,10 +256,20 @@ int run(const ViewOptions& o) {
             out /= name;
         }
         write_png_rgb8(out, image.width, image.height, image.rgb);
+        if (video) {
+            video->write(image.rgb);
+        }
         if (!o.quiet && o.path.empty()) {
             std::printf("rendered %dx%d in %.1f ms (%zu of %zu pixels hit)\nwrote %s\n",
                         image.width, image.height, render_s * 1e3, image.hits(), image.depth.size(),
                         out.string().c_str());
+        }
+    }
+    if (video) {
+        video->commit();
+        if (!o.quiet) {
+            std::printf("wrote %s (%d frames, %s, %g frames/s)\n", o.mp4.c_str(), video->frames(),
+                        video->codec().c_str(), o.fps);
         }
     }
     if (!o.quiet && !o.path.empty()) {
@@ -291,6 +320,9 @@ std::function<int()> add_view_command(CLI::App& app) {
     cmd->add_flag("--no-prefetch", opts->no_prefetch,
                   "--path: load each frame's sections only when it is due (no background "
                   "loading while the previous frame renders)");
+    cmd->add_option("--mp4", opts->mp4,
+                    "--path: also encode the frames into this MP4 (needs ffmpeg on PATH)");
+    cmd->add_option("--fps", opts->fps, "Frame rate of the --mp4 video")->capture_default_str();
     cmd->add_flag("--interactive", opts->interactive,
                   "Open a window (GLFW/OpenGL): WASD/arrows/Q/E and mouse drag to fly, frame time "
                   "in the title; starts at --camera when given");
