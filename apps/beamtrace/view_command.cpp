@@ -43,6 +43,8 @@ struct ViewOptions {
     int frames = 0;
     std::string mp4;
     double fps = 25.0;
+    int height_stacks = 0;
+    double stack_gap = 0.0;
 };
 
 /// "WxH" with positive integers.
@@ -163,6 +165,8 @@ int run(const ViewOptions& o) {
     config.field.sections = sx;
     config.field.memory_budget_bytes = parse_bytes(o.memory_budget);
     config.field.color = parse_color_mode(o.color);
+    config.field.height_stacks = o.height_stacks;
+    config.field.stack_gap = o.stack_gap;
     config.threads = o.threads;
     ViewCamera camera;
     camera.hfov_deg = o.fov_deg;
@@ -311,6 +315,14 @@ std::function<int()> add_view_command(CLI::App& app) {
                     "Bytes for resident sections and read buffers (e.g. 256MB, 2GiB)")
         ->capture_default_str();
     cmd->add_option("--color", opts->color, "height | rgb | intensity | classification")
+        ->capture_default_str();
+    cmd->add_option("--height-stacks", opts->height_stacks,
+                    "Up to K occupied height intervals per cell (2-8), so rays pass under "
+                    "bridges, wires and tree crowns (0 = one column per cell)")
+        ->capture_default_str();
+    cmd->add_option("--stack-gap", opts->stack_gap,
+                    "--height-stacks: vertical gap that separates intervals, in the files' units "
+                    "(0 = 3 cells)")
         ->capture_default_str();
     cmd->add_option("--fog", opts->fog, "Fog distance in the files' units (0 = none)")
         ->capture_default_str();

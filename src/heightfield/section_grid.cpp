@@ -21,12 +21,17 @@ void HeightFieldConfig::validate() const {
     } catch (const ConfigError& e) {
         problems += std::string(e.what()).substr(std::string("height field: ").size()) + "; ";
     }
+    if (height_stacks < 0 || height_stacks > kMaxHeightStacks) {
+        problems += "height stacks " + std::to_string(height_stacks) + " is outside 0 to " +
+                    std::to_string(kMaxHeightStacks) + "; ";
+    }
+    if (!(stack_gap >= 0.0) || !std::isfinite(stack_gap)) {
+        problems += "stack gap " + std::to_string(stack_gap) + " is not a number >= 0; ";
+    }
     if (problems.empty() && memory_budget_bytes < HeightSection::bytes_for(layout(), false)) {
-        problems +=
-            "memory budget " + std::to_string(memory_budget_bytes) +
-            " bytes is smaller than one section (" +
-            std::to_string(HeightSection::bytes_for(layout(), color_mode_has_attribute(color))) +
-            " bytes): lower --levels or --section-cells; ";
+        problems += "memory budget " + std::to_string(memory_budget_bytes) +
+                    " bytes is smaller than one section (" + std::to_string(section_bytes()) +
+                    " bytes): lower --levels or --section-cells; ";
     }
     if (!problems.empty()) {
         problems.resize(problems.size() - 2);
@@ -91,8 +96,7 @@ SectionGrid::Plan SectionGrid::plan(double camera_x, double camera_y, std::span<
     std::sort(candidates.begin(), candidates.end(), [](const Candidate& a, const Candidate& b) {
         return a.distance != b.distance ? a.distance < b.distance : a.slot < b.slot;
     });
-    const std::size_t each =
-        HeightSection::bytes_for(layout_, color_mode_has_attribute(config_.color));
+    const std::size_t each = config_.section_bytes();
     const std::uint64_t budget = config_.memory_budget_bytes;
     std::uint64_t used = reserved_bytes;
     for (const Candidate& c : candidates) {
@@ -171,7 +175,7 @@ std::vector<int> SectionGrid::missing_slots() const {
 void SectionGrid::allocate(int slot) {
     auto& s = slots_[static_cast<std::size_t>(slot)];
     if (!s) {
-        s = std::make_unique<HeightSection>(layout_, color_mode_has_attribute(config_.color));
+        s = config_.make_section();
     }
 }
 

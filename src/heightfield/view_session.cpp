@@ -55,8 +55,7 @@ LoadStatus ViewSession::load_status() const {
 }
 
 void ViewSession::start_load(std::vector<std::pair<std::int64_t, std::int64_t>> keys) {
-    const bool attributes = color_mode_has_attribute(config_.field.color);
-    const std::size_t each = HeightSection::bytes_for(grid_->layout(), attributes);
+    const std::size_t each = config_.field.section_bytes();
     // The budget holds at every moment: resident + loading + the read buffer.
     const std::size_t fixed = grid_->resident_bytes() + config_.ingest.block_bytes;
     const std::uint64_t budget = config_.field.memory_budget_bytes;
@@ -72,7 +71,7 @@ void ViewSession::start_load(std::vector<std::pair<std::int64_t, std::int64_t>> 
     load->keys = std::move(keys);
     std::vector<IngestTarget> targets;
     for (const auto& [x, y] : load->keys) {
-        load->sections.push_back(std::make_unique<HeightSection>(grid_->layout(), attributes));
+        load->sections.push_back(config_.field.make_section());
         load->bytes += load->sections.back()->bytes();
         targets.push_back({x, y, load->sections.back().get()});
     }

@@ -23,10 +23,28 @@ struct HeightFieldConfig {
     /// Upper bound on the bytes of resident sections plus the loader's read buffers.
     std::uint64_t memory_budget_bytes = std::uint64_t{1} << 30;
     ColorMode color = ColorMode::height;
+    /// Height stacks: up to this many occupied height intervals per finest cell (0 or 1: one
+    /// column per cell, as in the thesis; 2 to 8: rays pass under bridges and tree crowns).
+    int height_stacks = 0;
+    /// Points closer than this (vertically) to an interval join it; 0: 3 x cell_size.
+    double stack_gap = 0.0;
 
     /// Throws ConfigError listing every problem.
     void validate() const;
     [[nodiscard]] SectionLayout layout() const { return {section_cells, levels}; }
+    [[nodiscard]] int stacks() const { return height_stacks > 1 ? height_stacks : 0; }
+    [[nodiscard]] float stack_gap_or_default() const {
+        return static_cast<float>(stack_gap > 0.0 ? stack_gap : 3.0 * cell_size);
+    }
+    /// Bytes of one section with these settings.
+    [[nodiscard]] std::size_t section_bytes() const {
+        return HeightSection::bytes_for(layout(), color_mode_has_attribute(color), stacks());
+    }
+    /// An empty section with these settings.
+    [[nodiscard]] std::unique_ptr<HeightSection> make_section() const {
+        return std::make_unique<HeightSection>(layout(), color_mode_has_attribute(color), stacks(),
+                                               stack_gap_or_default());
+    }
     /// World edge length of one section.
     [[nodiscard]] double section_size() const {
         return cell_size * static_cast<double>(layout().finest_cells());
@@ -135,6 +153,15 @@ class SectionGrid {
         }
         const std::int64_t mask = (std::int64_t{1} << shift) - 1;
         return s->height(level, static_cast<int>(x & mask), static_cast<int>(y & mask));
+    }
+    /// The height stack of finest cell (x, y) (see HeightSection::stack); nullptr without stacks
+    /// or where no section is loaded.
+    [[nodiscard]] const float* stack(std::int64_t x, std::int64_t y) const {
+        const HeightSection* s =
+            visible_[static_cast<std::size_t>((y >> shift_) * n_ + (x >> shift_))];
+        const std::int64_t mask = (std::int64_t{1} << shift_) - 1;
+        return s == nullptr ? nullptr
+                            : s->stack(static_cast<int>(x & mask), static_cast<int>(y & mask));
     }
     /// Attribute of finest cell (x, y) (0 where none).
     [[nodiscard]] std::uint32_t attribute(std::int64_t x, std::int64_t y) const {
