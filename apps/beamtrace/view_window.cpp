@@ -7,8 +7,10 @@
 #include <GLFW/glfw3.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <numbers>
 #include <vector>
@@ -114,6 +116,75 @@ void draw(GLFWwindow* window, const ViewImage& image) {
     glDrawPixels(image.width, image.height, GL_RGB, GL_UNSIGNED_BYTE, image.rgb.data());
 }
 
+/// A 3 x 5 pixel font for the overlay: per glyph five rows of three bits (high bit left).
+struct Glyph {
+    char c;
+    std::array<std::uint8_t, 5> rows;
+};
+constexpr std::array<Glyph, 20> kGlyphs = {{
+    {'0', {7, 5, 5, 5, 7}}, {'1', {2, 6, 2, 2, 7}}, {'2', {7, 1, 7, 4, 7}}, {'3', {7, 1, 7, 1, 7}},
+    {'4', {5, 5, 7, 1, 1}}, {'5', {7, 4, 7, 1, 7}}, {'6', {7, 4, 7, 5, 7}}, {'7', {7, 1, 1, 1, 1}},
+    {'8', {7, 5, 7, 5, 7}}, {'9', {7, 5, 7, 1, 7}}, {'.', {0, 0, 0, 0, 2}}, {'m', {0, 0, 7, 7, 5}},
+    {'s', {0, 3, 6, 3, 6}}, {'f', {3, 4, 6, 4, 4}}, {'p', {0, 7, 5, 7, 4}}, {'%', {5, 1, 2, 4, 5}},
+    {'l', {6, 2, 2, 2, 7}}, {'o', {0, 7, 5, 5, 7}}, {'a', {0, 7, 1, 7, 7}}, {'d', {1, 7, 5, 5, 7}},
+}};
+
+/// Draws `text` (the glyphs above; others are blank) with its top-left corner at (x, y) in
+/// framebuffer pixels from the top-left, each font pixel `scale` pixels wide, on a dark band.
+void draw_text(int fb_w, int fb_h, int x, int y, int scale, const std::string& text) {
+    glMatrixMode(GL_PROJECTION);
+    glLoadIdentity();
+    glOrtho(0.0, fb_w, fb_h, 0.0, -1.0, 1.0);
+    glMatrixMode(GL_MODELVIEW);
+    glLoadIdentity();
+    const int advance = 4 * scale;
+    glColor3ub(0, 0, 0);
+    glRecti(x - scale, y - scale, x + advance * static_cast<int>(text.size()) + scale,
+            y + 6 * scale);
+    glColor3ub(255, 255, 255);
+    for (std::size_t i = 0; i < text.size(); ++i) {
+        const auto* g = std::find_if(kGlyphs.begin(), kGlyphs.end(),
+                                     [&](const Glyph& q) { return q.c == text[i]; });
+        if (g == kGlyphs.end()) {
+            continue;
+        }
+        const int gx = x + advance * static_cast<int>(i);
+        for (int row = 0; row < 5; ++row) {
+            for (int col = 0; col < 3; ++col) {
+                if ((g->rows[static_cast<std::size_t>(row)] >> (2 - col)) & 1) {
+                    glRecti(gx + col * scale, y + row * scale, gx + (col + 1) * scale,
+                            y + (row + 1) * scale);
+                }
+            }
+        }
+    }
+    glMatrixMode(GL_PROJECTION);
+    glLoadIdentity();
+}
+
+/// The overlay: frame time (top left) and, while sections load, a progress bar (bottom).
+void draw_overlay(GLFWwindow* window, double frame_ms, const LoadStatus& status) {
+    int fb_w = 0, fb_h = 0;
+    glfwGetFramebufferSize(window, &fb_w, &fb_h);
+    const int scale = std::max(2, fb_h / 200);
+    char text[64];
+    std::snprintf(text, sizeof text, "%.1f ms %.1f fps", frame_ms,
+                  frame_ms > 0 ? 1e3 / frame_ms : 0.0);
+    std::string line = text;
+    if (status.loading && status.points_total > 0) {
+        line += " load " + std::to_string(100 * status.points_done / status.points_total) + "%";
+        glMatrixMode(GL_PROJECTION);
+        glLoadIdentity();
+        glOrtho(0.0, fb_w, fb_h, 0.0, -1.0, 1.0);
+        glColor3ub(255, 200, 0);
+        const auto done =
+            static_cast<double>(status.points_done) / static_cast<double>(status.points_total);
+        glRecti(0, fb_h - 2 * scale, static_cast<int>(done * fb_w), fb_h);
+        glLoadIdentity();
+    }
+    draw_text(fb_w, fb_h, 3 * scale, 3 * scale, scale, line);
+}
+
 /// Reads the back buffer (before the swap) and writes it as a PNG, top row first.
 void save_screenshot(GLFWwindow* window, const std::string& path) {
     int fb_w = 0, fb_h = 0;
@@ -206,6 +277,7 @@ void run_view_window(ViewSession& session, ViewCamera camera, const RenderOption
             dirty = false;
         }
         draw(w, image);
+        draw_overlay(w, frame_ms, status);
         char title[256];
         std::snprintf(title, sizeof title,
                       "beamtrace view | %.1f ms/frame (%.1f fps) | %.0f, %.0f, %.0f yaw %.0f "
