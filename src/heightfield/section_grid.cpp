@@ -28,7 +28,7 @@ void HeightFieldConfig::validate() const {
     if (!(stack_gap >= 0.0) || !std::isfinite(stack_gap)) {
         problems += "stack gap " + std::to_string(stack_gap) + " is not a number >= 0; ";
     }
-    if (problems.empty() && memory_budget_bytes < HeightSection::bytes_for(layout(), false)) {
+    if (problems.empty() && memory_budget_bytes < section_bytes()) {
         problems += "memory budget " + std::to_string(memory_budget_bytes) +
                     " bytes is smaller than one section (" + std::to_string(section_bytes()) +
                     " bytes): lower --levels or --section-cells; ";
