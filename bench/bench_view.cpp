@@ -12,6 +12,7 @@
 #include <thread>
 #include <vector>
 
+#include "beamtrace/heightfield/las_sources.hpp"
 #include "beamtrace/heightfield/view_session.hpp"
 #include "beamtrace/io/las_reader.hpp"
 #include "beamtrace/io/las_writer.hpp"
@@ -157,6 +158,108 @@ void BM_ViewFrame(benchmark::State& state) {
     state.counters["resident_MB"] = static_cast<double>(session.budgeted_bytes()) / 1e6;
 }
 
+/// A fly-through of 16 poses across the 8 x 8 tiled autzen (7 M points, so every section load is
+/// a 250 MB pass over the file) at 960x540, 8/7 sections at 2 ft (1024 ft; the 4 x 4 window moves
+/// by a column about every other frame), a budget of 20 sections (the window and one column
+/// more). prefetch:1 loads the next pose's sections on the loader thread while the current
+/// frame renders; prefetch:0 loads them when the frame is due. The frames are the same (checked
+/// before timing).
+void BM_ViewPath(benchmark::State& state) {
+    const std::filesystem::path& path = tiled_autzen();
+    const std::vector<std::filesystem::path> inputs = {path};
+    const bool prefetch = state.range(0) != 0;
+    bt::ViewSessionConfig config = session_config(8, 7, 2.0);
+    config.field.memory_budget_bytes =
+        config.ingest.block_bytes + 20 * config.field.section_bytes();
+    std::vector<bt::ViewCamera> cams;
+    {
+        const bt::LasSourceSet sources(inputs);
+        const bt::Vec3d lo = sources.min(), hi = sources.max();
+        for (int i = 0; i < 16; ++i) {
+            bt::ViewCamera cam;
+            const double f = 0.1 + 0.8 * i / 15.0;
+            cam.position = {lo.x + f * (hi.x - lo.x), lo.y + 0.5 * (hi.y - lo.y), hi.z + 150.0};
+            cam.yaw_deg = 10.0;
+            cam.pitch_deg = -35.0;
+            cam.hfov_deg = 70.0;
+            cam.width = 960;
+            cam.height = 540;
+            cams.push_back(cam);
+        }
+    }
+    const auto run_path = [&](bool with_prefetch, std::vector<bt::ViewImage>* frames) {
+        bt::ViewSession session(inputs, config);
+        bt::ViewImage img;
+        int prefetched = 0;
+        for (std::size_t i = 0; i < cams.size(); ++i) {
+            prefetched += session.move_to(cams[i].position).sections_prefetched;
+            if (with_prefetch && i + 1 < cams.size()) {
+                session.prefetch(cams[i + 1].position);
+            }
+            session.render(cams[i], {}, img);
+            if (frames != nullptr) {
+                frames->push_back(img);
+            }
+        }
+        if (session.peak_budgeted_bytes() > config.field.memory_budget_bytes) {
+            fail("path went over the memory budget");
+        }
+        return prefetched;
+    };
+    {
+        std::vector<bt::ViewImage> a, b;
+        static_cast<void>(run_path(false, &a));
+        const int prefetched = run_path(true, &b);
+        for (std::size_t i = 0; i < a.size(); ++i) {
+            if (a[i].rgb != b[i].rgb || a[i].depth != b[i].depth) {
+                fail("prefetched frame " + std::to_string(i) + " differs");
+            }
+        }
+        if (prefetched == 0) {
+            fail("nothing was prefetched");
+        }
+        state.counters["prefetched_sections"] = prefetched;
+    }
+    for (auto _ : state) {
+        benchmark::DoNotOptimize(run_path(prefetch, nullptr));
+    }
+    state.counters["frames/s"] = benchmark::Counter(
+        static_cast<double>(state.iterations() * cams.size()), benchmark::Counter::kIsRate);
+}
+
+/// The cost of height stacks: the BM_ViewFrame view at 32/8 with up to 3 intervals per cell.
+void BM_ViewFrameStacks(benchmark::State& state) {
+    if (!std::filesystem::exists(autzen_trim())) {
+        state.SkipWithError("missing autzen_trim.las");
+        return;
+    }
+    const std::vector<std::filesystem::path> inputs = {autzen_trim()};
+    bt::ViewSessionConfig config = session_config(32, 8, 1.0);
+    config.field.height_stacks = static_cast<int>(state.range(0));
+    bt::ViewSession session(inputs, config);
+    const bt::ViewCamera cam = frame_camera(session, 1920, 1080);
+    static_cast<void>(session.move_to(cam.position));
+    bt::RenderOptions options;
+    options.fog_distance = 3000.0;
+    {
+        const bt::ViewCamera small = frame_camera(session, 192, 108);
+        const bt::ViewImage a = session.render(small, options);
+        const bt::ViewImage b =
+            bt::render_view_reference(session.grid(), small, options, session.pool());
+        if (a.rgb != b.rgb || a.depth != b.depth) {
+            fail("hierarchical and reference views differ with stacks");
+        }
+    }
+    bt::ViewImage img;
+    for (auto _ : state) {
+        session.render(cam, options, img);
+        benchmark::DoNotOptimize(img.rgb.data());
+    }
+    state.counters["fps"] =
+        benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
+    state.counters["resident_MB"] = static_cast<double>(session.budgeted_bytes()) / 1e6;
+}
+
 }  // namespace
 
 BENCHMARK_CAPTURE(BM_ViewIngest, autzen_trim, 0)->Unit(benchmark::kMillisecond)->UseRealTime();
@@ -169,5 +272,16 @@ BENCHMARK(BM_ViewFrame)
     ->Args({64, 8, 0})
     ->Args({32, 8, 1})
     ->ArgNames({"cells", "levels", "threads"})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK(BM_ViewPath)
+    ->Arg(0)
+    ->Arg(1)
+    ->ArgName("prefetch")
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK(BM_ViewFrameStacks)
+    ->Arg(3)
+    ->ArgName("stacks")
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();

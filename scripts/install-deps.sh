@@ -2,7 +2,9 @@
 # Installs the Debian 12 packages beamtrace needs, only those that are missing.
 set -euo pipefail
 pkgs=(build-essential cmake libcli11-dev libpng-dev libtiff-dev libyaml-cpp-dev nlohmann-json3-dev
-      libgtest-dev libbenchmark-dev libembree-dev)
+      libgtest-dev libbenchmark-dev libembree-dev
+      # view --interactive (GLFW/OpenGL) and its headless test (Xvfb); view --mp4 and its test
+      libglfw3-dev xvfb xauth ffmpeg)
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -10,9 +10,11 @@
 #include "beamtrace/core/error.hpp"
 #include "beamtrace/heightfield/camera_path.hpp"
 #include "beamtrace/heightfield/view_session.hpp"
+#include "beamtrace/io/mp4_writer.hpp"
 #include "beamtrace/io/png_writer.hpp"
 #include "commands.hpp"
 #include "progress_bar.hpp"
+#include "view_window.hpp"
 
 namespace beamtrace::cli {
 namespace {
@@ -35,6 +37,14 @@ struct ViewOptions {
     unsigned threads = 0;
     bool quiet = false;
     bool progress = false;
+    bool no_prefetch = false;
+    bool interactive = false;
+    std::string screenshot;
+    int frames = 0;
+    std::string mp4;
+    double fps = 25.0;
+    int height_stacks = 0;
+    double stack_gap = 0.0;
 };
 
 /// "WxH" with positive integers.
@@ -108,8 +118,40 @@ void print_stats(const IngestStats& s, const ViewSession& session, bool quiet) {
 }
 
 int run(const ViewOptions& o) {
-    if (o.camera.empty() == o.path.empty()) {
-        throw ConfigError("view: give exactly one of --camera x,y,z,yaw,pitch and --path FILE.csv");
+    if (o.interactive) {
+        if (!o.path.empty()) {
+            throw ConfigError("view: --interactive starts at --camera (optional), not --path");
+        }
+        require_view_window();  // before reading any file
+    } else {
+        if (o.camera.empty() == o.path.empty()) {
+            throw ConfigError(
+                "view: give exactly one of --camera x,y,z,yaw,pitch and --path FILE.csv (or "
+                "--interactive)");
+        }
+        if (o.output.empty()) {
+            throw ConfigError(
+                "view: --output is required (a PNG file with --camera, a folder "
+                "with --path)");
+        }
+        if (!o.screenshot.empty() || o.frames != 0) {
+            throw ConfigError("view: --screenshot and --frames go with --interactive");
+        }
+    }
+    if (!o.mp4.empty()) {
+        if (o.path.empty()) {
+            throw ConfigError("view: --mp4 goes with --path (a fly-through)");
+        }
+        if (!(o.fps > 0) || !std::isfinite(o.fps)) {
+            throw ConfigError("view: --fps " + std::to_string(o.fps) + " is not positive");
+        }
+        if (!find_ffmpeg()) {
+            throw ConfigError("view: --mp4 " + o.mp4 +
+                              " needs ffmpeg on PATH (apt install ffmpeg); the PNG frames do not");
+        }
+    }
+    if (o.frames < 0) {
+        throw ConfigError("view: --frames " + std::to_string(o.frames) + " is negative");
     }
     ViewSessionConfig config;
     config.field.cell_size = o.cell_size;
@@ -123,6 +165,8 @@ int run(const ViewOptions& o) {
     config.field.sections = sx;
     config.field.memory_budget_bytes = parse_bytes(o.memory_budget);
     config.field.color = parse_color_mode(o.color);
+    config.field.height_stacks = o.height_stacks;
+    config.field.stack_gap = o.stack_gap;
     config.threads = o.threads;
     ViewCamera camera;
     camera.hfov_deg = o.fov_deg;
@@ -132,7 +176,9 @@ int run(const ViewOptions& o) {
     render.fog_distance = o.fog;
 
     std::vector<CameraPose> poses;
-    if (!o.camera.empty()) {
+    if (o.interactive && o.camera.empty()) {
+        // Decided once the files' bounds are known (below).
+    } else if (!o.camera.empty()) {
         poses.push_back(parse_camera_pose(o.camera, "--camera"));
     } else {
         poses = read_camera_path(o.path);
@@ -150,6 +196,28 @@ int run(const ViewOptions& o) {
     for (const auto& w : session.sources().warnings()) {
         std::fprintf(stderr, "beamtrace: warning: %s\n", w.c_str());
     }
+    if (o.interactive) {
+        if (poses.empty()) {
+            // Above the middle of the data, a tenth of its extent over its highest point,
+            // looking 30 degrees down along +x.
+            const Vec3d lo = session.sources().min(), hi = session.sources().max();
+            const double extent = std::max(hi.x - lo.x, hi.y - lo.y);
+            camera.position = {0.5 * (lo.x + hi.x) - 0.3 * (hi.x - lo.x), 0.5 * (lo.y + hi.y),
+                               hi.z + 0.1 * extent};
+            camera.yaw_deg = 0.0;
+            camera.pitch_deg = -30.0;
+        } else {
+            camera.position = poses[0].position;
+            camera.yaw_deg = poses[0].yaw_deg;
+            camera.pitch_deg = poses[0].pitch_deg;
+        }
+        WindowOptions window;
+        window.screenshot = o.screenshot;
+        window.frames = o.frames;
+        window.quiet = o.quiet;
+        run_view_window(session, camera, render, window);
+        return 0;
+    }
     if (!o.path.empty()) {
         std::error_code ec;
         std::filesystem::create_directories(o.output, ec);
@@ -160,17 +228,28 @@ int run(const ViewOptions& o) {
     const bool show = !o.quiet && (o.progress || stderr_is_terminal());
     double render_s = 0;
     ViewImage image;  // its buffers are reused frame after frame
+    int prefetched = 0;
+    std::unique_ptr<Mp4Writer> video;
+    if (!o.mp4.empty()) {
+        video = std::make_unique<Mp4Writer>(o.mp4, camera.width, camera.height, o.fps);
+    }
     for (std::size_t i = 0; i < poses.size(); ++i) {
         camera.position = poses[i].position;
         camera.yaw_deg = poses[i].yaw_deg;
         camera.pitch_deg = poses[i].pitch_deg;
         ProgressBar bar("loading sections", show);
+        // Waits for the sections prefetched while the previous frame rendered, then loads
+        // whatever did not fit next to them: frame i is the same as without prefetching.
         const IngestStats stats =
             session.move_to(camera.position, [&](std::uint64_t done, std::uint64_t total) {
                 bar.update(static_cast<std::size_t>(done), static_cast<std::size_t>(total));
             });
         bar.finish();
         print_stats(stats, session, o.quiet);
+        prefetched += stats.sections_prefetched;
+        if (i + 1 < poses.size() && !o.no_prefetch) {
+            session.prefetch(poses[i + 1].position);  // loads on the loader thread meanwhile
+        }
         const auto start = std::chrono::steady_clock::now();
         session.render(camera, render, image);
         render_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -181,16 +260,29 @@ int run(const ViewOptions& o) {
             out /= name;
         }
         write_png_rgb8(out, image.width, image.height, image.rgb);
+        if (video) {
+            video->write(image.rgb);
+        }
         if (!o.quiet && o.path.empty()) {
             std::printf("rendered %dx%d in %.1f ms (%zu of %zu pixels hit)\nwrote %s\n",
                         image.width, image.height, render_s * 1e3, image.hits(), image.depth.size(),
                         out.string().c_str());
         }
     }
+    if (video) {
+        video->commit();
+        if (!o.quiet) {
+            std::printf("wrote %s (%d frames, %s, %g frames/s)\n", o.mp4.c_str(), video->frames(),
+                        video->codec().c_str(), o.fps);
+        }
+    }
     if (!o.quiet && !o.path.empty()) {
-        std::printf("rendered %zu frames of %dx%d, %.1f ms per frame; wrote %s/frame_*.png\n",
-                    poses.size(), camera.width, camera.height,
-                    render_s * 1e3 / static_cast<double>(poses.size()), o.output.c_str());
+        std::printf(
+            "rendered %zu frames of %dx%d, %.1f ms per frame; %d sections loaded in the "
+            "background; peak %.1f MB of the budget; wrote %s/frame_*.png\n",
+            poses.size(), camera.width, camera.height,
+            render_s * 1e3 / static_cast<double>(poses.size()), prefetched,
+            static_cast<double>(session.peak_budgeted_bytes()) / 1e6, o.output.c_str());
     }
     return 0;
 }
@@ -207,8 +299,7 @@ std::function<int()> add_view_command(CLI::App& app) {
                     "toward +y, pitch in degrees (positive up, -90 = straight down)");
     cmd->add_option("--path", opts->path,
                     "Camera path CSV (header x,y,z,yaw,pitch): one frame per row into --output/");
-    cmd->add_option("--output", opts->output, "PNG file (--camera) or directory (--path)")
-        ->required();
+    cmd->add_option("--output", opts->output, "PNG file (--camera) or directory (--path)");
     cmd->add_option("--fov", opts->fov_deg, "Horizontal field of view in degrees")
         ->capture_default_str();
     cmd->add_option("--size", opts->size, "Image size WxH")->capture_default_str();
@@ -225,11 +316,33 @@ std::function<int()> add_view_command(CLI::App& app) {
         ->capture_default_str();
     cmd->add_option("--color", opts->color, "height | rgb | intensity | classification")
         ->capture_default_str();
+    cmd->add_option("--height-stacks", opts->height_stacks,
+                    "Up to K occupied height intervals per cell (2-8), so rays pass under "
+                    "bridges, wires and tree crowns (0 = one column per cell)")
+        ->capture_default_str();
+    cmd->add_option("--stack-gap", opts->stack_gap,
+                    "--height-stacks: vertical gap that separates intervals, in the files' units "
+                    "(0 = 3 cells)")
+        ->capture_default_str();
     cmd->add_option("--fog", opts->fog, "Fog distance in the files' units (0 = none)")
         ->capture_default_str();
     cmd->add_flag("--no-shading", opts->no_shading, "Flat colours, no normal shading");
     cmd->add_option("--threads", opts->threads, "Worker threads (0 = all cores)")
         ->capture_default_str();
+    cmd->add_flag("--no-prefetch", opts->no_prefetch,
+                  "--path: load each frame's sections only when it is due (no background "
+                  "loading while the previous frame renders)");
+    cmd->add_option("--mp4", opts->mp4,
+                    "--path: also encode the frames into this MP4 (needs ffmpeg on PATH)");
+    cmd->add_option("--fps", opts->fps, "Frame rate of the --mp4 video")->capture_default_str();
+    cmd->add_flag("--interactive", opts->interactive,
+                  "Open a window (GLFW/OpenGL): WASD/arrows/Q/E and mouse drag to fly, frame time "
+                  "in the title; starts at --camera when given");
+    cmd->add_option("--screenshot", opts->screenshot,
+                    "--interactive: write the window's last frame (read back from OpenGL) to "
+                    "this PNG and close");
+    cmd->add_option("--frames", opts->frames,
+                    "--interactive: close after this many frames (0 = when the window is closed)");
     cmd->add_flag("--quiet", opts->quiet, "No progress bar and no summary");
     cmd->add_flag("--progress", opts->progress,
                   "Show the progress bar even when not on a terminal");

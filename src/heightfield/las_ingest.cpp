@@ -77,26 +77,37 @@ struct RecordLayout {
 
 }  // namespace
 
-IngestStats ingest_sections(const LasSourceSet& sources, SectionGrid& grid,
-                            std::span<const int> slots, ThreadPool& pool,
-                            const IngestConfig& config, const IngestProgress& progress) {
+IngestStats ingest_into(const LasSourceSet& sources, const HeightFieldConfig& field,
+                        const Vec3d& origin, std::span<const IngestTarget> targets_in,
+                        ThreadPool& pool, const IngestConfig& config,
+                        const IngestProgress& progress, const std::atomic<bool>* cancel) {
     const auto start = std::chrono::steady_clock::now();
     IngestStats stats;
-    if (slots.empty()) {
+    if (targets_in.empty()) {
         return stats;
     }
-    const int n = grid.sections_per_side();
-    std::vector<HeightSection*> targets(static_cast<std::size_t>(n) * static_cast<std::size_t>(n),
-                                        nullptr);
-    for (const int s : slots) {
-        targets[static_cast<std::size_t>(s)] = grid.slot(s);
+    // The targets' bounding box of sections, as a table; points are binned by global cell.
+    std::int64_t sx0 = targets_in[0].section_x, sy0 = targets_in[0].section_y;
+    std::int64_t sx1 = sx0, sy1 = sy0;
+    for (const IngestTarget& t : targets_in) {
+        sx0 = std::min(sx0, t.section_x);
+        sy0 = std::min(sy0, t.section_y);
+        sx1 = std::max(sx1, t.section_x);
+        sy1 = std::max(sy1, t.section_y);
     }
-    const int shift = grid.layout().finest_shift();
-    const std::int64_t window = grid.window_cells();
+    const std::int64_t n = sx1 - sx0 + 1;
+    const std::int64_t rows = sy1 - sy0 + 1;
+    std::vector<HeightSection*> targets(static_cast<std::size_t>(n * rows), nullptr);
+    for (const IngestTarget& t : targets_in) {
+        targets[static_cast<std::size_t>((t.section_y - sy0) * n + (t.section_x - sx0))] =
+            t.section;
+    }
+    const int shift = field.layout().finest_shift();
+    const std::int64_t first_x = sx0 << shift, first_y = sy0 << shift;
+    const std::int64_t window_x = n << shift, window_y = rows << shift;
     const std::int64_t mask = (std::int64_t{1} << shift) - 1;
-    const Vec3d corner = grid.window_corner();
-    const double cell = grid.config().cell_size;
-    const ColorMode mode = grid.config().color;
+    const double cell = field.cell_size;
+    const ColorMode mode = field.color;
     const auto tasks = static_cast<std::size_t>(std::max(1u, pool.size()));
 
     std::vector<std::uint64_t> inserted(tasks, 0);
@@ -120,10 +131,10 @@ IngestStats ingest_sections(const LasSourceSet& sources, SectionGrid& grid,
                              std::string("cannot open: ") + std::strerror(errno));
         }
         ::posix_fadvise(file.fd, 0, 0, POSIX_FADV_SEQUENTIAL);
-        // Grid cell = raw * a + b (per axis); height = raw * scale + offset - origin.
-        const double ax = h.scale.x / cell, bx = (h.offset.x - corner.x) / cell;
-        const double ay = h.scale.y / cell, by = (h.offset.y - corner.y) / cell;
-        const double az = h.scale.z, bz = h.offset.z - grid.origin().z;
+        // Global cell = floor(raw * a + b) (per axis); height = raw * scale + offset - origin.
+        const double ax = h.scale.x / cell, bx = (h.offset.x - origin.x) / cell;
+        const double ay = h.scale.y / cell, by = (h.offset.y - origin.y) / cell;
+        const double az = h.scale.z, bz = h.offset.z - origin.z;
         // Raw integer bounds of the header box, widened by half a step.
         const auto raw_bound = [&](double v, double scale, double offset) {
             return (v - offset) / scale;
@@ -139,6 +150,10 @@ IngestStats ingest_sections(const LasSourceSet& sources, SectionGrid& grid,
         std::uint64_t file_outside = 0;
 
         for (std::uint64_t first = 0; first < h.point_count; first += per_block) {
+            if (cancel != nullptr && cancel->load(std::memory_order_relaxed)) {
+                stats.cancelled = true;
+                break;
+            }
             const auto count =
                 static_cast<std::size_t>(std::min<std::uint64_t>(per_block, h.point_count - first));
             read_block(file.fd, source.path, buffer.data(), count * rec.length,
@@ -165,7 +180,8 @@ IngestStats ingest_sections(const LasSourceSet& sources, SectionGrid& grid,
                         const std::uint8_t* r = records + i * rec.length;
                         const auto rx = static_cast<double>(load<std::int32_t>(r));
                         const auto ry = static_cast<double>(load<std::int32_t>(r + 4));
-                        const auto gy = static_cast<std::int64_t>(std::floor(ry * ay + by));
+                        const auto gy =
+                            static_cast<std::int64_t>(std::floor(ry * ay + by)) - first_y;
                         if (task == 0) {
                             const std::uint16_t intensity = load<std::uint16_t>(r + 12);
                             block_max_intensity =
@@ -176,12 +192,13 @@ IngestStats ingest_sections(const LasSourceSet& sources, SectionGrid& grid,
                                 ++block_outside;
                             }
                         }
-                        if (gy < 0 || gy >= window ||
+                        if (gy < 0 || gy >= window_y ||
                             static_cast<std::size_t>(gy >> 3) % tasks != task) {
                             continue;
                         }
-                        const auto gx = static_cast<std::int64_t>(std::floor(rx * ax + bx));
-                        if (gx < 0 || gx >= window) {
+                        const auto gx =
+                            static_cast<std::int64_t>(std::floor(rx * ax + bx)) - first_x;
+                        if (gx < 0 || gx >= window_x) {
                             continue;
                         }
                         HeightSection* s =
@@ -236,24 +253,40 @@ IngestStats ingest_sections(const LasSourceSet& sources, SectionGrid& grid,
     }
     buffer = {};
 
-    pool.parallel_for(slots.size(), 1, [&](std::size_t begin, std::size_t end) {
-        for (std::size_t i = begin; i < end; ++i) {
-            grid.slot(slots[i])->build_mipmap();
-        }
-    });
-    for (const int s : slots) {
-        grid.mark_loaded(s);
+    if (!stats.cancelled) {
+        pool.parallel_for(targets_in.size(), 1, [&](std::size_t begin, std::size_t end) {
+            for (std::size_t i = begin; i < end; ++i) {
+                targets_in[i].section->build_mipmap();
+            }
+        });
+        stats.sections_loaded = static_cast<int>(targets_in.size());
     }
-    if (max_intensity > 0) {
-        grid.set_intensity_full_scale(
-            std::max(static_cast<double>(max_intensity), grid.intensity_full_scale()));
-    }
+    stats.max_intensity = max_intensity;
     stats.points_read = done_points;
     for (const auto v : inserted) {
         stats.points_inserted += v;
     }
     stats.points_outside_header = outside;
     stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return stats;
+}
+
+IngestStats ingest_sections(const LasSourceSet& sources, SectionGrid& grid,
+                            std::span<const int> slots, ThreadPool& pool,
+                            const IngestConfig& config, const IngestProgress& progress) {
+    std::vector<IngestTarget> targets;
+    for (const int s : slots) {
+        targets.push_back({grid.section_x(s), grid.section_y(s), grid.slot(s)});
+    }
+    IngestStats stats =
+        ingest_into(sources, grid.config(), grid.origin(), targets, pool, config, progress);
+    for (const int s : slots) {
+        grid.mark_loaded(s);
+    }
+    if (stats.max_intensity > 0) {
+        grid.set_intensity_full_scale(
+            std::max(static_cast<double>(stats.max_intensity), grid.intensity_full_scale()));
+    }
     return stats;
 }
 

@@ -21,12 +21,17 @@ void HeightFieldConfig::validate() const {
     } catch (const ConfigError& e) {
         problems += std::string(e.what()).substr(std::string("height field: ").size()) + "; ";
     }
-    if (problems.empty() && memory_budget_bytes < HeightSection::bytes_for(layout(), false)) {
-        problems +=
-            "memory budget " + std::to_string(memory_budget_bytes) +
-            " bytes is smaller than one section (" +
-            std::to_string(HeightSection::bytes_for(layout(), color_mode_has_attribute(color))) +
-            " bytes): lower --levels or --section-cells; ";
+    if (height_stacks < 0 || height_stacks > kMaxHeightStacks) {
+        problems += "height stacks " + std::to_string(height_stacks) + " is outside 0 to " +
+                    std::to_string(kMaxHeightStacks) + "; ";
+    }
+    if (!(stack_gap >= 0.0) || !std::isfinite(stack_gap)) {
+        problems += "stack gap " + std::to_string(stack_gap) + " is not a number >= 0; ";
+    }
+    if (problems.empty() && memory_budget_bytes < section_bytes()) {
+        problems += "memory budget " + std::to_string(memory_budget_bytes) +
+                    " bytes is smaller than one section (" + std::to_string(section_bytes()) +
+                    " bytes): lower --levels or --section-cells; ";
     }
     if (!problems.empty()) {
         problems.resize(problems.size() - 2);
@@ -42,6 +47,7 @@ SectionGrid::SectionGrid(const HeightFieldConfig& config, const Vec3d& origin)
     const auto count = static_cast<std::size_t>(n_) * static_cast<std::size_t>(n_);
     slots_.resize(count);
     visible_.assign(count, nullptr);
+    admitted_.assign(count, false);
 }
 
 Vec3d SectionGrid::window_corner() const {
@@ -52,41 +58,20 @@ Vec3d SectionGrid::window_corner() const {
 
 Bounds2 SectionGrid::slot_bounds(int slot) const {
     const double s = config_.section_size();
-    const Vec3d c = window_corner();
-    const double x0 = c.x + static_cast<double>(slot % n_) * s;
-    const double y0 = c.y + static_cast<double>(slot / n_) * s;
+    const double x0 = origin_.x + static_cast<double>(section_x(slot)) * s;
+    const double y0 = origin_.y + static_cast<double>(section_y(slot)) * s;
     return {x0, y0, x0 + s, y0 + s};
 }
 
-std::vector<int> SectionGrid::recenter(double camera_x, double camera_y,
-                                       std::span<const Bounds2> data, std::size_t reserved_bytes) {
+SectionGrid::Plan SectionGrid::plan(double camera_x, double camera_y, std::span<const Bounds2> data,
+                                    std::size_t reserved_bytes) const {
     const double s = config_.section_size();
     const double half = static_cast<double>(n_) / 2.0;
-    const auto fx = static_cast<std::int64_t>(std::floor((camera_x - origin_.x) / s - half + 0.5));
-    const auto fy = static_cast<std::int64_t>(std::floor((camera_y - origin_.y) / s - half + 0.5));
+    Plan p;
+    p.first_x = static_cast<std::int64_t>(std::floor((camera_x - origin_.x) / s - half + 0.5));
+    p.first_y = static_cast<std::int64_t>(std::floor((camera_y - origin_.y) / s - half + 0.5));
     const std::size_t count = slots_.size();
-
-    // Move the sections that stay in the window to their new slots.
-    std::vector<std::unique_ptr<HeightSection>> moved(count);
-    std::vector<bool> moved_loaded(count, false);
-    if (placed_) {
-        for (std::size_t i = 0; i < count; ++i) {
-            if (!slots_[i]) {
-                continue;
-            }
-            const std::int64_t gx = first_x_ + static_cast<std::int64_t>(i) % n_ - fx;
-            const std::int64_t gy = first_y_ + static_cast<std::int64_t>(i) / n_ - fy;
-            if (gx >= 0 && gx < n_ && gy >= 0 && gy < n_) {
-                const auto j = static_cast<std::size_t>(gy * n_ + gx);
-                moved_loaded[j] = visible_[i] != nullptr;
-                moved[j] = std::move(slots_[i]);
-            }
-        }
-    }
-    slots_ = std::move(moved);
-    first_x_ = fx;
-    first_y_ = fy;
-    placed_ = true;
+    p.admitted.assign(count, false);
 
     // Rank the slots that touch the data by distance to the camera.
     struct Candidate {
@@ -95,7 +80,9 @@ std::vector<int> SectionGrid::recenter(double camera_x, double camera_y,
     };
     std::vector<Candidate> candidates;
     for (int i = 0; i < static_cast<int>(count); ++i) {
-        const Bounds2 b = slot_bounds(i);
+        const double x0 = origin_.x + static_cast<double>(p.first_x + i % n_) * s;
+        const double y0 = origin_.y + static_cast<double>(p.first_y + i / n_) * s;
+        const Bounds2 b = {x0, y0, x0 + s, y0 + s};
         const bool touches = std::any_of(data.begin(), data.end(), [&](const Bounds2& d) {
             return d.max_x >= b.min_x && d.min_x < b.max_x && d.max_y >= b.min_y &&
                    d.min_y < b.max_y;
@@ -109,38 +96,108 @@ std::vector<int> SectionGrid::recenter(double camera_x, double camera_y,
     std::sort(candidates.begin(), candidates.end(), [](const Candidate& a, const Candidate& b) {
         return a.distance != b.distance ? a.distance < b.distance : a.slot < b.slot;
     });
-    const bool attributes = color_mode_has_attribute(config_.color);
-    const std::size_t each = HeightSection::bytes_for(layout_, attributes);
+    const std::size_t each = config_.section_bytes();
     const std::uint64_t budget = config_.memory_budget_bytes;
     std::uint64_t used = reserved_bytes;
-    std::vector<bool> admitted(count, false);
     for (const Candidate& c : candidates) {
         if (used + each <= budget) {
             used += each;
-            admitted[static_cast<std::size_t>(c.slot)] = true;
+            p.admitted[static_cast<std::size_t>(c.slot)] = true;
+            p.order.push_back(c.slot);
         }
     }
-    // Free first, then allocate: the total never exceeds the budget.
+    return p;
+}
+
+void SectionGrid::place(const Plan& p) {
+    const std::size_t count = slots_.size();
+    // Move the sections that stay in the window to their new slots.
+    std::vector<std::unique_ptr<HeightSection>> moved(count);
+    std::vector<bool> moved_loaded(count, false);
+    if (placed_) {
+        for (std::size_t i = 0; i < count; ++i) {
+            if (!slots_[i]) {
+                continue;
+            }
+            const std::int64_t gx = first_x_ + static_cast<std::int64_t>(i) % n_ - p.first_x;
+            const std::int64_t gy = first_y_ + static_cast<std::int64_t>(i) / n_ - p.first_y;
+            if (gx >= 0 && gx < n_ && gy >= 0 && gy < n_) {
+                const auto j = static_cast<std::size_t>(gy * n_ + gx);
+                moved_loaded[j] = visible_[i] != nullptr;
+                moved[j] = std::move(slots_[i]);
+            }
+        }
+    }
+    // Sections that left the window die with the old array; unadmitted ones are freed here.
+    slots_ = std::move(moved);
     for (std::size_t i = 0; i < count; ++i) {
-        if (!admitted[i]) {
+        if (!p.admitted[i]) {
             slots_[i].reset();
             moved_loaded[i] = false;
         }
-    }
-    std::vector<int> fresh;
-    for (std::size_t i = 0; i < count; ++i) {
-        if (admitted[i] && !slots_[i]) {
-            slots_[i] = std::make_unique<HeightSection>(layout_, attributes);
-            fresh.push_back(static_cast<int>(i));
-        } else if (slots_[i] && !moved_loaded[i]) {
-            fresh.push_back(static_cast<int>(i));  // allocated but never filled: load again
-        }
-    }
-    for (std::size_t i = 0; i < count; ++i) {
         visible_[i] = moved_loaded[i] ? slots_[i].get() : nullptr;
     }
+    first_x_ = p.first_x;
+    first_y_ = p.first_y;
+    admitted_ = p.admitted;
+    placed_ = true;
     refresh_range();
+}
+
+std::vector<int> SectionGrid::recenter(double camera_x, double camera_y,
+                                       std::span<const Bounds2> data, std::size_t reserved_bytes) {
+    // Free first (place), then allocate: the total never exceeds the budget.
+    place(plan(camera_x, camera_y, data, reserved_bytes));
+    std::vector<int> fresh;
+    for (int i = 0; i < static_cast<int>(slots_.size()); ++i) {
+        const auto k = static_cast<std::size_t>(i);
+        if (admitted_[k] && !slots_[k]) {
+            allocate(i);
+            fresh.push_back(i);
+        } else if (slots_[k] && visible_[k] == nullptr) {
+            fresh.push_back(i);  // allocated but never filled: load again
+        }
+    }
     return fresh;
+}
+
+std::vector<int> SectionGrid::missing_slots() const {
+    std::vector<int> out;
+    for (int i = 0; i < static_cast<int>(slots_.size()); ++i) {
+        const auto k = static_cast<std::size_t>(i);
+        if (placed_ && admitted_[k] && !slots_[k]) {
+            out.push_back(i);
+        }
+    }
+    return out;
+}
+
+void SectionGrid::allocate(int slot) {
+    auto& s = slots_[static_cast<std::size_t>(slot)];
+    if (!s) {
+        s = config_.make_section();
+    }
+}
+
+bool SectionGrid::adopt(std::int64_t section_x, std::int64_t section_y,
+                        std::unique_ptr<HeightSection>& section) {
+    const std::int64_t a = section_x - first_x_, b = section_y - first_y_;
+    if (!placed_ || !section || a < 0 || b < 0 || a >= n_ || b >= n_) {
+        return false;
+    }
+    const auto k = static_cast<std::size_t>(b * n_ + a);
+    if (!admitted_[k] || slots_[k]) {
+        return false;
+    }
+    slots_[k] = std::move(section);
+    mark_loaded(static_cast<int>(k));
+    return true;
+}
+
+bool SectionGrid::holds(std::int64_t section_x, std::int64_t section_y) const {
+    const std::int64_t a = section_x - first_x_, b = section_y - first_y_;
+    return placed_ && a >= 0 && b >= 0 && a < n_ && b < n_ &&
+           slots_[static_cast<std::size_t>(b * n_ + a)] != nullptr;
 }
 
 void SectionGrid::mark_loaded(int slot) {

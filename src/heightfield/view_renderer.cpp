@@ -37,10 +37,15 @@ class LevelTable {
         const SectionLayout& layout = grid.layout();
         const auto slots = static_cast<std::size_t>(n_) * static_cast<std::size_t>(n_);
         base_.assign(static_cast<std::size_t>(top_ + 1) * slots, nullptr);
+        stacks_ = grid.config().stacks();
+        stack_base_.assign(slots, nullptr);
         for (std::size_t i = 0; i < slots; ++i) {
             const HeightSection* s = grid.loaded(static_cast<int>(i));
             if (s == nullptr) {
                 continue;
+            }
+            if (stacks_ > 0) {
+                stack_base_[i] = s->stack_data().data();
             }
             for (int l = 0; l <= top_; ++l) {
                 base_[static_cast<std::size_t>(l) * slots + i] =
@@ -100,9 +105,20 @@ class LevelTable {
         return b[static_cast<std::size_t>(((y & mask) << sh) + (x & mask))];
     }
 
+    /// Intervals per finest cell (0: no stacks).
+    [[nodiscard]] int stacks() const { return stacks_; }
+    /// The stack of finest cell (x, y) of a loaded section.
+    [[nodiscard]] const float* stack(std::int64_t x, std::int64_t y) const {
+        const float* b = stack_base_[static_cast<std::size_t>((y >> shift_) * n_ + (x >> shift_))];
+        const std::int64_t mask = (std::int64_t{1} << shift_) - 1;
+        return b + static_cast<std::size_t>((((y & mask) << shift_) + (x & mask)) * 2 * stacks_);
+    }
+
   private:
     int n_;
     int top_;
+    int stacks_ = 0;
+    std::vector<const float*> stack_base_;
     int shift_;
     int root_ = 0;
     std::vector<const float*> base_;
@@ -141,21 +157,33 @@ template <int SX, int SY, bool DOWN>
         const float h = table.height(level, cx, cy);
         const double z = DOWN ? oz + dz * t_end : oz + dz * t;
         if (z <= static_cast<double>(h)) {
-            if (level == 0) {
-                hit = {cx, cy, t, t_end, entered, h};
+            if (level > 0) {
+                // The child under the ray at t: the upper half where the position is at or
+                // past the middle (the same cell as the clamped floor of the scaled position;
+                // scaling by a power of two is exact).
+                --level;
+                const double px = ox + dx * t;
+                const double py = oy + dy * t;
+                cx = 2 * cx +
+                     static_cast<std::int64_t>(px >= static_cast<double>((2 * cx + 1) << level));
+                cy = 2 * cy +
+                     static_cast<std::int64_t>(py >= static_cast<double>((2 * cy + 1) << level));
+                continue;
+            }
+            // With stacks the column's max only says the ray may meet an interval here.
+            if (table.stacks() == 0 ||
+                detail::stack_hit(r, t, t_end, table.stack(cx, cy), table.stacks(), hit)) {
+                hit.x = cx;
+                hit.y = cy;
+                hit.t_in = t;
+                hit.t_out = t_end;
+                hit.entered_axis = entered;
+                if (table.stacks() == 0) {
+                    hit.h = h;
+                    hit.bottom = false;
+                }
                 return true;
             }
-            // The child under the ray at t: the upper half where the position is at or past
-            // the middle (the same cell as the clamped floor of the scaled position; scaling by
-            // a power of two is exact).
-            --level;
-            const double px = ox + dx * t;
-            const double py = oy + dy * t;
-            cx = 2 * cx +
-                 static_cast<std::int64_t>(px >= static_cast<double>((2 * cx + 1) << level));
-            cy = 2 * cy +
-                 static_cast<std::int64_t>(py >= static_cast<double>((2 * cy + 1) << level));
-            continue;
         }
         if (t_out >= t_max) {
             return false;
@@ -210,6 +238,7 @@ template <int SX, int SY, bool DOWN>
 [[nodiscard]] inline bool trace_reference(const SectionGrid& grid, const GridRay& r, GridHit& hit) {
     std::int64_t cx = r.gx, cy = r.gy;
     const std::int64_t cells = grid.window_cells();
+    const int stacks = grid.config().stacks();
     double t = r.t_min;
     int entered = -1;
     for (;;) {
@@ -218,8 +247,17 @@ template <int SX, int SY, bool DOWN>
         const double t_out = std::min(tx, ty);
         const double t_end = std::min(t_out, r.t_max);
         const float h = grid.height(0, cx, cy);
-        if (column_hit(r, t, t_end, h)) {
-            hit = {cx, cy, t, t_end, entered, h};
+        if (column_hit(r, t, t_end, h) &&
+            (stacks == 0 || detail::stack_hit(r, t, t_end, grid.stack(cx, cy), stacks, hit))) {
+            hit.x = cx;
+            hit.y = cy;
+            hit.t_in = t;
+            hit.t_out = t_end;
+            hit.entered_axis = entered;
+            if (stacks == 0) {
+                hit.h = h;
+                hit.bottom = false;
+            }
             return true;
         }
         if (t_out >= r.t_max) {

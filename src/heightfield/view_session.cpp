@@ -1,8 +1,23 @@
 #include "beamtrace/heightfield/view_session.hpp"
 
-#include <cmath>
+#include <algorithm>
+#include <chrono>
+#include <utility>
 
 namespace beamtrace {
+
+/// A background load: the sections it fills (owned here until adopted) and its thread.
+struct ViewSession::Load {
+    std::vector<std::pair<std::int64_t, std::int64_t>> keys;
+    std::vector<std::unique_ptr<HeightSection>> sections;
+    std::size_t bytes = 0;
+    std::atomic<bool> done{false};
+    std::atomic<bool> cancel{false};
+    std::atomic<std::uint64_t> points_done{0};
+    IngestStats stats;
+    std::exception_ptr error;
+    std::thread thread;
+};
 
 ViewSession::ViewSession(std::span<const std::filesystem::path> inputs,
                          const ViewSessionConfig& config)
@@ -11,10 +26,182 @@ ViewSession::ViewSession(std::span<const std::filesystem::path> inputs,
     grid_ = std::make_unique<SectionGrid>(config_.field, sources_.min());
 }
 
+ViewSession::~ViewSession() {
+    if (load_) {
+        load_->cancel.store(true);
+        if (load_->thread.joinable()) {
+            load_->thread.join();
+        }
+    }
+}
+
+std::size_t ViewSession::budgeted_bytes() const {
+    return grid_->resident_bytes() + (load_ ? load_->bytes : 0) + config_.ingest.block_bytes;
+}
+
+void ViewSession::note_peak() {
+    peak_bytes_ = std::max(peak_bytes_, budgeted_bytes());
+}
+
+LoadStatus ViewSession::load_status() const {
+    LoadStatus s;
+    if (load_) {
+        s.loading = !load_->done.load(std::memory_order_acquire);
+        s.sections = static_cast<int>(load_->keys.size());
+        s.points_done = load_->points_done.load(std::memory_order_relaxed);
+        s.points_total = sources_.point_count();
+    }
+    return s;
+}
+
+void ViewSession::start_load(std::vector<std::pair<std::int64_t, std::int64_t>> keys) {
+    const std::size_t each = config_.field.section_bytes();
+    // The budget holds at every moment: resident + loading + the read buffer.
+    const std::size_t fixed = grid_->resident_bytes() + config_.ingest.block_bytes;
+    const std::uint64_t budget = config_.field.memory_budget_bytes;
+    std::size_t fit = 0;
+    while (fit < keys.size() && fixed + (fit + 1) * each <= budget) {
+        ++fit;
+    }
+    keys.resize(fit);
+    if (keys.empty()) {
+        return;
+    }
+    auto load = std::make_unique<Load>();
+    load->keys = std::move(keys);
+    std::vector<IngestTarget> targets;
+    for (const auto& [x, y] : load->keys) {
+        load->sections.push_back(config_.field.make_section());
+        load->bytes += load->sections.back()->bytes();
+        targets.push_back({x, y, load->sections.back().get()});
+    }
+    if (!loader_pool_) {
+        loader_pool_ = std::make_unique<ThreadPool>(config_.loader_threads);
+    }
+    load_ = std::move(load);
+    note_peak();
+    // The thread touches only its own sections, the (immutable) sources and copies of the
+    // settings; the grid is not shared with it.
+    Load* l = load_.get();
+    load_->thread = std::thread(
+        [this, l, targets = std::move(targets), field = config_.field, origin = grid_->origin()] {
+            try {
+                l->stats = ingest_into(
+                    sources_, field, origin, targets, *loader_pool_, config_.ingest,
+                    [l](std::uint64_t done, std::uint64_t) {
+                        l->points_done.store(done, std::memory_order_relaxed);
+                    },
+                    &l->cancel);
+            } catch (...) {
+                l->error = std::current_exception();
+            }
+            l->done.store(true, std::memory_order_release);
+        });
+}
+
+std::unique_ptr<ViewSession::Load> ViewSession::join_load(const IngestProgress& progress) {
+    if (!load_) {
+        return nullptr;
+    }
+    while (!load_->done.load(std::memory_order_acquire)) {
+        if (progress) {
+            progress(load_->points_done.load(std::memory_order_relaxed), sources_.point_count());
+        }
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    load_->thread.join();
+    std::unique_ptr<Load> load = std::move(load_);
+    if (load->error) {
+        std::rethrow_exception(load->error);
+    }
+    return load;
+}
+
+int ViewSession::adopt(Load& load) {
+    if (load.stats.cancelled) {
+        return 0;
+    }
+    int adopted = 0;
+    for (std::size_t i = 0; i < load.keys.size(); ++i) {
+        adopted += grid_->adopt(load.keys[i].first, load.keys[i].second, load.sections[i]) ? 1 : 0;
+    }
+    if (load.stats.max_intensity > 0) {
+        grid_->set_intensity_full_scale(
+            std::max(static_cast<double>(load.stats.max_intensity), grid_->intensity_full_scale()));
+    }
+    return adopted;  // the sections not adopted are freed with `load`
+}
+
 IngestStats ViewSession::move_to(const Vec3d& camera_position, const IngestProgress& progress) {
-    const std::vector<int> fresh = grid_->recenter(camera_position.x, camera_position.y,
-                                                   sources_.bounds(), config_.ingest.block_bytes);
-    return ingest_sections(sources_, *grid_, fresh, pool_, config_.ingest, progress);
+    std::unique_ptr<Load> load = join_load(progress);
+    grid_->place(grid_->plan(camera_position.x, camera_position.y, sources_.bounds(),
+                             config_.ingest.block_bytes));
+    const int prefetched = load ? adopt(*load) : 0;
+    load.reset();  // free what was not adopted before allocating
+    std::vector<int> slots;
+    for (int i = 0; i < static_cast<int>(grid_->admitted().size()); ++i) {
+        if (grid_->admitted()[static_cast<std::size_t>(i)] && grid_->loaded(i) == nullptr) {
+            grid_->allocate(i);
+            slots.push_back(i);
+        }
+    }
+    note_peak();
+    IngestStats stats = ingest_sections(sources_, *grid_, slots, pool_, config_.ingest, progress);
+    stats.sections_prefetched = prefetched;
+    return stats;
+}
+
+void ViewSession::prefetch(const Vec3d& next_position) {
+    if (load_) {
+        return;
+    }
+    const SectionGrid::Plan plan = grid_->plan(next_position.x, next_position.y, sources_.bounds(),
+                                               config_.ingest.block_bytes);
+    std::vector<std::pair<std::int64_t, std::int64_t>> keys;
+    const int n = grid_->sections_per_side();
+    for (const int slot : plan.order) {
+        const std::int64_t x = plan.first_x + slot % n, y = plan.first_y + slot / n;
+        if (!grid_->holds(x, y)) {
+            keys.emplace_back(x, y);
+        }
+    }
+    start_load(std::move(keys));
+}
+
+bool ViewSession::update(const Vec3d& camera_position) {
+    bool changed = false;
+    std::unique_ptr<Load> finished;
+    if (load_ && load_->done.load(std::memory_order_acquire)) {
+        finished = join_load({});
+    }
+    const SectionGrid::Plan plan = grid_->plan(camera_position.x, camera_position.y,
+                                               sources_.bounds(), config_.ingest.block_bytes);
+    if (plan.first_x != grid_->window_first_x() || plan.first_y != grid_->window_first_y() ||
+        plan.admitted != grid_->admitted()) {
+        grid_->place(plan);
+        changed = true;
+    }
+    if (finished) {
+        changed = adopt(*finished) > 0 || changed;
+        finished.reset();
+    }
+    if (!load_) {
+        std::vector<std::pair<std::int64_t, std::int64_t>> keys;
+        for (const int slot : plan.order) {
+            if (grid_->slot(slot) == nullptr) {
+                keys.emplace_back(grid_->section_x(slot), grid_->section_y(slot));
+            }
+        }
+        start_load(std::move(keys));
+    }
+    return changed;
+}
+
+void ViewSession::finish_loading() {
+    std::unique_ptr<Load> load = join_load({});
+    if (load) {
+        adopt(*load);
+    }
 }
 
 }  // namespace beamtrace

@@ -47,6 +47,43 @@ TEST_F(ViewCli, WritesOneFramePerPathRow) {
     EXPECT_EQ(test::entry_count(frames), 2u);
 }
 
+TEST_F(ViewCli, WritesAnMp4OfThePathWithFfmpeg) {
+    if (test::run_command("command -v ffmpeg && command -v ffprobe").exit_code != 0) {
+        GTEST_SKIP() << "ffmpeg/ffprobe not installed (apt install ffmpeg)";
+    }
+    const auto path = test::write_file(dir_ / "path.csv",
+                                       "x,y,z,yaw,pitch\n"
+                                       "636100,848950,600,30,-20\n"
+                                       "636200,849000,590,35,-22\n"
+                                       "636300,849050,580,40,-25\n");
+    const auto video = dir_ / "fly.mp4";
+    auto r =
+        test::run_command(cli() + "--path '" + path.string() + "' --output '" +
+                          (dir_ / "frames").string() + "' --mp4 '" + video.string() + "' --fps 10");
+    ASSERT_EQ(r.exit_code, 0) << r.out;
+    EXPECT_NE(r.out.find("3 frames"), std::string::npos) << r.out;
+    r = test::run_command(
+        "ffprobe -v error -count_frames -select_streams v:0 -show_entries "
+        "stream=width,height,nb_read_frames,r_frame_rate -of csv=p=0 '" +
+        video.string() + "'");
+    ASSERT_EQ(r.exit_code, 0) << r.out;
+    EXPECT_EQ(r.out, "160,90,10/1,3\n");
+    // Written under a temporary name and renamed: nothing else is left behind.
+    EXPECT_EQ(test::entry_count(dir_.path()), 3u);  // path.csv, frames/, fly.mp4
+}
+
+TEST_F(ViewCli, Mp4WithoutFfmpegIsAClearError) {
+    const auto path =
+        test::write_file(dir_ / "path.csv", "x,y,z,yaw,pitch\n636100,848950,600,30,-20\n");
+    const auto r = test::run_command("PATH=/nonexistent-beamtrace-dir " + cli() + "--path '" +
+                                     path.string() + "' --output '" + (dir_ / "frames").string() +
+                                     "' --mp4 '" + (dir_ / "x.mp4").string() + "'");
+    EXPECT_EQ(r.exit_code, 2) << r.out;
+    EXPECT_NE(r.out.find("needs ffmpeg on PATH"), std::string::npos) << r.out;
+    EXPECT_FALSE(std::filesystem::exists(dir_ / "frames"));
+    EXPECT_FALSE(std::filesystem::exists(dir_ / "x.mp4"));
+}
+
 TEST_F(ViewCli, ErrorsAreOneLineNamingTheFile) {
     const auto broken = test::write_file(dir_ / "broken.las", "LASF");
     auto r =

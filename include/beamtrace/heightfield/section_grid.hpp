@@ -23,10 +23,28 @@ struct HeightFieldConfig {
     /// Upper bound on the bytes of resident sections plus the loader's read buffers.
     std::uint64_t memory_budget_bytes = std::uint64_t{1} << 30;
     ColorMode color = ColorMode::height;
+    /// Height stacks: up to this many occupied height intervals per finest cell (0 or 1: one
+    /// column per cell, as in the thesis; 2 to 8: rays pass under bridges and tree crowns).
+    int height_stacks = 0;
+    /// Points closer than this (vertically) to an interval join it; 0: 3 x cell_size.
+    double stack_gap = 0.0;
 
     /// Throws ConfigError listing every problem.
     void validate() const;
     [[nodiscard]] SectionLayout layout() const { return {section_cells, levels}; }
+    [[nodiscard]] int stacks() const { return height_stacks > 1 ? height_stacks : 0; }
+    [[nodiscard]] float stack_gap_or_default() const {
+        return static_cast<float>(stack_gap > 0.0 ? stack_gap : 3.0 * cell_size);
+    }
+    /// Bytes of one section with these settings.
+    [[nodiscard]] std::size_t section_bytes() const {
+        return HeightSection::bytes_for(layout(), color_mode_has_attribute(color), stacks());
+    }
+    /// An empty section with these settings.
+    [[nodiscard]] std::unique_ptr<HeightSection> make_section() const {
+        return std::make_unique<HeightSection>(layout(), color_mode_has_attribute(color), stacks(),
+                                               stack_gap_or_default());
+    }
     /// World edge length of one section.
     [[nodiscard]] double section_size() const {
         return cell_size * static_cast<double>(layout().finest_cells());
@@ -64,11 +82,43 @@ class SectionGrid {
     /// World position of the window's lower-left corner (z = origin.z).
     [[nodiscard]] Vec3d window_corner() const;
 
-    /// Re-centres the window on (camera_x, camera_y) and applies the budget policy. Sections
-    /// still wanted keep their data; new ones are allocated empty and returned (slots) for the
-    /// loader to fill; they stay invisible to the renderer until mark_loaded().
+    /// Where the window goes for a camera, and which of its slots the budget policy admits:
+    /// a pure function of the camera, the data bounds and the budget (not of what is resident).
+    struct Plan {
+        std::int64_t first_x = 0, first_y = 0;  ///< global section of window slot 0
+        std::vector<bool> admitted;             ///< per window slot
+        std::vector<int> order;                 ///< the admitted slots, nearest first
+    };
+    [[nodiscard]] Plan plan(double camera_x, double camera_y, std::span<const Bounds2> data,
+                            std::size_t reserved_bytes) const;
+
+    /// Moves the window to `plan`: sections still in the window and admitted keep their data
+    /// (and stay visible when loaded); all others are freed. Allocates nothing.
+    void place(const Plan& plan);
+
+    /// Re-centres the window on (camera_x, camera_y) and applies the budget policy (plan() and
+    /// place()). Sections still wanted keep their data; new ones are allocated empty and
+    /// returned (slots) for the loader to fill; they stay invisible to the renderer until
+    /// mark_loaded().
     std::vector<int> recenter(double camera_x, double camera_y, std::span<const Bounds2> data,
                               std::size_t reserved_bytes);
+
+    /// Per window slot, whether the last place() admitted it.
+    [[nodiscard]] const std::vector<bool>& admitted() const { return admitted_; }
+    /// Admitted slots of the last place() that hold no section.
+    [[nodiscard]] std::vector<int> missing_slots() const;
+    /// Allocates an empty section in a slot that holds none (for the loader to fill).
+    void allocate(int slot);
+    /// Installs a loaded section (mipmap built) of global section (section_x, section_y) when
+    /// that section lies in the window, its slot is admitted and holds none; then it is visible.
+    /// Takes `section` only then (returns true); otherwise leaves it to the caller.
+    bool adopt(std::int64_t section_x, std::int64_t section_y,
+               std::unique_ptr<HeightSection>& section);
+    /// Global section index (x, y) of a window slot.
+    [[nodiscard]] std::int64_t section_x(int slot) const { return first_x_ + slot % n_; }
+    [[nodiscard]] std::int64_t section_y(int slot) const { return first_y_ + slot / n_; }
+    /// Whether global section (x, y) is resident (loaded or being filled).
+    [[nodiscard]] bool holds(std::int64_t section_x, std::int64_t section_y) const;
 
     /// The section in `slot`, loaded or not (nullptr when not resident).
     [[nodiscard]] HeightSection* slot(int slot) {
@@ -104,6 +154,15 @@ class SectionGrid {
         const std::int64_t mask = (std::int64_t{1} << shift) - 1;
         return s->height(level, static_cast<int>(x & mask), static_cast<int>(y & mask));
     }
+    /// The height stack of finest cell (x, y) (see HeightSection::stack); nullptr without stacks
+    /// or where no section is loaded.
+    [[nodiscard]] const float* stack(std::int64_t x, std::int64_t y) const {
+        const HeightSection* s =
+            visible_[static_cast<std::size_t>((y >> shift_) * n_ + (x >> shift_))];
+        const std::int64_t mask = (std::int64_t{1} << shift_) - 1;
+        return s == nullptr ? nullptr
+                            : s->stack(static_cast<int>(x & mask), static_cast<int>(y & mask));
+    }
     /// Attribute of finest cell (x, y) (0 where none).
     [[nodiscard]] std::uint32_t attribute(std::int64_t x, std::int64_t y) const {
         const HeightSection* s =
@@ -132,6 +191,7 @@ class SectionGrid {
     std::int64_t window_cells_ = 0;
     std::int64_t first_x_ = 0, first_y_ = 0;
     bool placed_ = false;
+    std::vector<bool> admitted_;
     std::vector<std::unique_ptr<HeightSection>> slots_;
     std::vector<const HeightSection*> visible_;
     float max_height_ = kEmptyHeight;

@@ -1,10 +1,16 @@
 // A view of LAS files: the sources, the section window around the camera, a thread pool; one
-// call to move the camera (loading what is missing) and one to render.
+// call to move the camera (loading what is missing) and one to render; and background loading
+// of sections (for the next poses of a path, or for an interactive camera) on a loader thread.
 #pragma once
 
+#include <atomic>
+#include <cstdint>
+#include <exception>
 #include <filesystem>
 #include <memory>
 #include <span>
+#include <thread>
+#include <vector>
 
 #include "beamtrace/core/thread_pool.hpp"
 #include "beamtrace/heightfield/las_ingest.hpp"
@@ -17,7 +23,16 @@ namespace beamtrace {
 struct ViewSessionConfig {
     HeightFieldConfig field;
     IngestConfig ingest;
-    unsigned threads = 0;  ///< 0: every hardware thread
+    unsigned threads = 0;         ///< 0: every hardware thread
+    unsigned loader_threads = 1;  ///< threads of the background loader (0: every hardware thread)
+};
+
+/// What the background loader is doing: sections in flight and points read of this pass.
+struct LoadStatus {
+    bool loading = false;
+    int sections = 0;
+    std::uint64_t points_done = 0;
+    std::uint64_t points_total = 0;
 };
 
 class ViewSession {
@@ -25,14 +40,41 @@ class ViewSession {
     /// Opens and validates every input (InputError names a broken file); ConfigError for bad
     /// settings. The grid's origin is the lower corner of all header bounds.
     ViewSession(std::span<const std::filesystem::path> inputs, const ViewSessionConfig& config);
+    /// Stops a background load (cancelled after its current block) and waits for it.
+    ~ViewSession();
+    ViewSession(const ViewSession&) = delete;
+    ViewSession& operator=(const ViewSession&) = delete;
 
     [[nodiscard]] const LasSourceSet& sources() const { return sources_; }
     [[nodiscard]] const SectionGrid& grid() const { return *grid_; }
     [[nodiscard]] ThreadPool& pool() { return pool_; }
 
-    /// Re-centres the window on the camera and loads, in one pass over the files, the sections
-    /// that became resident. Stats are empty when nothing had to be loaded.
+    /// Re-centres the window on the camera and makes every section the budget admits there
+    /// resident and loaded: it waits for a background load in flight (reporting its progress),
+    /// adopts the sections it loaded, and loads the rest in one pass over the files. The grid
+    /// is then exactly what it would be without any background loading (same window, same
+    /// sections, same contents), so frames rendered after move_to() do not depend on
+    /// prefetch(). Stats are empty when nothing had to be loaded; sections_prefetched counts
+    /// the adopted ones.
     IngestStats move_to(const Vec3d& camera_position, const IngestProgress& progress = {});
+
+    /// Starts loading, on the loader thread, the sections the window at `next_position` will
+    /// need that are not resident now, nearest first, as many as fit in the memory budget next
+    /// to the resident ones (the budget holds at every moment: resident + loading + one read
+    /// buffer). Leaves the grid untouched, so the current frame can be rendered meanwhile; the
+    /// next move_to(next_position) adopts them. Does nothing while a load is in flight.
+    void prefetch(const Vec3d& next_position);
+
+    /// Never waits (for interactive views): adopts the sections of a finished background load,
+    /// moves the window to the camera (freeing sections it no longer admits, keeping the
+    /// others visible) and, when no load is in flight, starts loading the admitted sections that
+    /// are missing. Returns true when the grid changed. Rethrows a background load's error.
+    bool update(const Vec3d& camera_position);
+
+    /// Waits for a background load in flight and adopts what it loaded.
+    void finish_loading();
+
+    [[nodiscard]] LoadStatus load_status() const;
 
     [[nodiscard]] ViewImage render(const ViewCamera& camera, const RenderOptions& options) {
         return render_view(*grid_, camera, options, pool_);
@@ -42,16 +84,30 @@ class ViewSession {
         render_view(*grid_, camera, options, pool_, image);
     }
 
-    /// Bytes counted against the budget: resident sections plus the loader's read buffer.
-    [[nodiscard]] std::size_t budgeted_bytes() const {
-        return grid_->resident_bytes() + config_.ingest.block_bytes;
-    }
+    /// Bytes counted against the budget: resident sections, sections being loaded in the
+    /// background, plus the loader's read buffer.
+    [[nodiscard]] std::size_t budgeted_bytes() const;
+    /// The most budgeted_bytes() seen since construction (sampled whenever sections are
+    /// allocated).
+    [[nodiscard]] std::size_t peak_budgeted_bytes() const { return peak_bytes_; }
 
   private:
+    struct Load;
+    /// Starts a background load of `keys` (global sections).
+    void start_load(std::vector<std::pair<std::int64_t, std::int64_t>> keys);
+    /// Waits for the load in flight (calling `progress` meanwhile) and takes it.
+    std::unique_ptr<Load> join_load(const IngestProgress& progress);
+    /// Installs what a finished load filled that the grid admits; frees the rest.
+    int adopt(Load& load);
+    void note_peak();
+
     ViewSessionConfig config_;
     LasSourceSet sources_;
     std::unique_ptr<SectionGrid> grid_;
     ThreadPool pool_;
+    std::unique_ptr<ThreadPool> loader_pool_;
+    std::unique_ptr<Load> load_;
+    std::size_t peak_bytes_ = 0;
 };
 
 }  // namespace beamtrace

@@ -85,7 +85,10 @@ struct GridRay {
     } else if (r.dz < 0) {
         // Below the lowest loaded height there is nothing to hit (columns do not reach down
         // forever): an empty cell stays see-through even for near-vertical rays.
-        t1 = std::min(t1, (static_cast<double>(grid.min_height()) - r.oz) / r.dz);
+        // A hair below it, so that rounding in oz + dz * t does not lose a surface that lies
+        // exactly at the lowest height (flat ground seen at a grazing angle).
+        const double floor_z = static_cast<double>(grid.min_height());
+        t1 = std::min(t1, (floor_z - 1e-9 * (1.0 + std::abs(floor_z)) - r.oz) / r.dz);
     }
     if (!(t0 <= t1)) {  // equal: a ray that just touches the only height (a flat plateau)
         return false;
@@ -118,8 +121,51 @@ struct GridHit {
     std::int64_t x = 0, y = 0;
     double t_in = 0, t_out = 0;
     int entered_axis = -1;  ///< 0: through an x face, 1: through a y face, -1: ray start
-    float h = 0;
+    float h = 0;            ///< top of the column (with stacks: of the interval hit)
+    float lo = 0;           ///< with stacks: bottom of the interval hit
+    bool bottom = false;    ///< with stacks: the ray entered the interval through its underside
 };
+
+/// Height stacks: whether the ray's span [t_in, t_out] over a cell meets one of its intervals
+/// (`iv`: `k` lo/hi pairs, ascending, unused ones (+inf, -inf) at the end; the lowest reaches
+/// down forever, so the ground stays solid), and if so which one: the first along the ray (the
+/// highest one met for a ray going down, the lowest for one going up). Sets hit.h, hit.lo and
+/// hit.bottom.
+[[nodiscard]] inline bool stack_hit(const GridRay& r, double t_in, double t_out, const float* iv,
+                                    int k, GridHit& hit) {
+    const double za = r.oz + r.dz * t_in, zb = r.oz + r.dz * t_out;
+    const double zlo = std::min(za, zb), zhi = std::max(za, zb);
+    if (r.dz < 0) {
+        for (int j = k - 1; j >= 0; --j) {
+            const float lo = iv[2 * j], hi = iv[2 * j + 1];
+            if (lo > hi) {
+                continue;
+            }
+            const double lo_eff = j == 0 ? -kInf : static_cast<double>(lo);
+            if (zlo <= static_cast<double>(hi) && zhi >= lo_eff) {
+                hit.h = hi;
+                hit.lo = lo;
+                hit.bottom = false;
+                return true;
+            }
+        }
+        return false;
+    }
+    for (int j = 0; j < k; ++j) {
+        const float lo = iv[2 * j], hi = iv[2 * j + 1];
+        if (lo > hi) {
+            return false;
+        }
+        const double lo_eff = j == 0 ? -kInf : static_cast<double>(lo);
+        if (zlo <= static_cast<double>(hi) && zhi >= lo_eff) {
+            hit.h = hi;
+            hit.lo = lo;
+            hit.bottom = r.dz > 0 && za < lo_eff;
+            return true;
+        }
+    }
+    return false;
+}
 
 /// Colour and distance of a hit. `finest(x, y)` is grid.height(0, x, y) (a faster lookup of the
 /// same values).
@@ -130,7 +176,10 @@ inline void shade_hit(const SectionGrid& grid, const Finest& finest, const GridR
     const double h = hit.h;
     double t = hit.t_in;
     bool top = true;
-    if (r.dz < 0) {
+    if (hit.bottom) {
+        t = std::clamp((static_cast<double>(hit.lo) - r.oz) / r.dz, hit.t_in, hit.t_out);
+        top = false;
+    } else if (r.dz < 0) {
         const double t_top = (h - r.oz) / r.dz;
         if (t_top > hit.t_in) {
             t = std::min(t_top, hit.t_out);
@@ -154,14 +203,23 @@ inline void shade_hit(const SectionGrid& grid, const Finest& finest, const GridR
                    static_cast<double>(base[2])};
     if (options.shading) {
         Vec3d n;
-        if (top) {
+        if (hit.bottom) {
+            n = {0.0, 0.0, -1.0};
+        } else if (top) {
             const std::int64_t last = grid.window_cells() - 1;
+            // With stacks, a neighbour whose top is far above (a bridge over the ground) is not
+            // part of this surface.
+            const double above = grid.config().stacks() > 0
+                                     ? static_cast<double>(grid.config().stack_gap_or_default())
+                                     : kInf;
             const auto at = [&](std::int64_t x, std::int64_t y) {
                 if (x < 0 || y < 0 || x > last || y > last) {
                     return h;
                 }
                 const float v = finest(x, y);
-                return v == kEmptyHeight ? h : static_cast<double>(v);
+                return v == kEmptyHeight || static_cast<double>(v) > h + above
+                           ? h
+                           : static_cast<double>(v);
             };
             const double two_cells = 2.0 * grid.config().cell_size;
             const double gx = (at(hit.x + 1, hit.y) - at(hit.x - 1, hit.y)) / two_cells;
