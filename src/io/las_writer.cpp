@@ -254,8 +254,7 @@ std::array<std::uint8_t, 375> LasWriter::encode_header() const {
 }
 
 void LasRecordBlock::clear() {
-    bytes.clear();
-    count = 0;
+    count = 0;  // the bytes stay allocated (and are overwritten) for the next use
     by_return.fill(0);
 }
 
@@ -343,7 +342,10 @@ void LasWriter::encode(const LasPoint& p, std::uint64_t index, std::uint8_t* r) 
 
 void LasWriter::encode(const LasPoint& p, LasRecordBlock& block) const {
     const std::size_t size = header_.point_record_length;
-    block.bytes.resize((block.count + 1) * size);
+    const std::size_t need = (block.count + 1) * size;
+    if (block.bytes.size() < need) {
+        block.bytes.resize(std::max(need, 2 * block.bytes.size()));
+    }
     std::int32_t q[3];
     encode_record(p, block.count, block.bytes.data() + block.count * size, q);
     for (std::size_t k = 0; k < 3; ++k) {

@@ -24,12 +24,12 @@ class DirectSink;
 /// Point records encoded away from the writer (LasWriter::encode into a block, on any thread),
 /// appended in order by LasWriter::write_block: the bytes plus what the header needs of them.
 struct LasRecordBlock {
-    std::vector<std::uint8_t> bytes;
+    std::vector<std::uint8_t> bytes;  ///< the first count records (may be longer: reused space)
     std::size_t count = 0;
     std::int32_t lo[3] = {0, 0, 0};  ///< integer bounds of the block's points (count > 0)
     std::int32_t hi[3] = {0, 0, 0};
     std::array<std::uint64_t, 15> by_return{};
-    /// Empties the block (keeps its capacity).
+    /// Empties the block (keeps its bytes allocated for reuse).
     void clear();
 };
 
