@@ -155,6 +155,7 @@ class EmbreeBackend final : public Backend {
             // through shared edges of closed meshes slip through); this one is.
             ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
             alignas(64) RTCRayHit16 rh;
+            init_embree_packet(rh);
             alignas(64) int valid[kPacket];
             for (std::size_t pk = first_packet + pb; pk < first_packet + pe; ++pk) {
                 const std::size_t p = std::max(begin, pk * kPacket);

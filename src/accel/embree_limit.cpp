@@ -85,6 +85,7 @@ void EmbreeLimit::trace(const RayBatch& rays, EmbreeCall call, std::vector<std::
         ctx.flags = call == EmbreeCall::packet16_coherent ? RTC_INTERSECT_CONTEXT_FLAG_COHERENT
                                                           : RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
         alignas(64) RTCRayHit16 rh;
+        detail::init_embree_packet(rh);
         alignas(64) int valid[16];
         for (std::size_t p = b; p < e; p += 16) {
             const std::size_t n = std::min<std::size_t>(16, e - p);

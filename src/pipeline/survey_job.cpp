@@ -130,9 +130,12 @@ float las_scan_angle_deg(const Vec3d& dir, const Vec3d& forward) {
 
 void SurveyRaySource::generate(const PulseBatch& pulses, std::uint64_t first, RayBatch& rays,
                                std::size_t ray_offset, Vec3d* origin, Vec3d* axis,
-                               float* scan_angle, std::vector<Vec3d>& dirs) const {
+                               float* scan_angle, Scratch& scratch) const {
     const std::size_t n_sub = sub_rays();
+    std::vector<Vec3d>& dirs = scratch.dirs;
     dirs.resize(n_sub);
+    scratch.platform.resize(pulses.time_s.size());
+    trajectory->poses_at(pulses.time_s, scratch.platform);
     const Pose& mount = spec->mount.sensor_to_platform;
     // What depends on the platform's attitude alone, kept while the attitude stays the same
     // (a straight leg, a tripod): the sensor's attitude, the lever arm in the world and the scan
@@ -141,7 +144,7 @@ void SurveyRaySource::generate(const PulseBatch& pulses, std::uint64_t first, Ra
     Quat platform_attitude, sensor_attitude;
     Vec3d lever_world, right;
     for (std::size_t i = 0; i < pulses.time_s.size(); ++i) {
-        const Pose platform = trajectory->pose_at(pulses.time_s[i]);
+        const Pose& platform = scratch.platform[i];
         const Quat& q = platform.attitude;
         if (!have_frame || q.w != platform_attitude.w || q.x != platform_attitude.x ||
             q.y != platform_attitude.y || q.z != platform_attitude.z) {
@@ -216,10 +219,10 @@ RayBatch survey_rays(const SurveySpec& spec, std::uint64_t seed, std::uint64_t m
     std::vector<float> scan_angle(origin.size());
     pool.parallel_for(origin.size(), kBlockPulses, [&](std::size_t b, std::size_t e) {
         PulseBatch batch;
-        std::vector<Vec3d> dirs;
+        detail::SurveyRaySource::Scratch scratch;
         pattern->generate(b, e - b, batch);
         source.generate(batch, b, rays, b * sub_rays, origin.data() + b, axis.data() + b,
-                        scan_angle.data() + b, dirs);
+                        scan_angle.data() + b, scratch);
     });
     return rays;
 }
@@ -384,14 +387,14 @@ SurveyResult run_survey(const SurveySpec& spec, const SurveyRunConfig& run,
             BlockOutput& block = out[b / kBlockPulses];
             block.clear();
             ThreadPool this_thread(1);  // no workers: the backend traces the block right here
-            std::vector<Vec3d> dirs;
+            detail::SurveyRaySource::Scratch scratch;
             PulseBatch pulses;  // this block's pulses, indexed from b
             pattern->generate(first + b, e - b, pulses);
             if (keep_waves) {
                 std::copy(pulses.time_s.begin(), pulses.time_s.end(), pulse_time.begin() + b);
             }
             source.generate(pulses, first + b, rays, b * sub_rays, origin.data() + b,
-                            axis.data() + b, scan_angle.data() + b, dirs);
+                            axis.data() + b, scan_angle.data() + b, scratch);
             backend->intersect(rays, b * sub_rays, e * sub_rays, hits, this_thread);
             if (sim) {
                 std::vector<SubRayHit> sub(sub_rays);

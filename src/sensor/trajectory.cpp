@@ -387,4 +387,29 @@ void write_trajectory_csv(const std::filesystem::path& path, const Trajectory& t
     rows.commit();
 }
 
+void Trajectory::poses_at(std::span<const double> times_s, std::span<Pose> out) const {
+    for (std::size_t i = 0; i < times_s.size(); ++i) {
+        out[i] = pose_at(times_s[i]);
+    }
+}
+
+// The final classes' batches call their own pose_at directly (no virtual call per pose).
+void StaticPlatform::poses_at(std::span<const double> times_s, std::span<Pose> out) const {
+    for (std::size_t i = 0; i < times_s.size(); ++i) {
+        out[i] = StaticPlatform::pose_at(times_s[i]);
+    }
+}
+
+void LinearLegs::poses_at(std::span<const double> times_s, std::span<Pose> out) const {
+    for (std::size_t i = 0; i < times_s.size(); ++i) {
+        out[i] = LinearLegs::pose_at(times_s[i]);
+    }
+}
+
+void SampledTrajectory::poses_at(std::span<const double> times_s, std::span<Pose> out) const {
+    for (std::size_t i = 0; i < times_s.size(); ++i) {
+        out[i] = SampledTrajectory::pose_at(times_s[i]);
+    }
+}
+
 }  // namespace beamtrace

@@ -16,6 +16,7 @@
 
 #include <filesystem>
 #include <limits>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -36,6 +37,9 @@ class Trajectory {
 
     /// The platform-to-world pose at `time_s`; throws ConfigError outside the time range.
     [[nodiscard]] virtual Pose pose_at(double time_s) const = 0;
+    /// out[i] = pose_at(times_s[i]) (the same values), one virtual call for the whole batch.
+    /// `out` must have times_s.size() elements.
+    virtual void poses_at(std::span<const double> times_s, std::span<Pose> out) const;
     [[nodiscard]] virtual double start_time_s() const = 0;
     [[nodiscard]] virtual double end_time_s() const = 0;
 
@@ -50,6 +54,7 @@ class StaticPlatform final : public Trajectory {
                             double start_time_s = -std::numeric_limits<double>::infinity(),
                             double end_time_s = std::numeric_limits<double>::infinity());
     [[nodiscard]] Pose pose_at(double time_s) const override;
+    void poses_at(std::span<const double> times_s, std::span<Pose> out) const override;
     [[nodiscard]] double start_time_s() const override { return start_; }
     [[nodiscard]] double end_time_s() const override { return end_; }
 
@@ -83,6 +88,7 @@ class LinearLegs final : public Trajectory {
     /// Throws ConfigError listing every problem of `config`.
     explicit LinearLegs(LinearLegsConfig config);
     [[nodiscard]] Pose pose_at(double time_s) const override;
+    void poses_at(std::span<const double> times_s, std::span<Pose> out) const override;
     [[nodiscard]] double start_time_s() const override { return times_s_.front(); }
     [[nodiscard]] double end_time_s() const override { return times_s_.back(); }
     /// Time at each waypoint.
@@ -108,6 +114,7 @@ class SampledTrajectory final : public Trajectory {
     /// the previous one, and for an empty list. A single sample is a valid (instant) range.
     explicit SampledTrajectory(std::vector<TrajectorySample> samples);
     [[nodiscard]] Pose pose_at(double time_s) const override;
+    void poses_at(std::span<const double> times_s, std::span<Pose> out) const override;
     [[nodiscard]] double start_time_s() const override { return samples_.front().time_s; }
     [[nodiscard]] double end_time_s() const override { return samples_.back().time_s; }
     [[nodiscard]] const std::vector<TrajectorySample>& samples() const { return samples_; }

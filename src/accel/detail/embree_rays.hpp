@@ -27,8 +27,19 @@ inline void set_embree_ray(RTCRay& r, const RayBatch& rays, std::size_t i) {
     r.flags = 0;
 }
 
-/// Rays [first, first + n) (1 <= n <= 16) as a packet of 16 with no hit yet; idle lanes repeat
-/// the last ray and are marked invalid.
+/// Sets the lanes' fields that tracing never changes (time, mask, id, flags): once per packet
+/// structure, before set_embree_packet fills it again and again.
+inline void init_embree_packet(RTCRayHit16& rh) {
+    for (std::size_t k = 0; k < 16; ++k) {
+        rh.ray.time[k] = 0.0f;
+        rh.ray.mask[k] = 0xFFFFFFFFu;
+        rh.ray.id[k] = 0;
+        rh.ray.flags[k] = 0;
+    }
+}
+
+/// Rays [first, first + n) (1 <= n <= 16) into a packet set up by init_embree_packet, with no
+/// hit yet; idle lanes repeat the last ray and are marked invalid.
 inline void set_embree_packet(RTCRayHit16& rh, int valid[16], const RayBatch& rays,
                               std::size_t first, std::size_t n) {
     for (std::size_t k = 0; k < 16; ++k) {
@@ -42,10 +53,6 @@ inline void set_embree_packet(RTCRayHit16& rh, int valid[16], const RayBatch& ra
         rh.ray.dir_z[k] = static_cast<float>(rays.dz[i]);
         rh.ray.tnear[k] = static_cast<float>(rays.tmin[i]);
         rh.ray.tfar[k] = static_cast<float>(rays.tmax[i]);
-        rh.ray.time[k] = 0.0f;
-        rh.ray.mask[k] = 0xFFFFFFFFu;
-        rh.ray.id[k] = 0;
-        rh.ray.flags[k] = 0;
         rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
         rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
     }

@@ -26,12 +26,18 @@ struct SurveyRaySource {
 
     [[nodiscard]] std::size_t sub_rays() const { return sim ? sim->sub_ray_count() : 1; }
 
+    /// Working space of generate(), reused from call to call.
+    struct Scratch {
+        std::vector<Vec3d> dirs;
+        std::vector<Pose> platform;
+    };
+
     /// Rays of pulses[i] (global pulse index first + i) into rays[ray_offset + i * sub_rays(),
     /// ... + sub_rays()); each pulse's origin, beam axis and LAS scan angle into origin[i],
     /// axis[i], scan_angle[i]. `rays` must be large enough; `dirs` is scratch space.
     void generate(const PulseBatch& pulses, std::uint64_t first, RayBatch& rays,
                   std::size_t ray_offset, Vec3d* origin, Vec3d* axis, float* scan_angle,
-                  std::vector<Vec3d>& dirs) const;
+                  Scratch& scratch) const;
 };
 
 }  // namespace beamtrace::detail
