@@ -31,9 +31,12 @@ RotatingScannerConfig preset(std::vector<double> elevations_deg, double resoluti
 
 /// `deg` wrapped into [-180, 180).
 double wrap_deg(double deg) {
-    double w = std::fmod(deg + 180.0, 360.0);
-    if (w < 0.0) {
-        w += 360.0;
+    double w = deg + 180.0;
+    if (!(w >= 0.0 && w < 360.0)) {  // fmod only when needed (the same value otherwise)
+        w = std::fmod(w, 360.0);
+        if (w < 0.0) {
+            w += 360.0;
+        }
     }
     return w - 180.0;
 }

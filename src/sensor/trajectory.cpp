@@ -173,7 +173,10 @@ LinearLegs::LinearLegs(LinearLegsConfig config) : config_(std::move(config)) {
 
 Pose LinearLegs::pose_at(double time_s) const {
     const double t = checked_time("linear legs", time_s, start_time_s(), end_time_s());
-    const std::size_t k = segment_of(times_s_, t);
+    return pose_on_leg(t, segment_of(times_s_, t));
+}
+
+Pose LinearLegs::pose_on_leg(double t, std::size_t k) const {
     const double f = (t - times_s_[k]) / (times_s_[k + 1] - times_s_[k]);
     const auto& w = config_.waypoints_m;
     Pose pose;
@@ -401,8 +404,20 @@ void StaticPlatform::poses_at(std::span<const double> times_s, std::span<Pose> o
 }
 
 void LinearLegs::poses_at(std::span<const double> times_s, std::span<Pose> out) const {
+    // Pulse times mostly stay on one leg: keep the leg while the time is on it (the leg
+    // segment_of would find), search again otherwise.
+    std::size_t k = 0;
+    bool have_leg = false;
+    const double start = start_time_s(), end = end_time_s();
     for (std::size_t i = 0; i < times_s.size(); ++i) {
-        out[i] = LinearLegs::pose_at(times_s[i]);
+        const double t = times_s[i] >= start && times_s[i] <= end
+                             ? times_s[i]
+                             : checked_time("linear legs", times_s[i], start, end);
+        if (!have_leg || !(times_s_[k] <= t && (t < times_s_[k + 1] || k + 2 == times_s_.size()))) {
+            k = segment_of(times_s_, t);
+            have_leg = true;
+        }
+        out[i] = pose_on_leg(t, k);
     }
 }
 

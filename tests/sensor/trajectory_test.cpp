@@ -109,6 +109,44 @@ TEST(Trajectory, LinearLegsFlyAtConstantSpeedFacingAlongEachLeg) {
     EXPECT_THROW(static_cast<void>(legs.pose_at(9.0)), ConfigError);
 }
 
+TEST(Trajectory, BatchedPosesEqualPoseAtBitForBit) {
+    const LinearLegs legs(
+        {{{0, 0, 100}, {1000, 0, 100}, {1000, 500, 100}, {1000, 500, 200}}, {}, 50.0, 10.0});
+    const LinearLegs given(
+        {{{0, 0, 0}, {100, 0, 0}, {100, 50, 0}},
+         {RollPitchYaw{0, 0, 0}, RollPitchYaw{0, 0, kPi / 2}, RollPitchYaw{0.1, 0, kPi}},
+         10.0,
+         0.0});
+    const SampledTrajectory sampled({{0.0, {0, 0, 0}, {}}, {2.0, {10, 0, 0}, {0, 0, 1}}});
+    const StaticPlatform fixed({{1, 2, 3}, Quat::from_rpy({0.1, 0.2, 0.3})});
+    for (const Trajectory* tr :
+         std::initializer_list<const Trajectory*>{&legs, &given, &sampled, &fixed}) {
+        const double a = std::isfinite(tr->start_time_s()) ? tr->start_time_s() : 0.0;
+        const double b = std::isfinite(tr->end_time_s()) ? tr->end_time_s() : 10.0;
+        // Every waypoint time, times in between, out of order, and the ends.
+        std::vector<double> times;
+        for (int k = 0; k <= 997; ++k) {
+            times.push_back(a + (b - a) * k / 997.0);
+        }
+        times.push_back(a);
+        times.push_back(b);
+        times.push_back(a + (b - a) * 0.5);
+        std::vector<Pose> out(times.size());
+        tr->poses_at(times, out);
+        for (std::size_t i = 0; i < times.size(); ++i) {
+            const Pose want = tr->pose_at(times[i]);
+            ASSERT_EQ(out[i].position_m, want.position_m) << "t = " << times[i];
+            ASSERT_EQ(out[i].attitude.w, want.attitude.w) << "t = " << times[i];
+            ASSERT_EQ(out[i].attitude.x, want.attitude.x);
+            ASSERT_EQ(out[i].attitude.y, want.attitude.y);
+            ASSERT_EQ(out[i].attitude.z, want.attitude.z);
+        }
+    }
+    std::vector<Pose> out(1);
+    const std::vector<double> late{43.0};
+    EXPECT_THROW(legs.poses_at(late, out), ConfigError);
+}
+
 TEST(Trajectory, LinearLegsClimbingKeepsTheHeadingLevelAndSlerpsGivenAttitudes) {
     const LinearLegs climb({{{0, 0, 0}, {-30, -40, 50}}, {}, 10.0, 0.0});
     const Vec3d ahead = climb.pose_at(1.0).apply_direction({1, 0, 0});

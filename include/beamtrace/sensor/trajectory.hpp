@@ -95,6 +95,8 @@ class LinearLegs final : public Trajectory {
     [[nodiscard]] const std::vector<double>& waypoint_times_s() const { return times_s_; }
 
   private:
+    /// The pose at time t (within the range) on leg k (times_s_[k] <= t <= times_s_[k + 1]).
+    [[nodiscard]] Pose pose_on_leg(double t, std::size_t k) const;
     LinearLegsConfig config_;
     std::vector<double> times_s_;
     std::vector<Quat> attitude_;  ///< per waypoint (given) or per leg (facing along it)
