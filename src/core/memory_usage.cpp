@@ -1,5 +1,9 @@
 #include "beamtrace/core/memory_usage.hpp"
 
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
+
 #include <cstdio>
 #include <cstring>
 #include <fstream>
@@ -29,6 +33,12 @@ std::size_t current_rss_bytes() {
 
 std::size_t peak_rss_bytes() {
     return status_kb("VmHWM");
+}
+
+void trim_free_memory() {
+#if defined(__GLIBC__)
+    ::malloc_trim(0);
+#endif
 }
 
 bool reset_peak_rss() {

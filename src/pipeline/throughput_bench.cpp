@@ -209,6 +209,7 @@ ThroughputReport run_throughput_bench(const ThroughputBenchConfig& config,
             fig.threads = threads[ti];
             run.threads = fig.threads;
             say(res.name + ", " + std::to_string(fig.threads) + " thread(s): end to end, memory");
+            trim_free_memory();  // what earlier surveys freed does not count
             reset_peak_rss();
             const auto t0 = Clock::now();
             const SurveyResult sr = run_checked(spec, run, res.name);
