@@ -118,6 +118,22 @@ bt::ViewCamera frame_camera(const bt::ViewSession& s, int width, int height) {
     return cam;
 }
 
+/// Checks, before timing, that the hierarchy agrees with the brute-force reference on a small
+/// image of the benchmark's view and that most pixels hit.
+void check_against_reference(bt::ViewSession& session, const bt::RenderOptions& options,
+                             const std::string& what) {
+    const bt::ViewCamera small = frame_camera(session, 192, 108);
+    const bt::ViewImage a = session.render(small, options);
+    const bt::ViewImage b =
+        bt::render_view_reference(session.grid(), small, options, session.pool());
+    if (a.rgb != b.rgb || a.depth != b.depth) {
+        fail("hierarchical and reference views differ" + what);
+    }
+    if (a.hits() < a.depth.size() / 2) {
+        fail("fewer than half the pixels hit" + what);
+    }
+}
+
 void BM_ViewFrame(benchmark::State& state) {
     if (!std::filesystem::exists(autzen_trim())) {
         state.SkipWithError("missing autzen_trim.las");
@@ -135,19 +151,7 @@ void BM_ViewFrame(benchmark::State& state) {
     static_cast<void>(session.move_to(cam.position));
     bt::RenderOptions options;
     options.fog_distance = 3000.0;
-    // Check: the hierarchy agrees with the brute-force reference on a small image.
-    {
-        const bt::ViewCamera small = frame_camera(session, 192, 108);
-        const bt::ViewImage a = session.render(small, options);
-        const bt::ViewImage b =
-            bt::render_view_reference(session.grid(), small, options, session.pool());
-        if (a.rgb != b.rgb || a.depth != b.depth) {
-            fail("hierarchical and reference views differ");
-        }
-        if (a.hits() < a.depth.size() / 2) {
-            fail("fewer than half the pixels hit");
-        }
-    }
+    check_against_reference(session, options, "");
     bt::ViewImage img;  // reused between frames, as a viewer would
     for (auto _ : state) {
         session.render(cam, options, img);
@@ -241,15 +245,7 @@ void BM_ViewFrameStacks(benchmark::State& state) {
     static_cast<void>(session.move_to(cam.position));
     bt::RenderOptions options;
     options.fog_distance = 3000.0;
-    {
-        const bt::ViewCamera small = frame_camera(session, 192, 108);
-        const bt::ViewImage a = session.render(small, options);
-        const bt::ViewImage b =
-            bt::render_view_reference(session.grid(), small, options, session.pool());
-        if (a.rgb != b.rgb || a.depth != b.depth) {
-            fail("hierarchical and reference views differ with stacks");
-        }
-    }
+    check_against_reference(session, options, " with stacks");
     bt::ViewImage img;
     for (auto _ : state) {
         session.render(cam, options, img);
