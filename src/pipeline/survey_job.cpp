@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cmath>
 #include <future>
+#include <mutex>
 #include <numbers>
 #include <optional>
 #include <system_error>
@@ -76,6 +77,59 @@ struct BlockOutput {
         csv.clear();
         ply.clear();
     }
+};
+
+/// A block's working arrays (pulses, rays, hits, returns...). Blocks take one from a WorkShelf
+/// and put it back, so a thread keeps reusing the same, cache-warm memory.
+struct BlockWork {
+    PulseBatch pulses;
+    detail::SurveyRaySource::Scratch scratch;
+    RayBatch rays;
+    HitBatch hits;
+    std::vector<Vec3d> origin, axis;
+    std::vector<float> scan_angle;
+    std::vector<PulseReturn> returns;
+    std::vector<std::uint8_t> return_count;
+    std::vector<SubRayHit> sub;
+    PulseResponse response;
+    ThreadPool this_thread{1};  ///< no workers: the backend traces the block on the caller
+
+    /// Sizes the arrays for `pulses` pulses (contents are overwritten by the stages).
+    void size_for(std::size_t pulse_count, std::size_t sub_rays, std::size_t max_returns) {
+        const std::size_t n = pulse_count * sub_rays;
+        rays.resize(n);
+        if (hits.size() != n) {
+            hits.resize(n);
+        }
+        origin.resize(pulse_count);
+        axis.resize(pulse_count);
+        scan_angle.resize(pulse_count);
+        returns.resize(pulse_count * max_returns);
+        return_count.resize(pulse_count);
+        sub.resize(sub_rays);
+    }
+};
+
+/// Spare BlockWork, last in first out.
+class WorkShelf {
+  public:
+    std::unique_ptr<BlockWork> take() {
+        const std::lock_guard lock(mutex_);
+        if (spare_.empty()) {
+            return std::make_unique<BlockWork>();
+        }
+        auto w = std::move(spare_.back());
+        spare_.pop_back();
+        return w;
+    }
+    void put(std::unique_ptr<BlockWork> w) {
+        const std::lock_guard lock(mutex_);
+        spare_.push_back(std::move(w));
+    }
+
+  private:
+    std::mutex mutex_;
+    std::vector<std::unique_ptr<BlockWork>> spare_;
 };
 
 /// Pulses per block: each block is generated, traced, simulated and encoded by one thread.
@@ -336,16 +390,13 @@ SurveyResult run_survey(const SurveySpec& spec, const SurveyRunConfig& run,
     // chunk size: blocks (and the ray packets inside them) never depend on the chunking.
     const std::size_t chunk = (std::max<std::size_t>(1, run.chunk_pulses) + kBlockPulses - 1) /
                               kBlockPulses * kBlockPulses;
-    std::vector<float> scan_angle;
-    std::vector<Vec3d> origin, axis;
-    std::vector<PulseReturn> returns;
-    std::vector<std::uint8_t> return_count;
     // Optional waveforms.bin (physics.waveform.keep): every pulse's sampled echo power.
     const bool keep_waves = sim && sim->config().keep_waveform;
     std::unique_ptr<AtomicFile> waves;
     std::vector<std::vector<float>> wave_samples;
     std::vector<std::int64_t> wave_first_bin;
-    std::vector<double> pulse_time;  // of each pulse of the chunk, for waveforms.bin
+    std::vector<double> pulse_time;   // of each pulse of the chunk, for waveforms.bin
+    std::vector<Vec3d> origin, axis;  // of each pulse of the chunk, for waveforms.bin
     if (keep_waves) {
         waves = std::make_unique<AtomicFile>(run.output_dir / "waveforms.bin");
         waves->write("BTWAVE01", 8);
@@ -357,8 +408,7 @@ SurveyResult run_survey(const SurveySpec& spec, const SurveyRunConfig& run,
         waves->write(&bin_ns, 8);
         waves->write(&fwhm_ns, 8);
     }
-    RayBatch rays;
-    HitBatch hits;
+    WorkShelf shelf;
     const detail::SurveyRaySource source{&spec, trajectory.get(), sim ? &*sim : nullptr, run.seed};
     const bool physics = sim.has_value();
     // Every block of a chunk goes through all stages on one thread (pose and rays, trace,
@@ -371,109 +421,106 @@ SurveyResult run_survey(const SurveySpec& spec, const SurveyRunConfig& run,
     for (std::uint64_t first = 0; first < result.pulses; first += chunk) {
         const auto count =
             static_cast<std::size_t>(std::min<std::uint64_t>(chunk, result.pulses - first));
-        rays.resize(count * sub_rays);
-        hits.resize(count * sub_rays);
-        scan_angle.resize(count);
-        origin.resize(count);
-        axis.resize(count);
-        if (sim) {
-            returns.resize(count * max_returns);
-            return_count.assign(count, 0);
-            if (keep_waves) {
-                wave_samples.resize(count);
-                wave_first_bin.assign(count, 0);
-                pulse_time.resize(count);
-            }
+        if (keep_waves) {
+            wave_samples.resize(count);
+            wave_first_bin.assign(count, 0);
+            pulse_time.resize(count);
+            origin.resize(count);
+            axis.resize(count);
         }
         std::vector<BlockOutput>& out = outputs[chunk_index++ % 2];
         out.resize((count + kBlockPulses - 1) / kBlockPulses);
         pool.parallel_for(count, kBlockPulses, [&](std::size_t b, std::size_t e) {
             BlockOutput& block = out[b / kBlockPulses];
             block.clear();
-            ThreadPool this_thread(1);  // no workers: the backend traces the block right here
-            detail::SurveyRaySource::Scratch scratch;
-            PulseBatch pulses;  // this block's pulses, indexed from b
-            pattern->generate(first + b, e - b, pulses);
+            std::unique_ptr<BlockWork> work = shelf.take();
+            BlockWork& w = *work;
+            const std::size_t n_pulses = e - b;  // pulse k of the block is pulse first + b + k
+            w.size_for(n_pulses, sub_rays, max_returns);
+            const PulseBatch& pulses = w.pulses;
+            pattern->generate(first + b, n_pulses, w.pulses);
+            source.generate(pulses, first + b, w.rays, 0, w.origin.data(), w.axis.data(),
+                            w.scan_angle.data(), w.scratch);
+            backend->intersect(w.rays, 0, n_pulses * sub_rays, w.hits, w.this_thread);
             if (keep_waves) {
                 std::copy(pulses.time_s.begin(), pulses.time_s.end(), pulse_time.begin() + b);
+                std::copy(w.origin.begin(), w.origin.end(), origin.begin() + b);
+                std::copy(w.axis.begin(), w.axis.end(), axis.begin() + b);
             }
-            source.generate(pulses, first + b, rays, b * sub_rays, origin.data() + b,
-                            axis.data() + b, scan_angle.data() + b, scratch);
-            backend->intersect(rays, b * sub_rays, e * sub_rays, hits, this_thread);
             if (sim) {
-                std::vector<SubRayHit> sub(sub_rays);
-                PulseResponse response;
-                for (std::size_t i = b; i < e; ++i) {
+                for (std::size_t k = 0; k < n_pulses; ++k) {
                     for (std::size_t j = 0; j < sub_rays; ++j) {
-                        const std::size_t h = i * sub_rays + j;
-                        if (!hits.hit(h)) {
-                            sub[j] = SubRayHit{};
+                        const std::size_t h = k * sub_rays + j;
+                        if (!w.hits.hit(h)) {
+                            w.sub[j] = SubRayHit{};
                             continue;
                         }
-                        const Vec3d d{rays.dx[h], rays.dy[h], rays.dz[h]};
-                        const double t = hits.t[h];
-                        const ScenePart& part = scene.parts[scene.part_of_face(hits.face[h])];
-                        sub[j] = make_sub_ray_hit(materials[part.material], t, origin[i] + d * t,
-                                                  scene.geometry.normal(hits.face[h]), d);
+                        const Vec3d d{w.rays.dx[h], w.rays.dy[h], w.rays.dz[h]};
+                        const double t = w.hits.t[h];
+                        const ScenePart& part = scene.parts[scene.part_of_face(w.hits.face[h])];
+                        w.sub[j] =
+                            make_sub_ray_hit(materials[part.material], t, w.origin[k] + d * t,
+                                             scene.geometry.normal(w.hits.face[h]), d);
                     }
-                    sim->simulate(run.seed, first + i, sub, response);
+                    sim->simulate(run.seed, first + b + k, w.sub, w.response);
                     if (keep_waves) {
-                        const auto& w = response.waveform.samples_w;
-                        wave_samples[i].assign(w.begin(), w.end());
-                        wave_first_bin[i] = response.waveform.first_bin;
+                        const auto& samples = w.response.waveform.samples_w;
+                        wave_samples[b + k].assign(samples.begin(), samples.end());
+                        wave_first_bin[b + k] = w.response.waveform.first_bin;
                     }
-                    const std::size_t n = std::min(response.returns.size(), max_returns);
-                    std::copy_n(response.returns.begin(), n, returns.begin() + i * max_returns);
-                    return_count[i] = static_cast<std::uint8_t>(n);
+                    const std::size_t n = std::min(w.response.returns.size(), max_returns);
+                    std::copy_n(w.response.returns.begin(), n,
+                                w.returns.begin() + static_cast<std::ptrdiff_t>(k * max_returns));
+                    w.return_count[k] = static_cast<std::uint8_t>(n);
                 }
             }
             // Room for every return of the block at once (kept from chunk to chunk).
-            const std::size_t most = (e - b) * max_returns * writer.header().point_record_length;
+            const std::size_t most = n_pulses * max_returns * writer.header().point_record_length;
             if (block.las.bytes.size() < most) {
                 block.las.bytes.resize(most);
             }
             LasPoint p;
-            for (std::size_t i = b; i < e; ++i) {
-                const std::size_t n = sim ? return_count[i] : (hits.hit(i) ? 1 : 0);
+            for (std::size_t k = 0; k < n_pulses; ++k) {
+                const std::size_t n = sim ? w.return_count[k] : (w.hits.hit(k) ? 1 : 0);
                 for (std::size_t r = 0; r < n; ++r) {
-                    const PulseReturn* ret = sim ? &returns[i * max_returns + r] : nullptr;
-                    const std::size_t h = sim ? i * sub_rays + ret->sub_ray : i;
-                    const double t = sim ? ret->range_m : double{hits.t[i]};
-                    const ScenePart& part = scene.parts[scene.part_of_face(hits.face[h])];
+                    const PulseReturn* ret = sim ? &w.returns[k * max_returns + r] : nullptr;
+                    const std::size_t h = sim ? k * sub_rays + ret->sub_ray : k;
+                    const double t = sim ? ret->range_m : double{w.hits.t[k]};
+                    const ScenePart& part = scene.parts[scene.part_of_face(w.hits.face[h])];
                     if (images && r == 0) {
                         // Pulse index u * h + v is pixel (row v, column u).
-                        const std::uint64_t k = first + i;
+                        const std::uint64_t index = first + b + k;
                         const auto u =
-                            static_cast<std::size_t>(k / static_cast<std::uint64_t>(img_h));
+                            static_cast<std::size_t>(index / static_cast<std::uint64_t>(img_h));
                         const auto v =
-                            static_cast<std::size_t>(k % static_cast<std::uint64_t>(img_h));
+                            static_cast<std::size_t>(index % static_cast<std::uint64_t>(img_h));
                         range_img[v * static_cast<std::size_t>(img_w) + u] = static_cast<float>(t);
                         label_img[v * static_cast<std::size_t>(img_w) + u] = part.label;
                     }
-                    const Vec3d xyz = origin[i] + axis[i] * t + scene.origin_m;
+                    const Vec3d xyz = w.origin[k] + w.axis[k] * t + scene.origin_m;
                     p.x = xyz.x;
                     p.y = xyz.y;
                     p.z = xyz.z;
-                    p.gps_time = pulses.time_s[i - b];
-                    p.scan_angle_deg = scan_angle[i];
+                    p.gps_time = pulses.time_s[k];
+                    p.scan_angle_deg = w.scan_angle[k];
                     p.return_number = ret ? ret->return_number : 1;
                     p.number_of_returns = ret ? ret->number_of_returns : 1;
                     p.intensity = ret ? ret->intensity : 0;
                     p.classification = part.label;
                     p.point_source_id = part.part_id;
-                    p.user_data =
-                        static_cast<std::uint8_t>(pulses.channel[i - b] & 0xFFu);  // beam / row
+                    p.user_data = static_cast<std::uint8_t>(pulses.channel[k] & 0xFFu);  // beam
                     writer.encode(p, block.las);
                     if (csv) {
-                        append_csv_row(block.csv, p, static_cast<float>(t), pulses.channel[i - b],
+                        append_csv_row(block.csv, p, static_cast<float>(t), pulses.channel[k],
                                        physics);
                     }
                     if (spec.write_ply) {
-                        block.ply.push_back({p.x, p.y, p.z, static_cast<float>(t), hits.face[h],
-                                             static_cast<std::uint32_t>(first + i)});
+                        block.ply.push_back({p.x, p.y, p.z, static_cast<float>(t), w.hits.face[h],
+                                             static_cast<std::uint32_t>(first + b + k)});
                     }
                 }
             }
+            shelf.put(std::move(work));
         });
         if (keep_waves) {
             for (std::size_t i = 0; i < count; ++i) {
