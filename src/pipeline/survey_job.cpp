@@ -2,11 +2,14 @@
 #include <charconv>
 #include <chrono>
 #include <cmath>
-#include <future>
+#include <condition_variable>
+#include <exception>
+#include <functional>
 #include <mutex>
 #include <numbers>
 #include <optional>
 #include <system_error>
+#include <thread>
 
 #include "beamtrace/core/error.hpp"
 #include "beamtrace/io/atomic_file.hpp"
@@ -72,11 +75,114 @@ struct BlockOutput {
     LasRecordBlock las;
     std::string csv;
     std::vector<PointRecord> ply;
+    std::string waves;  ///< waveforms.bin records
     void clear() {
         las.clear();
         csv.clear();
         ply.clear();
+        waves.clear();
     }
+};
+
+/// Blocks filled by pool threads in any order and written strictly in block order by one writer
+/// thread, with at most `window` blocks between the oldest one not yet written and the newest
+/// one taken: memory stays bounded, nothing waits at a barrier, and writing overlaps everything.
+/// Blocks must be acquired in increasing order overall (ThreadPool hands out ranges in order),
+/// which is what makes the wait in acquire() always end.
+class OrderedBlocks {
+  public:
+    using WriteFn = std::function<void(std::size_t block, BlockOutput& output)>;
+    OrderedBlocks(std::size_t blocks, std::size_t window, WriteFn write)
+        : blocks_(blocks),
+          window_(std::max<std::size_t>(1, window)),
+          write_(std::move(write)),
+          ring_(std::min(blocks_, window_)),
+          ready_(ring_.size(), 0) {
+        writer_ = std::thread([this] { run_writer(); });
+    }
+    ~OrderedBlocks() {
+        abort();
+        if (writer_.joinable()) {
+            writer_.join();
+        }
+    }
+    OrderedBlocks(const OrderedBlocks&) = delete;
+    OrderedBlocks& operator=(const OrderedBlocks&) = delete;
+
+    /// Waits until block k may be filled and returns its (emptied) output; null when the run
+    /// is being aborted.
+    BlockOutput* acquire(std::size_t k) {
+        std::unique_lock lock(mutex_);
+        free_.wait(lock, [&] { return k < written_ + window_ || abort_; });
+        if (abort_) {
+            return nullptr;
+        }
+        BlockOutput& out = ring_[k % window_];
+        out.clear();
+        return &out;
+    }
+    /// Block k is complete.
+    void publish(std::size_t k) {
+        {
+            const std::lock_guard lock(mutex_);
+            ready_[k % window_] = 1;
+        }
+        ready_cv_.notify_one();
+    }
+    /// Stops the writer and every acquire() (after a worker's error).
+    void abort() {
+        {
+            const std::lock_guard lock(mutex_);
+            abort_ = true;
+        }
+        ready_cv_.notify_all();
+        free_.notify_all();
+    }
+    /// Waits until the writer is done; rethrows its error.
+    void finish() {
+        writer_.join();
+        if (error_) {
+            std::rethrow_exception(error_);
+        }
+    }
+
+  private:
+    void run_writer() {
+        for (std::size_t k = 0; k < blocks_; ++k) {
+            const std::size_t slot = k % window_;
+            {
+                std::unique_lock lock(mutex_);
+                ready_cv_.wait(lock, [&] { return ready_[slot] != 0 || abort_; });
+                if (abort_) {
+                    return;
+                }
+            }
+            try {
+                write_(k, ring_[slot]);
+            } catch (...) {
+                error_ = std::current_exception();
+                abort();
+                return;
+            }
+            {
+                const std::lock_guard lock(mutex_);
+                ready_[slot] = 0;
+                written_ = k + 1;
+            }
+            free_.notify_all();
+        }
+    }
+
+    std::size_t blocks_, window_;
+    WriteFn write_;
+    std::vector<BlockOutput> ring_;
+    std::vector<std::uint8_t> ready_;
+    std::size_t written_ = 0;
+    bool abort_ = false;
+    std::exception_ptr error_;  ///< set by the writer thread before it ends
+    std::mutex mutex_;
+    std::condition_variable ready_cv_, free_;
+    std::thread writer_;
 };
 
 /// A block's working arrays (pulses, rays, hits, returns...). Blocks take one from a WorkShelf
@@ -386,17 +492,13 @@ SurveyResult run_survey(const SurveySpec& spec, const SurveyRunConfig& run,
     std::vector<std::uint16_t> label_img(range_img.size(), 0);
 
     t0 = Clock::now();
-    // Whole blocks per chunk, so every block starts at a multiple of kBlockPulses whatever the
-    // chunk size: blocks (and the ray packets inside them) never depend on the chunking.
-    const std::size_t chunk = (std::max<std::size_t>(1, run.chunk_pulses) + kBlockPulses - 1) /
-                              kBlockPulses * kBlockPulses;
+    // At most chunk_pulses (rounded up to whole blocks) in flight between the oldest block not
+    // yet written and the newest one taken.
+    const std::size_t window =
+        (std::max<std::size_t>(1, run.chunk_pulses) + kBlockPulses - 1) / kBlockPulses;
     // Optional waveforms.bin (physics.waveform.keep): every pulse's sampled echo power.
     const bool keep_waves = sim && sim->config().keep_waveform;
     std::unique_ptr<AtomicFile> waves;
-    std::vector<std::vector<float>> wave_samples;
-    std::vector<std::int64_t> wave_first_bin;
-    std::vector<double> pulse_time;   // of each pulse of the chunk, for waveforms.bin
-    std::vector<Vec3d> origin, axis;  // of each pulse of the chunk, for waveforms.bin
     if (keep_waves) {
         waves = std::make_unique<AtomicFile>(run.output_dir / "waveforms.bin");
         waves->write("BTWAVE01", 8);
@@ -411,156 +513,145 @@ SurveyResult run_survey(const SurveySpec& spec, const SurveyRunConfig& run,
     WorkShelf shelf;
     const detail::SurveyRaySource source{&spec, trajectory.get(), sim ? &*sim : nullptr, run.seed};
     const bool physics = sim.has_value();
-    // Every block of a chunk goes through all stages on one thread (pose and rays, trace,
-    // physics, points, LAS/CSV encoding) into its own output; the blocks are written in order by
-    // one writer thread while the next chunk is processed. Two chunk outputs, at most one write
-    // in flight.
-    std::vector<BlockOutput> outputs[2];
-    std::future<void> pending;
-    std::size_t chunk_index = 0;
-    for (std::uint64_t first = 0; first < result.pulses; first += chunk) {
-        const auto count =
-            static_cast<std::size_t>(std::min<std::uint64_t>(chunk, result.pulses - first));
-        if (keep_waves) {
-            wave_samples.resize(count);
-            wave_first_bin.assign(count, 0);
-            pulse_time.resize(count);
-            origin.resize(count);
-            axis.resize(count);
+    // Every block goes through all stages on one pool thread (pose and rays, trace, physics,
+    // points, LAS/CSV encoding) into its own output; one writer thread writes the outputs in
+    // block order meanwhile. Blocks start at multiples of kBlockPulses, so neither they nor the
+    // ray packets inside them depend on the thread count or the window.
+    const std::size_t blocks =
+        static_cast<std::size_t>((result.pulses + kBlockPulses - 1) / kBlockPulses);
+    const std::size_t progress_every = std::max<std::size_t>(1, window / 4);
+    OrderedBlocks ordered(blocks, window, [&](std::size_t k, BlockOutput& out) {
+        writer.write_block(out.las);
+        if (csv) {
+            csv->write(out.csv);
         }
-        std::vector<BlockOutput>& out = outputs[chunk_index++ % 2];
-        out.resize((count + kBlockPulses - 1) / kBlockPulses);
-        pool.parallel_for(count, kBlockPulses, [&](std::size_t b, std::size_t e) {
-            BlockOutput& block = out[b / kBlockPulses];
-            block.clear();
-            std::unique_ptr<BlockWork> work = shelf.take();
-            BlockWork& w = *work;
-            const std::size_t n_pulses = e - b;  // pulse k of the block is pulse first + b + k
-            w.size_for(n_pulses, sub_rays, max_returns);
-            const PulseBatch& pulses = w.pulses;
-            pattern->generate(first + b, n_pulses, w.pulses);
-            source.generate(pulses, first + b, w.rays, 0, w.origin.data(), w.axis.data(),
-                            w.scan_angle.data(), w.scratch);
-            backend->intersect(w.rays, 0, n_pulses * sub_rays, w.hits, w.this_thread);
-            if (keep_waves) {
-                std::copy(pulses.time_s.begin(), pulses.time_s.end(), pulse_time.begin() + b);
-                std::copy(w.origin.begin(), w.origin.end(), origin.begin() + b);
-                std::copy(w.axis.begin(), w.axis.end(), axis.begin() + b);
-            }
-            if (sim) {
-                for (std::size_t k = 0; k < n_pulses; ++k) {
-                    for (std::size_t j = 0; j < sub_rays; ++j) {
-                        const std::size_t h = k * sub_rays + j;
-                        if (!w.hits.hit(h)) {
-                            w.sub[j] = SubRayHit{};
-                            continue;
-                        }
-                        const Vec3d d{w.rays.dx[h], w.rays.dy[h], w.rays.dz[h]};
-                        const double t = w.hits.t[h];
-                        const ScenePart& part = scene.parts[scene.part_of_face(w.hits.face[h])];
-                        w.sub[j] =
-                            make_sub_ray_hit(materials[part.material], t, w.origin[k] + d * t,
-                                             scene.geometry.normal(w.hits.face[h]), d);
-                    }
-                    sim->simulate(run.seed, first + b + k, w.sub, w.response);
-                    if (keep_waves) {
-                        const auto& samples = w.response.waveform.samples_w;
-                        wave_samples[b + k].assign(samples.begin(), samples.end());
-                        wave_first_bin[b + k] = w.response.waveform.first_bin;
-                    }
-                    const std::size_t n = std::min(w.response.returns.size(), max_returns);
-                    std::copy_n(w.response.returns.begin(), n,
-                                w.returns.begin() + static_cast<std::ptrdiff_t>(k * max_returns));
-                    w.return_count[k] = static_cast<std::uint8_t>(n);
-                }
-            }
-            // Room for every return of the block at once (kept from chunk to chunk).
-            const std::size_t most = n_pulses * max_returns * writer.header().point_record_length;
-            if (block.las.bytes.size() < most) {
-                block.las.bytes.resize(most);
-            }
-            LasPoint p;
-            for (std::size_t k = 0; k < n_pulses; ++k) {
-                const std::size_t n = sim ? w.return_count[k] : (w.hits.hit(k) ? 1 : 0);
-                for (std::size_t r = 0; r < n; ++r) {
-                    const PulseReturn* ret = sim ? &w.returns[k * max_returns + r] : nullptr;
-                    const std::size_t h = sim ? k * sub_rays + ret->sub_ray : k;
-                    const double t = sim ? ret->range_m : double{w.hits.t[k]};
-                    const ScenePart& part = scene.parts[scene.part_of_face(w.hits.face[h])];
-                    if (images && r == 0) {
-                        // Pulse index u * h + v is pixel (row v, column u).
-                        const std::uint64_t index = first + b + k;
-                        const auto u =
-                            static_cast<std::size_t>(index / static_cast<std::uint64_t>(img_h));
-                        const auto v =
-                            static_cast<std::size_t>(index % static_cast<std::uint64_t>(img_h));
-                        range_img[v * static_cast<std::size_t>(img_w) + u] = static_cast<float>(t);
-                        label_img[v * static_cast<std::size_t>(img_w) + u] = part.label;
-                    }
-                    const Vec3d xyz = w.origin[k] + w.axis[k] * t + scene.origin_m;
-                    p.x = xyz.x;
-                    p.y = xyz.y;
-                    p.z = xyz.z;
-                    p.gps_time = pulses.time_s[k];
-                    p.scan_angle_deg = w.scan_angle[k];
-                    p.return_number = ret ? ret->return_number : 1;
-                    p.number_of_returns = ret ? ret->number_of_returns : 1;
-                    p.intensity = ret ? ret->intensity : 0;
-                    p.classification = part.label;
-                    p.point_source_id = part.part_id;
-                    p.user_data = static_cast<std::uint8_t>(pulses.channel[k] & 0xFFu);  // beam
-                    writer.encode(p, block.las);
-                    if (csv) {
-                        append_csv_row(block.csv, p, static_cast<float>(t), pulses.channel[k],
-                                       physics);
-                    }
-                    if (spec.write_ply) {
-                        block.ply.push_back({p.x, p.y, p.z, static_cast<float>(t), w.hits.face[h],
-                                             static_cast<std::uint32_t>(first + b + k)});
-                    }
-                }
-            }
-            shelf.put(std::move(work));
-        });
-        if (keep_waves) {
-            for (std::size_t i = 0; i < count; ++i) {
-                const std::uint64_t index = first + i;
-                const double time_s = pulse_time[i];
-                const Vec3d o = origin[i] + scene.origin_m;
-                const double pose_record[7] = {time_s,    o.x,       o.y,      o.z,
-                                               axis[i].x, axis[i].y, axis[i].z};
-                const auto n = static_cast<std::uint32_t>(wave_samples[i].size());
-                waves->write(&index, 8);
-                waves->write(pose_record, sizeof pose_record);
-                waves->write(&wave_first_bin[i], 8);
-                waves->write(&n, 4);
-                waves->write(wave_samples[i].data(), 4 * std::size_t{n});
-            }
+        if (waves) {
+            waves->write(out.waves);
         }
         if (spec.write_ply) {
-            for (const BlockOutput& block : out) {
-                ply_points.insert(ply_points.end(), block.ply.begin(), block.ply.end());
-            }
+            ply_points.insert(ply_points.end(), out.ply.begin(), out.ply.end());
         }
-        if (pending.valid()) {
-            pending.get();  // the previous chunk is written (and its errors rethrown here)
-        }
-        pending = std::async(std::launch::async, [&writer, &csv, &out] {
-            for (const BlockOutput& block : out) {
-                writer.write_block(block.las);
-                if (csv) {
-                    csv->write(block.csv);
-                }
-            }
-        });
-        if (progress) {
-            progress(static_cast<std::size_t>(first + count),
+        if (progress && ((k + 1) % progress_every == 0 || k + 1 == blocks)) {
+            progress(static_cast<std::size_t>(
+                         std::min<std::uint64_t>((k + 1) * kBlockPulses, result.pulses)),
                      static_cast<std::size_t>(result.pulses));
         }
-    }
-    if (pending.valid()) {
-        pending.get();
-    }
+    });
+    const auto process = [&](std::size_t block_index, BlockOutput& block) {
+        const std::uint64_t first = std::uint64_t{block_index} * kBlockPulses;
+        const auto n_pulses =
+            static_cast<std::size_t>(std::min<std::uint64_t>(kBlockPulses, result.pulses - first));
+        std::unique_ptr<BlockWork> work = shelf.take();
+        BlockWork& w = *work;
+        w.size_for(n_pulses, sub_rays, max_returns);
+        const PulseBatch& pulses = w.pulses;
+        pattern->generate(first, n_pulses, w.pulses);
+        source.generate(pulses, first, w.rays, 0, w.origin.data(), w.axis.data(),
+                        w.scan_angle.data(), w.scratch);
+        backend->intersect(w.rays, 0, n_pulses * sub_rays, w.hits, w.this_thread);
+        if (sim) {
+            for (std::size_t k = 0; k < n_pulses; ++k) {
+                for (std::size_t j = 0; j < sub_rays; ++j) {
+                    const std::size_t h = k * sub_rays + j;
+                    if (!w.hits.hit(h)) {
+                        w.sub[j] = SubRayHit{};
+                        continue;
+                    }
+                    const Vec3d d{w.rays.dx[h], w.rays.dy[h], w.rays.dz[h]};
+                    const double t = w.hits.t[h];
+                    const ScenePart& part = scene.parts[scene.part_of_face(w.hits.face[h])];
+                    w.sub[j] = make_sub_ray_hit(materials[part.material], t, w.origin[k] + d * t,
+                                                scene.geometry.normal(w.hits.face[h]), d);
+                }
+                sim->simulate(run.seed, first + k, w.sub, w.response);
+                if (keep_waves) {
+                    // index, time, beam origin (world), beam axis, first bin, count, samples
+                    const std::uint64_t index = first + k;
+                    const Vec3d o = w.origin[k] + scene.origin_m;
+                    const double pose_record[7] = {pulses.time_s[k], o.x,         o.y,        o.z,
+                                                   w.axis[k].x,      w.axis[k].y, w.axis[k].z};
+                    const std::int64_t first_bin = w.response.waveform.first_bin;
+                    const auto& samples = w.response.waveform.samples_w;
+                    const auto count = static_cast<std::uint32_t>(samples.size());
+                    block.waves.append(reinterpret_cast<const char*>(&index), 8);
+                    block.waves.append(reinterpret_cast<const char*>(pose_record),
+                                       sizeof pose_record);
+                    block.waves.append(reinterpret_cast<const char*>(&first_bin), 8);
+                    block.waves.append(reinterpret_cast<const char*>(&count), 4);
+                    for (const auto sample : samples) {  // stored as float32
+                        const auto f = static_cast<float>(sample);
+                        block.waves.append(reinterpret_cast<const char*>(&f), 4);
+                    }
+                }
+                const std::size_t n = std::min(w.response.returns.size(), max_returns);
+                std::copy_n(w.response.returns.begin(), n,
+                            w.returns.begin() + static_cast<std::ptrdiff_t>(k * max_returns));
+                w.return_count[k] = static_cast<std::uint8_t>(n);
+            }
+        }
+        // Room for every return of the block at once (kept from block to block).
+        const std::size_t most = n_pulses * max_returns * writer.header().point_record_length;
+        if (block.las.bytes.size() < most) {
+            block.las.bytes.resize(most);
+        }
+        LasPoint p;
+        for (std::size_t k = 0; k < n_pulses; ++k) {
+            const std::size_t n = sim ? w.return_count[k] : (w.hits.hit(k) ? 1 : 0);
+            for (std::size_t r = 0; r < n; ++r) {
+                const PulseReturn* ret = sim ? &w.returns[k * max_returns + r] : nullptr;
+                const std::size_t h = sim ? k * sub_rays + ret->sub_ray : k;
+                const double t = sim ? ret->range_m : double{w.hits.t[k]};
+                const ScenePart& part = scene.parts[scene.part_of_face(w.hits.face[h])];
+                if (images && r == 0) {
+                    // Pulse index u * h + v is pixel (row v, column u).
+                    const std::uint64_t index = first + k;
+                    const auto u =
+                        static_cast<std::size_t>(index / static_cast<std::uint64_t>(img_h));
+                    const auto v =
+                        static_cast<std::size_t>(index % static_cast<std::uint64_t>(img_h));
+                    range_img[v * static_cast<std::size_t>(img_w) + u] = static_cast<float>(t);
+                    label_img[v * static_cast<std::size_t>(img_w) + u] = part.label;
+                }
+                const Vec3d xyz = w.origin[k] + w.axis[k] * t + scene.origin_m;
+                p.x = xyz.x;
+                p.y = xyz.y;
+                p.z = xyz.z;
+                p.gps_time = pulses.time_s[k];
+                p.scan_angle_deg = w.scan_angle[k];
+                p.return_number = ret ? ret->return_number : 1;
+                p.number_of_returns = ret ? ret->number_of_returns : 1;
+                p.intensity = ret ? ret->intensity : 0;
+                p.classification = part.label;
+                p.point_source_id = part.part_id;
+                p.user_data = static_cast<std::uint8_t>(pulses.channel[k] & 0xFFu);  // beam / row
+                writer.encode(p, block.las);
+                if (csv) {
+                    append_csv_row(block.csv, p, static_cast<float>(t), pulses.channel[k], physics);
+                }
+                if (spec.write_ply) {
+                    block.ply.push_back({p.x, p.y, p.z, static_cast<float>(t), w.hits.face[h],
+                                         static_cast<std::uint32_t>(first + k)});
+                }
+            }
+        }
+        shelf.put(std::move(work));
+    };
+    pool.parallel_for(blocks, 1, [&](std::size_t kb, std::size_t ke) {
+        for (std::size_t k = kb; k < ke; ++k) {
+            BlockOutput* out = ordered.acquire(k);
+            if (out == nullptr) {
+                return;  // the writer failed, or another block did: finish() or parallel_for says
+            }
+            try {
+                process(k, *out);
+            } catch (...) {
+                ordered.abort();
+                throw;
+            }
+            ordered.publish(k);
+        }
+    });
+    ordered.finish();
     writer.close();
     result.points = writer.point_count();
     result.outputs.push_back(las_path);

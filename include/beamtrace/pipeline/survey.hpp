@@ -64,8 +64,8 @@ struct SurveyRunConfig {
     unsigned threads = 0;    ///< 0 = all cores; results identical for any value
     std::uint64_t seed = 1;  ///< recorded in the LAS VLR; keys the physics noise (counter RNG)
     BackendKind backend = default_backend_kind();
-    /// Pulses traced and written per step (rounded up to a multiple of 1024, the pulses one
-    /// thread takes at a time).
+    /// Most pulses in flight between the oldest block not yet written and the newest one taken
+    /// (rounded up to whole blocks of 1024 pulses): bounds the memory of the outputs.
     std::size_t chunk_pulses = std::size_t{1} << 16;
     /// Stop after this many pulses (the first ones; previews and benchmarks). 0: all of them.
     std::uint64_t max_pulses = 0;
