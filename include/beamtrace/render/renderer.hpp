@@ -47,7 +47,8 @@ class Renderer {
   public:
     /// Builds the backend over `scene.mesh` (skipped when it has no triangles). `scene` and
     /// `pool` must outlive the renderer. Throws ConfigError for an inconsistent scene.
-    Renderer(const RenderScene& scene, ThreadPool& pool, BackendKind backend = default_backend_kind());
+    Renderer(const RenderScene& scene, ThreadPool& pool,
+             BackendKind backend = default_backend_kind());
 
     /// Renders one image. Throws ConfigError for a bad camera. Deterministic: the same for any
     /// thread count and batch size.
