@@ -158,10 +158,15 @@ void RotatingScanner::generate_pulses(std::uint64_t first, std::size_t count,
     // heading rotated by the beam's own azimuth (angle addition, within 1e-15 of a direct sincos).
     std::uint64_t firing = std::numeric_limits<std::uint64_t>::max();
     double cos_head = 1.0, sin_head = 0.0, head_deg = 0.0;
-    for (std::size_t j = 0; j < count; ++j) {
+    // Firing k and beam b of pulse i = k * beams + b, counted up rather than divided.
+    std::uint64_t k = first / beams;
+    auto b = static_cast<std::size_t>(first % beams);
+    for (std::size_t j = 0; j < count; ++j, ++b) {
         const std::uint64_t i = first + j;
-        const std::uint64_t k = i / beams;
-        const std::size_t b = static_cast<std::size_t>(i % beams);
+        if (b == beams) {
+            b = 0;
+            ++k;
+        }
         if (k != firing) {
             firing = k;
             head_deg = firings_per_revolution_ > 0
