@@ -9,6 +9,8 @@
 #include <stdexcept>
 #include <thread>
 
+#include <unistd.h>
+
 #include "beamtrace/accel/embree_limit.hpp"
 #include "beamtrace/core/error.hpp"
 #include "beamtrace/core/memory_usage.hpp"
@@ -21,6 +23,9 @@ namespace beamtrace {
 namespace {
 
 using Clock = std::chrono::steady_clock;
+
+/// Most rays a survey may hold for the trace measurements (80 bytes each with their hits).
+constexpr std::uint64_t kMaxBenchRays = 50'000'000;
 
 double seconds_since(Clock::time_point t0) {
     return std::chrono::duration<double>(Clock::now() - t0).count();
@@ -181,14 +186,41 @@ ThroughputReport run_throughput_bench(const ThroughputBenchConfig& config,
         backends.push_back(BackendKind::bvh);
     }
     const std::filesystem::path scratch =
-        config.scratch_dir.empty() ? std::filesystem::temp_directory_path() / "beamtrace-bench"
-                                   : config.scratch_dir;
+        config.scratch_dir.empty()
+            ? std::filesystem::temp_directory_path() /
+                  ("beamtrace-bench-" + std::to_string(::getpid()))  // one per process
+            : config.scratch_dir;
 
     // Every survey file is parsed first: a typo fails before minutes of benchmarking.
     std::vector<SurveySpec> specs;
     for (const auto& path : config.surveys) {
         specs.push_back(load_survey_spec(path));
+        // The trace measurements hold all of a survey's rays (80 bytes each with their hits).
+        const SurveySpec& spec = specs.back();
+        std::uint64_t pulses = spec.make_pattern()->pulse_count();
+        if (config.max_pulses > 0) {
+            pulses = std::min(pulses, config.max_pulses);
+        }
+        const std::uint64_t rays =
+            pulses * (spec.physics ? PulseSimulator(*spec.physics).sub_ray_count() : 1);
+        if (rays > kMaxBenchRays) {
+            throw ConfigError(path.string() + ": " + std::to_string(rays) + " rays would take " +
+                              std::to_string(rays * 80 / 1000000) +
+                              " MB for the trace measurements (at most " +
+                              std::to_string(kMaxBenchRays) + " rays); use --pulses");
+        }
     }
+
+    // Our own scratch folder goes when the benchmark ends, also on an error.
+    struct RemoveScratch {
+        std::filesystem::path dir;
+        ~RemoveScratch() {
+            std::error_code ignored;
+            if (!dir.empty()) {
+                std::filesystem::remove_all(dir, ignored);
+            }
+        }
+    } const remove_scratch{config.scratch_dir.empty() ? scratch : std::filesystem::path()};
 
     ThroughputReport report;
     report.machine = machine_description();
@@ -303,10 +335,6 @@ ThroughputReport run_throughput_bench(const ThroughputBenchConfig& config,
         }
         std::filesystem::remove_all(run.output_dir);
         report.surveys.push_back(std::move(res));
-    }
-    std::error_code ec;
-    if (config.scratch_dir.empty()) {
-        std::filesystem::remove_all(scratch, ec);
     }
     return report;
 }

@@ -154,6 +154,11 @@ TEST(Cli, BenchMeasuresTheLimitBackendsAndSurveysOnTheSameRays) {
     EXPECT_EQ(bad.exit_code, 2) << bad.out;
     EXPECT_NE(bad.out.find("threads: 0"), std::string::npos) << bad.out;
     EXPECT_EQ(count_lines(bad.out), 1u) << bad.out;
+    // A survey too long to hold its rays: told to use --pulses.
+    const std::string big = std::string(BEAMTRACE_EXAMPLES_DIR) + "/surveys/airborne_srtm_1e8.yaml";
+    const auto huge = run("bench " + big + " --quiet");
+    EXPECT_EQ(huge.exit_code, 2) << huge.out;
+    EXPECT_NE(huge.out.find("use --pulses"), std::string::npos) << huge.out;
 }
 
 TEST(Cli, BadInputsGiveOneLineErrorExitCode2AndNoOutputs) {

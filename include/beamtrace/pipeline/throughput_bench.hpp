@@ -20,7 +20,9 @@ struct ThroughputBenchConfig {
     std::size_t repeats = 3;       ///< every figure is the best of this many timed runs
     double min_time_s = 0.3;       ///< a trace measurement repeats its batch at least this long
     std::uint64_t max_pulses = 0;  ///< 0: whole surveys; else their first max_pulses pulses
-    std::filesystem::path scratch_dir;  ///< where the surveys write (emptied); empty: a temp dir
+    /// Where the surveys write (emptied); empty: a temporary folder of this process, removed
+    /// at the end.
+    std::filesystem::path scratch_dir;
     std::uint64_t seed = 1;
 
     /// Every problem (empty when usable).
