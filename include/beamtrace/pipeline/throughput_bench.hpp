@@ -34,6 +34,9 @@ struct TraceFigure {
     std::string tracer;  ///< "Embree rtcIntersect1", ..., or a backend name
     bool limit = false;  ///< a direct Embree call (a candidate for the limit)
     double rays_per_s = 0.0;
+    /// Hits missing against the first tracer (rtcIntersect1): reported, not checked, for
+    /// Embree's coherent mode, which is not watertight; 0 for every other tracer (checked).
+    std::uint64_t missed_hits = 0;
 };
 
 struct ThreadFigures {
