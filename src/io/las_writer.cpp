@@ -258,8 +258,8 @@ void LasRecordBlock::clear() {
     by_return.fill(0);
 }
 
-void LasWriter::encode_record(const LasPoint& p, std::uint64_t index, std::uint8_t* r,
-                              std::int32_t q[3]) const {
+void LasWriter::encode_base(const LasSimplePoint& p, std::uint8_t flags, std::uint64_t index,
+                            std::uint8_t* r, std::int32_t q[3]) const {
     const auto reject = [&](const std::string& what) {
         throw OutputError(path_.string() + ": point " + std::to_string(index) + ": " + what);
     };
@@ -278,30 +278,40 @@ void LasWriter::encode_record(const LasPoint& p, std::uint64_t index, std::uint8
         reject("return " + std::to_string(p.return_number) + " of " +
                std::to_string(p.number_of_returns) + " exceeds 15");
     }
-    if (p.scanner_channel > 3) {
-        reject("scanner channel " + std::to_string(p.scanner_channel) + " exceeds 3");
-    }
     const double angle = static_cast<double>(p.scan_angle_deg) / kScanAngleStepDeg;
     const std::int32_t angle_steps = rounds_into_int32(angle) ? round_to_int32(angle) : 1 << 30;
     if (!(angle_steps >= -30000 && angle_steps <= 30000)) {
         reject("scan angle " + number(p.scan_angle_deg) + " deg is outside [-180, 180]");
     }
-    if (p.extra_bytes.size() != config_.extra_bytes_per_point) {
-        reject(std::to_string(p.extra_bytes.size()) + " extra bytes, expected " +
-               std::to_string(config_.extra_bytes_per_point));
-    }
     std::memcpy(r, q, 3 * sizeof(std::int32_t));
     store<std::uint16_t>(r + 12, p.intensity);
     r[14] = static_cast<std::uint8_t>(p.return_number | (p.number_of_returns << 4));
-    r[15] = static_cast<std::uint8_t>((p.synthetic ? 0x01 : 0) | (p.key_point ? 0x02 : 0) |
-                                      (p.withheld ? 0x04 : 0) | (p.overlap ? 0x08 : 0) |
-                                      (p.scanner_channel << 4) | (p.scan_direction ? 0x40 : 0) |
-                                      (p.edge_of_flight_line ? 0x80 : 0));
+    r[15] = flags;
     r[16] = p.classification;
     r[17] = p.user_data;
     store<std::int16_t>(r + 18, static_cast<std::int16_t>(angle_steps));
     store<std::uint16_t>(r + 20, p.point_source_id);
     store<double>(r + 22, p.gps_time);
+}
+
+void LasWriter::encode_record(const LasPoint& p, std::uint64_t index, std::uint8_t* r,
+                              std::int32_t q[3]) const {
+    if (p.scanner_channel > 3) {
+        throw OutputError(path_.string() + ": point " + std::to_string(index) +
+                          ": scanner channel " + std::to_string(p.scanner_channel) + " exceeds 3");
+    }
+    if (p.extra_bytes.size() != config_.extra_bytes_per_point) {
+        throw OutputError(path_.string() + ": point " + std::to_string(index) + ": " +
+                          std::to_string(p.extra_bytes.size()) + " extra bytes, expected " +
+                          std::to_string(config_.extra_bytes_per_point));
+    }
+    const auto flags = static_cast<std::uint8_t>(
+        (p.synthetic ? 0x01 : 0) | (p.key_point ? 0x02 : 0) | (p.withheld ? 0x04 : 0) |
+        (p.overlap ? 0x08 : 0) | (p.scanner_channel << 4) | (p.scan_direction ? 0x40 : 0) |
+        (p.edge_of_flight_line ? 0x80 : 0));
+    encode_base({p.x, p.y, p.z, p.gps_time, p.scan_angle_deg, p.intensity, p.point_source_id,
+                 p.return_number, p.number_of_returns, p.classification, p.user_data},
+                flags, index, r, q);
     std::size_t pos = 30;
     if (header_.point_format >= 7) {
         store<std::uint16_t>(r + 30, p.red);
@@ -316,6 +326,13 @@ void LasWriter::encode_record(const LasPoint& p, std::uint64_t index, std::uint8
     if (!p.extra_bytes.empty()) {
         std::memcpy(r + pos, p.extra_bytes.data(), p.extra_bytes.size());
     }
+}
+
+void LasWriter::encode_record(const LasSimplePoint& p, std::uint64_t index, std::uint8_t* r,
+                              std::int32_t q[3]) const {
+    encode_base(p, 0, index, r, q);
+    // Colours, NIR and extra bytes are zero (block bytes are reused: write them).
+    std::memset(r + 30, 0, header_.point_record_length - 30u);
 }
 
 void LasWriter::encode(const LasPoint& p, std::uint64_t index, std::uint8_t* r) {
@@ -340,7 +357,8 @@ void LasWriter::encode(const LasPoint& p, std::uint64_t index, std::uint8_t* r) 
     }
 }
 
-void LasWriter::encode(const LasPoint& p, LasRecordBlock& block) const {
+template <class Point>
+void LasWriter::encode_into(const Point& p, LasRecordBlock& block) const {
     const std::size_t size = header_.point_record_length;
     const std::size_t need = (block.count + 1) * size;
     if (block.bytes.size() < need) {
@@ -356,6 +374,14 @@ void LasWriter::encode(const LasPoint& p, LasRecordBlock& block) const {
         ++block.by_return[p.return_number - 1u];
     }
     ++block.count;
+}
+
+void LasWriter::encode(const LasPoint& point, LasRecordBlock& block) const {
+    encode_into(point, block);
+}
+
+void LasWriter::encode(const LasSimplePoint& point, LasRecordBlock& block) const {
+    encode_into(point, block);
 }
 
 void LasWriter::write_block(const LasRecordBlock& block) {

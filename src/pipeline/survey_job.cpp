@@ -38,7 +38,7 @@ double seconds_since(Clock::time_point t0) {
 constexpr std::size_t kMaxCsvRow = 400;
 
 /// Appends one CSV row to `out`.
-void append_csv_row(std::string& out, const LasPoint& p, float range_m, std::uint16_t beam,
+void append_csv_row(std::string& out, const LasSimplePoint& p, float range_m, std::uint16_t beam,
                     bool physics) {
     const std::size_t at = out.size();
     out.resize(at + kMaxCsvRow);
@@ -594,7 +594,7 @@ SurveyResult run_survey(const SurveySpec& spec, const SurveyRunConfig& run,
         if (block.las.bytes.size() < most) {
             block.las.bytes.resize(most);
         }
-        LasPoint p;
+        LasSimplePoint p;
         for (std::size_t k = 0; k < n_pulses; ++k) {
             const std::size_t n = sim ? w.return_count[k] : (w.hits.hit(k) ? 1 : 0);
             for (std::size_t r = 0; r < n; ++r) {

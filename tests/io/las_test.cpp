@@ -273,6 +273,55 @@ TEST_F(LasWriterTest, BlocksEncodedApartGiveTheSameFileAsPointByPoint) {
     EXPECT_EQ(test::read_file(dir_ / "one.las"), test::read_file(dir_ / "blocks.las"));
 }
 
+TEST_F(LasWriterTest, SimplePointsEncodeLikeTheSameLasPointsEvenInReusedBlocks) {
+    LasWriterConfig config = las_config_for_extent({634000, 4849000, 0}, {636000, 4851000, 200});
+    config.point_format = 8;
+    LasWriter writer(dir_ / "x.las", config);
+    // A block that held a full LasPoint (colours, NIR, flags) is reused for a simple point.
+    LasPoint full = make_points(1, 8)[0];
+    full.red = full.green = full.blue = full.nir = 0xABCD;
+    full.synthetic = full.overlap = true;
+    LasRecordBlock reused;
+    writer.encode(full, reused);
+    reused.clear();
+    LasSimplePoint s;
+    s.x = 635123.456;
+    s.y = 4850001.5;
+    s.z = 101.25;
+    s.gps_time = 12345.678;
+    s.scan_angle_deg = -17.25f;
+    s.intensity = 999;
+    s.point_source_id = 42;
+    s.return_number = 2;
+    s.number_of_returns = 3;
+    s.classification = 6;
+    s.user_data = 63;
+    writer.encode(s, reused);
+    LasPoint same;
+    same.x = s.x;
+    same.y = s.y;
+    same.z = s.z;
+    same.gps_time = s.gps_time;
+    same.scan_angle_deg = s.scan_angle_deg;
+    same.intensity = s.intensity;
+    same.point_source_id = s.point_source_id;
+    same.return_number = s.return_number;
+    same.number_of_returns = s.number_of_returns;
+    same.classification = s.classification;
+    same.user_data = s.user_data;
+    LasRecordBlock fresh;
+    writer.encode(same, fresh);
+    ASSERT_EQ(reused.count, 1u);
+    ASSERT_EQ(fresh.count, 1u);
+    const std::size_t size = writer.header().point_record_length;
+    EXPECT_TRUE(std::equal(fresh.bytes.begin(),
+                           fresh.bytes.begin() + static_cast<std::ptrdiff_t>(size),
+                           reused.bytes.begin()));
+    EXPECT_EQ(reused.by_return, fresh.by_return);
+    EXPECT_EQ(std::vector<std::int32_t>(reused.lo, reused.lo + 3),
+              std::vector<std::int32_t>(fresh.lo, fresh.lo + 3));
+}
+
 TEST_F(LasWriterTest, BlockEncodingRejectsBadPointsWithoutHarmingTheWriter) {
     LasWriter writer(dir_ / "x.las", {});
     LasRecordBlock block;

@@ -21,6 +21,20 @@ namespace detail {
 class DirectSink;
 }
 
+/// The fields of a point as a simulator makes it; the record's other fields (flags, colours,
+/// NIR, extra bytes) are zero. Cheaper to fill and encode than a LasPoint.
+struct LasSimplePoint {
+    double x = 0.0, y = 0.0, z = 0.0;  ///< scaled and offset
+    double gps_time = 0.0;
+    float scan_angle_deg = 0.0f;
+    std::uint16_t intensity = 0;
+    std::uint16_t point_source_id = 0;
+    std::uint8_t return_number = 0;
+    std::uint8_t number_of_returns = 0;
+    std::uint8_t classification = 0;
+    std::uint8_t user_data = 0;
+};
+
 /// Point records encoded away from the writer (LasWriter::encode into a block, on any thread),
 /// appended in order by LasWriter::write_block: the bytes plus what the header needs of them.
 struct LasRecordBlock {
@@ -96,6 +110,7 @@ class LasWriter {
     /// be encoded on many threads at once. Throws OutputError (naming the point's index in the
     /// block) for a point the file cannot hold; the writer is unaffected.
     void encode(const LasPoint& point, LasRecordBlock& block) const;
+    void encode(const LasSimplePoint& point, LasRecordBlock& block) const;
     /// Appends an encoded block (after any points given to write()).
     void write_block(const LasRecordBlock& block);
     /// Finalizes the header and commits the file. The writer accepts nothing afterwards.
@@ -111,6 +126,13 @@ class LasWriter {
     void encode(const LasPoint& p, std::uint64_t index, std::uint8_t* record);
     void encode_record(const LasPoint& p, std::uint64_t index, std::uint8_t* record,
                        std::int32_t q[3]) const;
+    void encode_record(const LasSimplePoint& p, std::uint64_t index, std::uint8_t* record,
+                       std::int32_t q[3]) const;
+    /// Bytes 0-29, the part every record has (flags: byte 15), after the checks.
+    void encode_base(const LasSimplePoint& p, std::uint8_t flags, std::uint64_t index,
+                     std::uint8_t* record, std::int32_t q[3]) const;
+    template <class Point>
+    void encode_into(const Point& p, LasRecordBlock& block) const;
     void flush_chunk();
     [[nodiscard]] std::array<std::uint8_t, 375> encode_header() const;
     [[noreturn]] void fail(const std::string& what);
