@@ -134,6 +134,24 @@ void check_against_reference(bt::ViewSession& session, const bt::RenderOptions& 
     }
 }
 
+/// Loads the benchmark's 1920x1080 view, checks it against the reference, then times frames
+/// rendered into one reused image (as a viewer would).
+void time_frames(benchmark::State& state, bt::ViewSession& session, const std::string& what) {
+    const bt::ViewCamera cam = frame_camera(session, 1920, 1080);
+    static_cast<void>(session.move_to(cam.position));
+    bt::RenderOptions options;
+    options.fog_distance = 3000.0;
+    check_against_reference(session, options, what);
+    bt::ViewImage img;
+    for (auto _ : state) {
+        session.render(cam, options, img);
+        benchmark::DoNotOptimize(img.rgb.data());
+    }
+    state.counters["fps"] =
+        benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
+    state.counters["resident_MB"] = static_cast<double>(session.budgeted_bytes()) / 1e6;
+}
+
 void BM_ViewFrame(benchmark::State& state) {
     if (!std::filesystem::exists(autzen_trim())) {
         state.SkipWithError("missing autzen_trim.las");
@@ -147,19 +165,7 @@ void BM_ViewFrame(benchmark::State& state) {
         config.threads = static_cast<unsigned>(state.range(2));
     }
     bt::ViewSession session(inputs, config);
-    const bt::ViewCamera cam = frame_camera(session, 1920, 1080);
-    static_cast<void>(session.move_to(cam.position));
-    bt::RenderOptions options;
-    options.fog_distance = 3000.0;
-    check_against_reference(session, options, "");
-    bt::ViewImage img;  // reused between frames, as a viewer would
-    for (auto _ : state) {
-        session.render(cam, options, img);
-        benchmark::DoNotOptimize(img.rgb.data());
-    }
-    state.counters["fps"] =
-        benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
-    state.counters["resident_MB"] = static_cast<double>(session.budgeted_bytes()) / 1e6;
+    time_frames(state, session, "");
 }
 
 /// A fly-through of 16 poses across the 8 x 8 tiled autzen (7 M points, so every section load is
@@ -241,19 +247,7 @@ void BM_ViewFrameStacks(benchmark::State& state) {
     bt::ViewSessionConfig config = session_config(32, 8, 1.0);
     config.field.height_stacks = static_cast<int>(state.range(0));
     bt::ViewSession session(inputs, config);
-    const bt::ViewCamera cam = frame_camera(session, 1920, 1080);
-    static_cast<void>(session.move_to(cam.position));
-    bt::RenderOptions options;
-    options.fog_distance = 3000.0;
-    check_against_reference(session, options, " with stacks");
-    bt::ViewImage img;
-    for (auto _ : state) {
-        session.render(cam, options, img);
-        benchmark::DoNotOptimize(img.rgb.data());
-    }
-    state.counters["fps"] =
-        benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
-    state.counters["resident_MB"] = static_cast<double>(session.budgeted_bytes()) / 1e6;
+    time_frames(state, session, " with stacks");
 }
 
 }  // namespace
