@@ -2,14 +2,12 @@
 #include <charconv>
 #include <chrono>
 #include <cmath>
-#include <condition_variable>
-#include <exception>
+#include <cstring>
 #include <functional>
 #include <mutex>
 #include <numbers>
 #include <optional>
 #include <system_error>
-#include <thread>
 
 #include "beamtrace/core/error.hpp"
 #include "beamtrace/io/atomic_file.hpp"
@@ -22,6 +20,7 @@
 #include "beamtrace/pipeline/survey.hpp"
 #include "beamtrace/scene/demo_scene.hpp"
 #include "beamtrace/scene/scene_builder.hpp"
+#include "pipeline/detail/ordered_blocks.hpp"
 #include "pipeline/detail/survey_rays.hpp"
 
 namespace beamtrace {
@@ -40,10 +39,9 @@ constexpr std::size_t kMaxCsvRow = 400;
 /// Appends one CSV row to `out`.
 void append_csv_row(std::string& out, const LasSimplePoint& p, float range_m, std::uint16_t beam,
                     bool physics) {
-    const std::size_t at = out.size();
-    out.resize(at + kMaxCsvRow);
-    char* c = out.data() + at;
-    char* const end = out.data() + out.size();
+    char row[kMaxCsvRow];
+    char* c = row;
+    char* const end = row + kMaxCsvRow;
     const auto num = [&](double v) {
         c = std::to_chars(c, end, v).ptr;
         *c++ = ',';
@@ -67,123 +65,8 @@ void append_csv_row(std::string& out, const LasSimplePoint& p, float range_m, st
         }
     }
     *c++ = '\n';
-    out.resize(static_cast<std::size_t>(c - out.data()));
+    out.append(row, static_cast<std::size_t>(c - row));
 }
-
-/// What one block of pulses produces (encoded on a pool thread, written in block order).
-struct BlockOutput {
-    LasRecordBlock las;
-    std::string csv;
-    std::vector<PointRecord> ply;
-    std::string waves;  ///< waveforms.bin records
-    void clear() {
-        las.clear();
-        csv.clear();
-        ply.clear();
-        waves.clear();
-    }
-};
-
-/// Blocks filled by pool threads in any order and written strictly in block order by one writer
-/// thread, with at most `window` blocks between the oldest one not yet written and the newest
-/// one taken: memory stays bounded, nothing waits at a barrier, and writing overlaps everything.
-/// Blocks must be acquired in increasing order overall (ThreadPool hands out ranges in order),
-/// which is what makes the wait in acquire() always end.
-class OrderedBlocks {
-  public:
-    using WriteFn = std::function<void(std::size_t block, BlockOutput& output)>;
-    OrderedBlocks(std::size_t blocks, std::size_t window, WriteFn write)
-        : blocks_(blocks),
-          window_(std::max<std::size_t>(1, window)),
-          write_(std::move(write)),
-          ring_(std::min(blocks_, window_)),
-          ready_(ring_.size(), 0) {
-        writer_ = std::thread([this] { run_writer(); });
-    }
-    ~OrderedBlocks() {
-        abort();
-        if (writer_.joinable()) {
-            writer_.join();
-        }
-    }
-    OrderedBlocks(const OrderedBlocks&) = delete;
-    OrderedBlocks& operator=(const OrderedBlocks&) = delete;
-
-    /// Waits until block k may be filled and returns its (emptied) output; null when the run
-    /// is being aborted.
-    BlockOutput* acquire(std::size_t k) {
-        std::unique_lock lock(mutex_);
-        free_.wait(lock, [&] { return k < written_ + window_ || abort_; });
-        if (abort_) {
-            return nullptr;
-        }
-        BlockOutput& out = ring_[k % window_];
-        out.clear();
-        return &out;
-    }
-    /// Block k is complete.
-    void publish(std::size_t k) {
-        {
-            const std::lock_guard lock(mutex_);
-            ready_[k % window_] = 1;
-        }
-        ready_cv_.notify_one();
-    }
-    /// Stops the writer and every acquire() (after a worker's error).
-    void abort() {
-        {
-            const std::lock_guard lock(mutex_);
-            abort_ = true;
-        }
-        ready_cv_.notify_all();
-        free_.notify_all();
-    }
-    /// Waits until the writer is done; rethrows its error.
-    void finish() {
-        writer_.join();
-        if (error_) {
-            std::rethrow_exception(error_);
-        }
-    }
-
-  private:
-    void run_writer() {
-        for (std::size_t k = 0; k < blocks_; ++k) {
-            const std::size_t slot = k % window_;
-            {
-                std::unique_lock lock(mutex_);
-                ready_cv_.wait(lock, [&] { return ready_[slot] != 0 || abort_; });
-                if (abort_) {
-                    return;
-                }
-            }
-            try {
-                write_(k, ring_[slot]);
-            } catch (...) {
-                error_ = std::current_exception();
-                abort();
-                return;
-            }
-            {
-                const std::lock_guard lock(mutex_);
-                ready_[slot] = 0;
-                written_ = k + 1;
-            }
-            free_.notify_all();
-        }
-    }
-
-    std::size_t blocks_, window_;
-    WriteFn write_;
-    std::vector<BlockOutput> ring_;
-    std::vector<std::uint8_t> ready_;
-    std::size_t written_ = 0;
-    bool abort_ = false;
-    std::exception_ptr error_;  ///< set by the writer thread before it ends
-    std::mutex mutex_;
-    std::condition_variable ready_cv_, free_;
-    std::thread writer_;
-};
 
 /// A block's working arrays (pulses, rays, hits, returns...). Blocks take one from a WorkShelf
 /// and put it back, so a thread keeps reusing the same, cache-warm memory.
@@ -242,104 +125,6 @@ class WorkShelf {
 constexpr std::size_t kBlockPulses = 1024;
 
 }  // namespace
-
-namespace detail {
-
-namespace {
-
-/// The unit vector to the right of travel: the axis the LAS scan angle is measured about.
-Vec3d right_of(const Vec3d& forward) {
-    const Vec3d right = cross(forward, Vec3d{0, 0, 1});
-    return length(right) < 1e-9 ? Vec3d{1, 0, 0}  // travelling vertically: the world x axis
-                                : normalize(right);
-}
-
-/// atan(u) for u in [0, 1]: u P(u^2), P of degree 7 fitted to atan by least squares on 400
-/// Chebyshev nodes; at most 4.1e-8 rad off (2.3e-6 degrees, 0.04 % of a LAS scan angle step, as
-/// close as atan2f), a third of its cost.
-double atan_unit(double u) {
-    constexpr double c[] = {0.9999994368431484,   -0.3333010667768892, 0.1994850898576502,
-                            -0.13915802260682877, 0.09656256470426208, -0.05606317672858324,
-                            0.021946611032240992, -0.00407330946436799};
-    // Estrin's scheme: a shorter dependency chain than Horner's.
-    const double s = u * u, s2 = s * s, s4 = s2 * s2;
-    const double p01 = c[0] + c[1] * s, p23 = c[2] + c[3] * s;
-    const double p45 = c[4] + c[5] * s, p67 = c[6] + c[7] * s;
-    return u * ((p01 + p23 * s2) + (p45 + p67 * s2) * s4);
-}
-
-/// The LAS scan angle about `right`, degrees: atan2(dir . right, -dir.z), clamped to +/-90
-/// (beams at or above the horizontal).
-float scan_angle_about(const Vec3d& dir, const Vec3d& right) {
-    const double y = dot(dir, right), x = -dir.z;
-    if (!(x > 0.0)) {
-        return y == 0.0 && x == 0.0 ? 0.0f : (std::signbit(y) ? -90.0f : 90.0f);
-    }
-    const double ay = std::fabs(y);
-    double a = ay <= x ? atan_unit(ay / x) : std::numbers::pi / 2 - atan_unit(x / ay);
-    a *= 180.0 / std::numbers::pi;
-    return static_cast<float>(std::signbit(y) ? -a : a);
-}
-
-}  // namespace
-
-float las_scan_angle_deg(const Vec3d& dir, const Vec3d& forward) {
-    return scan_angle_about(dir, right_of(forward));
-}
-
-void SurveyRaySource::generate(const PulseBatch& pulses, std::uint64_t first, RayBatch& rays,
-                               std::size_t ray_offset, Vec3d* origin, Vec3d* axis,
-                               float* scan_angle, Scratch& scratch) const {
-    const std::size_t n_sub = sub_rays();
-    std::vector<Vec3d>& dirs = scratch.dirs;
-    dirs.resize(n_sub);
-    scratch.platform.resize(pulses.time_s.size());
-    trajectory->poses_at(pulses.time_s, scratch.platform);
-    const Pose& mount = spec->mount.sensor_to_platform;
-    // What depends on the platform's attitude alone, kept while the attitude stays the same
-    // (a straight leg, a tripod): the sensor's attitude, the lever arm in the world and the scan
-    // angle's axis. Reused only for bit-identical attitudes, so nothing depends on it.
-    bool have_frame = false;
-    Quat platform_attitude, sensor_attitude;
-    Mat3 sensor_rotation;  // sensor_attitude as a matrix: 15 flops a direction instead of 30
-    Vec3d lever_world, right;
-    for (std::size_t i = 0; i < pulses.time_s.size(); ++i) {
-        const Pose& platform = scratch.platform[i];
-        const Quat& q = platform.attitude;
-        if (!have_frame || q.w != platform_attitude.w || q.x != platform_attitude.x ||
-            q.y != platform_attitude.y || q.z != platform_attitude.z) {
-            have_frame = true;
-            platform_attitude = q;
-            sensor_attitude = q * mount.attitude;
-            sensor_rotation = sensor_attitude.to_matrix();
-            lever_world = q.rotate(mount.position_m);
-            right = right_of(q.rotate({1, 0, 0}));
-        }
-        // platform * mount, term by term.
-        Pose pose{platform.position_m + lever_world, sensor_attitude};
-        Vec3d dir;
-        if (sim) {
-            pose = sim->perturb_pose(seed, first + i, pose);
-            dir = pose.attitude.to_matrix() * pulses.direction[i];
-        } else {
-            dir = sensor_rotation * pulses.direction[i];
-        }
-        origin[i] = pose.position_m;
-        axis[i] = dir;
-        scan_angle[i] = scan_angle_about(dir, right);
-        if (!sim) {
-            rays.set(ray_offset + i, pose.position_m, dir, spec->range_min_m, spec->range_max_m);
-            continue;
-        }
-        sim->sub_ray_directions(seed, first + i, dir, dirs);
-        for (std::size_t j = 0; j < n_sub; ++j) {
-            rays.set(ray_offset + i * n_sub + j, pose.position_m, dirs[j], spec->range_min_m,
-                     spec->range_max_m);
-        }
-    }
-}
-
-}  // namespace detail
 
 std::unique_ptr<ScanPattern> SurveySpec::make_pattern() const {
     switch (scanner) {
@@ -520,7 +305,7 @@ SurveyResult run_survey(const SurveySpec& spec, const SurveyRunConfig& run,
     const std::size_t blocks =
         static_cast<std::size_t>((result.pulses + kBlockPulses - 1) / kBlockPulses);
     const std::size_t progress_every = std::max<std::size_t>(1, window / 4);
-    OrderedBlocks ordered(blocks, window, [&](std::size_t k, BlockOutput& out) {
+    detail::OrderedBlocks ordered(blocks, window, [&](std::size_t k, detail::BlockOutput& out) {
         writer.write_block(out.las);
         if (csv) {
             csv->write(out.csv);
@@ -537,7 +322,7 @@ SurveyResult run_survey(const SurveySpec& spec, const SurveyRunConfig& run,
                      static_cast<std::size_t>(result.pulses));
         }
     });
-    const auto process = [&](std::size_t block_index, BlockOutput& block) {
+    const auto process = [&](std::size_t block_index, detail::BlockOutput& block) {
         const std::uint64_t first = std::uint64_t{block_index} * kBlockPulses;
         const auto n_pulses =
             static_cast<std::size_t>(std::min<std::uint64_t>(kBlockPulses, result.pulses - first));
@@ -578,9 +363,11 @@ SurveyResult run_survey(const SurveySpec& spec, const SurveyRunConfig& run,
                                        sizeof pose_record);
                     block.waves.append(reinterpret_cast<const char*>(&first_bin), 8);
                     block.waves.append(reinterpret_cast<const char*>(&count), 4);
-                    for (const auto sample : samples) {  // stored as float32
-                        const auto f = static_cast<float>(sample);
-                        block.waves.append(reinterpret_cast<const char*>(&f), 4);
+                    const std::size_t at = block.waves.size();  // samples as float32
+                    block.waves.resize(at + 4 * std::size_t{count});
+                    for (std::size_t q = 0; q < samples.size(); ++q) {
+                        const auto f = static_cast<float>(samples[q]);
+                        std::memcpy(block.waves.data() + at + 4 * q, &f, 4);
                     }
                 }
                 const std::size_t n = std::min(w.response.returns.size(), max_returns);
@@ -638,7 +425,7 @@ SurveyResult run_survey(const SurveySpec& spec, const SurveyRunConfig& run,
     };
     pool.parallel_for(blocks, 1, [&](std::size_t kb, std::size_t ke) {
         for (std::size_t k = kb; k < ke; ++k) {
-            BlockOutput* out = ordered.acquire(k);
+            detail::BlockOutput* out = ordered.acquire(k);
             if (out == nullptr) {
                 return;  // the writer failed, or another block did: finish() or parallel_for says
             }

@@ -396,13 +396,6 @@ void Trajectory::poses_at(std::span<const double> times_s, std::span<Pose> out) 
     }
 }
 
-// The final classes' batches call their own pose_at directly (no virtual call per pose).
-void StaticPlatform::poses_at(std::span<const double> times_s, std::span<Pose> out) const {
-    for (std::size_t i = 0; i < times_s.size(); ++i) {
-        out[i] = StaticPlatform::pose_at(times_s[i]);
-    }
-}
-
 void LinearLegs::poses_at(std::span<const double> times_s, std::span<Pose> out) const {
     // Pulse times mostly stay on one leg: keep the leg while the time is on it (the leg
     // segment_of would find), search again otherwise.
@@ -418,12 +411,6 @@ void LinearLegs::poses_at(std::span<const double> times_s, std::span<Pose> out) 
             have_leg = true;
         }
         out[i] = pose_on_leg(t, k);
-    }
-}
-
-void SampledTrajectory::poses_at(std::span<const double> times_s, std::span<Pose> out) const {
-    for (std::size_t i = 0; i < times_s.size(); ++i) {
-        out[i] = SampledTrajectory::pose_at(times_s[i]);
     }
 }
 

@@ -54,7 +54,6 @@ class StaticPlatform final : public Trajectory {
                             double start_time_s = -std::numeric_limits<double>::infinity(),
                             double end_time_s = std::numeric_limits<double>::infinity());
     [[nodiscard]] Pose pose_at(double time_s) const override;
-    void poses_at(std::span<const double> times_s, std::span<Pose> out) const override;
     [[nodiscard]] double start_time_s() const override { return start_; }
     [[nodiscard]] double end_time_s() const override { return end_; }
 
@@ -116,7 +115,6 @@ class SampledTrajectory final : public Trajectory {
     /// the previous one, and for an empty list. A single sample is a valid (instant) range.
     explicit SampledTrajectory(std::vector<TrajectorySample> samples);
     [[nodiscard]] Pose pose_at(double time_s) const override;
-    void poses_at(std::span<const double> times_s, std::span<Pose> out) const override;
     [[nodiscard]] double start_time_s() const override { return samples_.front().time_s; }
     [[nodiscard]] double end_time_s() const override { return samples_.back().time_s; }
     [[nodiscard]] const std::vector<TrajectorySample>& samples() const { return samples_; }

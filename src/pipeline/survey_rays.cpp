@@ -1,0 +1,106 @@
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "pipeline/detail/survey_rays.hpp"
+
+namespace beamtrace {
+namespace detail {
+
+namespace {
+
+/// The unit vector to the right of travel: the axis the LAS scan angle is measured about.
+Vec3d right_of(const Vec3d& forward) {
+    const Vec3d right = cross(forward, Vec3d{0, 0, 1});
+    return length(right) < 1e-9 ? Vec3d{1, 0, 0}  // travelling vertically: the world x axis
+                                : normalize(right);
+}
+
+/// atan(u) for u in [0, 1]: u P(u^2), P of degree 7 fitted to atan by least squares on 400
+/// Chebyshev nodes; at most 4.1e-8 rad off (2.3e-6 degrees, 0.04 % of a LAS scan angle step, as
+/// close as atan2f), a third of its cost.
+double atan_unit(double u) {
+    constexpr double c[] = {0.9999994368431484,   -0.3333010667768892, 0.1994850898576502,
+                            -0.13915802260682877, 0.09656256470426208, -0.05606317672858324,
+                            0.021946611032240992, -0.00407330946436799};
+    // Estrin's scheme: a shorter dependency chain than Horner's.
+    const double s = u * u, s2 = s * s, s4 = s2 * s2;
+    const double p01 = c[0] + c[1] * s, p23 = c[2] + c[3] * s;
+    const double p45 = c[4] + c[5] * s, p67 = c[6] + c[7] * s;
+    return u * ((p01 + p23 * s2) + (p45 + p67 * s2) * s4);
+}
+
+/// The LAS scan angle about `right`, degrees: atan2(dir . right, -dir.z), clamped to +/-90
+/// (beams at or above the horizontal).
+float scan_angle_about(const Vec3d& dir, const Vec3d& right) {
+    const double y = dot(dir, right), x = -dir.z;
+    if (!(x > 0.0)) {
+        return y == 0.0 && x == 0.0 ? 0.0f : (std::signbit(y) ? -90.0f : 90.0f);
+    }
+    const double ay = std::fabs(y);
+    double a = ay <= x ? atan_unit(ay / x) : std::numbers::pi / 2 - atan_unit(x / ay);
+    a *= 180.0 / std::numbers::pi;
+    return static_cast<float>(std::signbit(y) ? -a : a);
+}
+
+}  // namespace
+
+float las_scan_angle_deg(const Vec3d& dir, const Vec3d& forward) {
+    return scan_angle_about(dir, right_of(forward));
+}
+
+void SurveyRaySource::generate(const PulseBatch& pulses, std::uint64_t first, RayBatch& rays,
+                               std::size_t ray_offset, Vec3d* origin, Vec3d* axis,
+                               float* scan_angle, Scratch& scratch) const {
+    const std::size_t n_sub = sub_rays();
+    std::vector<Vec3d>& dirs = scratch.dirs;
+    dirs.resize(n_sub);
+    scratch.platform.resize(pulses.time_s.size());
+    trajectory->poses_at(pulses.time_s, scratch.platform);
+    const Pose& mount = spec->mount.sensor_to_platform;
+    // What depends on the platform's attitude alone, kept while the attitude stays the same
+    // (a straight leg, a tripod): the sensor's attitude, the lever arm in the world and the scan
+    // angle's axis. Reused only for bit-identical attitudes, so nothing depends on it.
+    bool have_frame = false;
+    Quat platform_attitude, sensor_attitude;
+    Mat3 sensor_rotation;  // sensor_attitude as a matrix: 15 flops a direction instead of 30
+    Vec3d lever_world, right;
+    for (std::size_t i = 0; i < pulses.time_s.size(); ++i) {
+        const Pose& platform = scratch.platform[i];
+        const Quat& q = platform.attitude;
+        if (!have_frame || q.w != platform_attitude.w || q.x != platform_attitude.x ||
+            q.y != platform_attitude.y || q.z != platform_attitude.z) {
+            have_frame = true;
+            platform_attitude = q;
+            sensor_attitude = q * mount.attitude;
+            sensor_rotation = sensor_attitude.to_matrix();
+            lever_world = q.rotate(mount.position_m);
+            right = right_of(q.rotate({1, 0, 0}));
+        }
+        // platform * mount, term by term.
+        Pose pose{platform.position_m + lever_world, sensor_attitude};
+        Vec3d dir;
+        if (sim) {
+            pose = sim->perturb_pose(seed, first + i, pose);
+            dir = pose.attitude.to_matrix() * pulses.direction[i];
+        } else {
+            dir = sensor_rotation * pulses.direction[i];
+        }
+        origin[i] = pose.position_m;
+        axis[i] = dir;
+        scan_angle[i] = scan_angle_about(dir, right);
+        if (!sim) {
+            rays.set(ray_offset + i, pose.position_m, dir, spec->range_min_m, spec->range_max_m);
+            continue;
+        }
+        sim->sub_ray_directions(seed, first + i, dir, dirs);
+        for (std::size_t j = 0; j < n_sub; ++j) {
+            rays.set(ray_offset + i * n_sub + j, pose.position_m, dirs[j], spec->range_min_m,
+                     spec->range_max_m);
+        }
+    }
+}
+
+}  // namespace detail
+
+}  // namespace beamtrace
