@@ -9,6 +9,8 @@
 
 #include "beamtrace/core/thread_pool.hpp"
 #include "detail/grid_ray.hpp"
+#include "detail/level_table.hpp"
+#include "detail/view_trace_simd.hpp"
 
 namespace beamtrace {
 namespace {
@@ -18,114 +20,7 @@ using detail::column_hit;
 using detail::GridHit;
 using detail::GridRay;
 using detail::kInf;
-
-/// Most levels of the traversal: the sections' levels plus the window pyramid above them.
-inline constexpr int kMaxTraceLevels = 48;
-
-/// Heights for the hierarchical traversal, built once per frame: per level and window slot the
-/// address of the loaded section's level (nullptr when not loaded), so a lookup is one table
-/// read; and above the sections' coarsest level a max pyramid over the whole window up to a
-/// single cell, so rays skip empty sections and empty parts of the window a few cells at a
-/// time. Pyramid cells are maxima of their children like the sections' levels, so the
-/// traversal stops in the same finest cell as without them.
-class LevelTable {
-  public:
-    explicit LevelTable(const SectionGrid& grid)
-        : n_(grid.sections_per_side()),
-          top_(grid.layout().levels - 1),
-          shift_(grid.layout().finest_shift()) {
-        const SectionLayout& layout = grid.layout();
-        const auto slots = static_cast<std::size_t>(n_) * static_cast<std::size_t>(n_);
-        base_.assign(static_cast<std::size_t>(top_ + 1) * slots, nullptr);
-        stacks_ = grid.config().stacks();
-        stack_base_.assign(slots, nullptr);
-        for (std::size_t i = 0; i < slots; ++i) {
-            const HeightSection* s = grid.loaded(static_cast<int>(i));
-            if (s == nullptr) {
-                continue;
-            }
-            if (stacks_ > 0) {
-                stack_base_[i] = s->stack_data().data();
-            }
-            for (int l = 0; l <= top_; ++l) {
-                base_[static_cast<std::size_t>(l) * slots + i] =
-                    s->heights().data() + layout.level_offset(l);
-            }
-        }
-        for (int l = 0; l <= top_; ++l) {
-            cells_[static_cast<std::size_t>(l)] = grid.window_cells() >> l;
-        }
-        // The pyramid: level top_ + k has ceil(cells(top_) / 2^k) cells per side.
-        std::int64_t below = cells_[static_cast<std::size_t>(top_)];
-        root_ = top_;
-        while (below > 1 && root_ + 1 < kMaxTraceLevels) {
-            const std::int64_t c = (below + 1) / 2;
-            const std::size_t off = pyramid_.size();
-            pyramid_.resize(off + static_cast<std::size_t>(c * c), kEmptyHeight);
-            float* out = pyramid_.data() + off;
-            for (std::int64_t y = 0; y < 2 * c; ++y) {
-                for (std::int64_t x = 0; x < 2 * c; ++x) {
-                    if (x < below && y < below) {
-                        float& v = out[(y >> 1) * c + (x >> 1)];
-                        v = std::max(v, height(root_, x, y));
-                    }
-                }
-            }
-            ++root_;
-            const auto k = static_cast<std::size_t>(root_ - top_ - 1);
-            pyramid_offset_[k] = off;
-            cells_[static_cast<std::size_t>(root_)] = c;
-            below = c;
-        }
-    }
-
-    /// The coarsest level (one cell, or the sections' top level when the window has one cell).
-    [[nodiscard]] int root() const { return root_; }
-    /// The sections' coarsest level.
-    [[nodiscard]] int section_top() const { return top_; }
-    /// Cells per side at `level` (the pyramid's last cells may reach beyond the window).
-    [[nodiscard]] std::int64_t cells(int level) const {
-        return cells_[static_cast<std::size_t>(level)];
-    }
-    [[nodiscard]] float height(int level, std::int64_t x, std::int64_t y) const {
-        if (level > top_) {
-            const auto k = static_cast<std::size_t>(level - top_ - 1);
-            return pyramid_[pyramid_offset_[k] +
-                            static_cast<std::size_t>(y * cells_[static_cast<std::size_t>(level)] +
-                                                     x)];
-        }
-        const int sh = shift_ - level;
-        const float* b = base_[static_cast<std::size_t>(level) * static_cast<std::size_t>(n_) *
-                                   static_cast<std::size_t>(n_) +
-                               static_cast<std::size_t>((y >> sh) * n_ + (x >> sh))];
-        if (b == nullptr) {
-            return kEmptyHeight;
-        }
-        const std::int64_t mask = (std::int64_t{1} << sh) - 1;
-        return b[static_cast<std::size_t>(((y & mask) << sh) + (x & mask))];
-    }
-
-    /// Intervals per finest cell (0: no stacks).
-    [[nodiscard]] int stacks() const { return stacks_; }
-    /// The stack of finest cell (x, y) of a loaded section.
-    [[nodiscard]] const float* stack(std::int64_t x, std::int64_t y) const {
-        const float* b = stack_base_[static_cast<std::size_t>((y >> shift_) * n_ + (x >> shift_))];
-        const std::int64_t mask = (std::int64_t{1} << shift_) - 1;
-        return b + static_cast<std::size_t>((((y & mask) << shift_) + (x & mask)) * 2 * stacks_);
-    }
-
-  private:
-    int n_;
-    int top_;
-    int stacks_ = 0;
-    std::vector<const float*> stack_base_;
-    int shift_;
-    int root_ = 0;
-    std::vector<const float*> base_;
-    std::array<std::int64_t, kMaxTraceLevels> cells_{};
-    std::array<std::size_t, kMaxTraceLevels> pyramid_offset_{};
-    std::vector<float> pyramid_;
-};
+using detail::LevelTable;
 
 /// Hierarchical traversal: start at the root of the pyramid; on a potential hit descend to the
 /// child under the ray; otherwise step to the next cell and climb while that step left the
@@ -279,9 +174,61 @@ template <int SX, int SY, bool DOWN>
     }
 }
 
+/// Shading of one pixel from its hit, or the sky.
+class PixelSink {
+  public:
+    PixelSink(const SectionGrid& grid, const LevelTable& table, const RenderOptions& options,
+              ViewImage& image)
+        : grid_(grid), table_(table), options_(options), image_(image) {}
+
+    void hit(std::size_t i, const GridRay& r, const GridHit& hit) const {
+        detail::shade_hit(
+            grid_, [this](std::int64_t x, std::int64_t y) { return table_.height(0, x, y); }, r,
+            hit, options_, image_.rgb.data() + 3 * i, image_.depth[i]);
+    }
+    void miss(std::size_t i) const {
+        std::uint8_t* out = image_.rgb.data() + 3 * i;
+        out[0] = options_.sky[0];
+        out[1] = options_.sky[1];
+        out[2] = options_.sky[2];
+        image_.depth[i] = std::numeric_limits<float>::infinity();
+    }
+
+  private:
+    const SectionGrid& grid_;
+    const LevelTable& table_;
+    const RenderOptions& options_;
+    ViewImage& image_;
+};
+
+/// A rectangle of pixels [x0, x1) x [y0, y1) of an image `width` pixels wide.
+struct Tile {
+    int x0, y0, x1, y1, width;
+};
+
+/// The rays of a tile that enter the loaded heights, traced in AVX2 lanes; the others are sky.
+/// `rays`, `pixels`, `hits` and `found` are the thread's buffers, reused from tile to tile.
+struct SimdBuffers {
+    std::vector<GridRay> rays;
+    std::vector<std::size_t> pixels;
+    std::vector<GridHit> hits;
+    std::vector<std::uint8_t> found;
+};
+
+template <typename PerPixel>
+void for_each_pixel(const Tile& tile, PerPixel f) {
+    for (int py = tile.y0; py < tile.y1; ++py) {
+        for (int px = tile.x0; px < tile.x1; ++px) {
+            f(px, py,
+              static_cast<std::size_t>(py) * static_cast<std::size_t>(tile.width) +
+                  static_cast<std::size_t>(px));
+        }
+    }
+}
+
 template <typename Trace>
 void render(const SectionGrid& grid, const ViewCamera& camera, const RenderOptions& options,
-            ThreadPool& pool, Trace trace, ViewImage& image) {
+            ThreadPool& pool, Trace trace, bool simd, ViewImage& image) {
     const LevelTable table(grid);
     camera.validate();
     image.width = camera.width;
@@ -293,39 +240,52 @@ void render(const SectionGrid& grid, const ViewCamera& camera, const RenderOptio
     image.rgb.resize(pixels * 3);
     image.depth.resize(pixels);
     const CameraRays rays(camera);
+    const PixelSink sink(grid, table, options, image);
     const int tile = std::max(1, options.tile_pixels);
     const int tiles_x = (camera.width + tile - 1) / tile;
     const int tiles_y = (camera.height + tile - 1) / tile;
     pool.parallel_for(
         static_cast<std::size_t>(tiles_x) * static_cast<std::size_t>(tiles_y), 1,
         [&](std::size_t begin, std::size_t end) {
+            SimdBuffers buffers;
             for (std::size_t k = begin; k < end; ++k) {
                 const int x0 = static_cast<int>(k % static_cast<std::size_t>(tiles_x)) * tile;
                 const int y0 = static_cast<int>(k / static_cast<std::size_t>(tiles_x)) * tile;
-                const int x1 = std::min(x0 + tile, camera.width);
-                const int y1 = std::min(y0 + tile, camera.height);
-                for (int py = y0; py < y1; ++py) {
-                    for (int px = x0; px < x1; ++px) {
-                        const std::size_t i =
-                            static_cast<std::size_t>(py) * static_cast<std::size_t>(camera.width) +
-                            static_cast<std::size_t>(px);
-                        std::uint8_t* out = image.rgb.data() + 3 * i;
+                const Tile t{x0, y0, std::min(x0 + tile, camera.width),
+                             std::min(y0 + tile, camera.height), camera.width};
+                if (!simd) {
+                    for_each_pixel(t, [&](int px, int py, std::size_t i) {
                         GridRay r;
                         GridHit hit;
                         if (detail::setup_ray(grid, camera.position, rays.direction(px, py), r) &&
                             trace(grid, table, r, hit)) {
-                            detail::shade_hit(
-                                grid,
-                                [&table](std::int64_t x, std::int64_t y) {
-                                    return table.height(0, x, y);
-                                },
-                                r, hit, options, out, image.depth[i]);
+                            sink.hit(i, r, hit);
                         } else {
-                            out[0] = options.sky[0];
-                            out[1] = options.sky[1];
-                            out[2] = options.sky[2];
-                            image.depth[i] = std::numeric_limits<float>::infinity();
+                            sink.miss(i);
                         }
+                    });
+                    continue;
+                }
+                buffers.rays.clear();
+                buffers.pixels.clear();
+                for_each_pixel(t, [&](int px, int py, std::size_t i) {
+                    GridRay r;
+                    if (detail::setup_ray(grid, camera.position, rays.direction(px, py), r)) {
+                        buffers.rays.push_back(r);
+                        buffers.pixels.push_back(i);
+                    } else {
+                        sink.miss(i);
+                    }
+                });
+                buffers.hits.resize(buffers.rays.size());
+                buffers.found.resize(buffers.rays.size());
+                detail::trace_rays_avx2(table, buffers.rays.data(), buffers.rays.size(),
+                                        buffers.hits.data(), buffers.found.data());
+                for (std::size_t j = 0; j < buffers.rays.size(); ++j) {
+                    if (buffers.found[j] != 0) {
+                        sink.hit(buffers.pixels[j], buffers.rays[j], buffers.hits[j]);
+                    } else {
+                        sink.miss(buffers.pixels[j]);
                     }
                 }
             }
@@ -348,12 +308,13 @@ ViewImage render_view(const SectionGrid& grid, const ViewCamera& camera,
 
 void render_view(const SectionGrid& grid, const ViewCamera& camera, const RenderOptions& options,
                  ThreadPool& pool, ViewImage& image) {
+    const bool simd = options.simd && grid.config().stacks() == 0 && detail::avx2_available();
     render(
         grid, camera, options, pool,
         [](const SectionGrid&, const LevelTable& table, const GridRay& r, GridHit& h) {
             return trace_hierarchical(table, r, h);
         },
-        image);
+        simd, image);
 }
 
 ViewImage render_view_reference(const SectionGrid& grid, const ViewCamera& camera,
@@ -364,7 +325,7 @@ ViewImage render_view_reference(const SectionGrid& grid, const ViewCamera& camer
         [](const SectionGrid& g, const LevelTable&, const GridRay& r, GridHit& h) {
             return trace_reference(g, r, h);
         },
-        image);
+        false, image);
     return image;
 }
 
