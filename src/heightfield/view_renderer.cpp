@@ -228,7 +228,7 @@ void for_each_pixel(const Tile& tile, PerPixel f) {
 
 template <typename Trace>
 void render(const SectionGrid& grid, const ViewCamera& camera, const RenderOptions& options,
-            ThreadPool& pool, Trace trace, bool simd, ViewImage& image) {
+            ThreadPool& pool, Trace trace, int lanes, ViewImage& image) {
     const LevelTable table(grid);
     camera.validate();
     image.width = camera.width;
@@ -253,7 +253,7 @@ void render(const SectionGrid& grid, const ViewCamera& camera, const RenderOptio
                 const int y0 = static_cast<int>(k / static_cast<std::size_t>(tiles_x)) * tile;
                 const Tile t{x0, y0, std::min(x0 + tile, camera.width),
                              std::min(y0 + tile, camera.height), camera.width};
-                if (!simd) {
+                if (lanes <= 1) {
                     for_each_pixel(t, [&](int px, int py, std::size_t i) {
                         GridRay r;
                         GridHit hit;
@@ -279,8 +279,8 @@ void render(const SectionGrid& grid, const ViewCamera& camera, const RenderOptio
                 });
                 buffers.hits.resize(buffers.rays.size());
                 buffers.found.resize(buffers.rays.size());
-                detail::trace_rays_avx2(table, buffers.rays.data(), buffers.rays.size(),
-                                        buffers.hits.data(), buffers.found.data());
+                detail::trace_rays_lanes(lanes, table, buffers.rays.data(), buffers.rays.size(),
+                                         buffers.hits.data(), buffers.found.data());
                 for (std::size_t j = 0; j < buffers.rays.size(); ++j) {
                     if (buffers.found[j] != 0) {
                         sink.hit(buffers.pixels[j], buffers.rays[j], buffers.hits[j]);
@@ -308,13 +308,20 @@ ViewImage render_view(const SectionGrid& grid, const ViewCamera& camera,
 
 void render_view(const SectionGrid& grid, const ViewCamera& camera, const RenderOptions& options,
                  ThreadPool& pool, ViewImage& image) {
-    const bool simd = options.simd && grid.config().stacks() == 0 && detail::avx2_available();
+    // The widest kernel the CPU has, at most options.simd_lanes wide.
+    int lanes = detail::widest_lanes();
+    if (options.simd_lanes > 0) {
+        lanes = options.simd_lanes >= 8 ? lanes : options.simd_lanes >= 4 ? std::min(lanes, 4) : 1;
+    }
+    if (grid.config().stacks() != 0) {
+        lanes = 1;
+    }
     render(
         grid, camera, options, pool,
         [](const SectionGrid&, const LevelTable& table, const GridRay& r, GridHit& h) {
             return trace_hierarchical(table, r, h);
         },
-        simd, image);
+        lanes, image);
 }
 
 ViewImage render_view_reference(const SectionGrid& grid, const ViewCamera& camera,
@@ -325,7 +332,7 @@ ViewImage render_view_reference(const SectionGrid& grid, const ViewCamera& camer
         [](const SectionGrid& g, const LevelTable&, const GridRay& r, GridHit& h) {
             return trace_reference(g, r, h);
         },
-        false, image);
+        1, image);
     return image;
 }
 

@@ -22,9 +22,10 @@ struct RenderOptions {
     double fog_distance = 0.0;
     Rgb8 sky = {150, 180, 220};  ///< colour of rays that hit nothing
     int tile_pixels = 16;        ///< square tiles handed to the threads
-    /// Trace four rays at a time in AVX2 lanes where the CPU has AVX2 (x86-64): the same image
-    /// bit for bit, faster. False: one ray at a time (for comparison and tests).
-    bool simd = true;
+    /// Rays traced together in SIMD lanes: 0 = the most this CPU has (8 with AVX-512, 4 with
+    /// AVX2, else 1); 1 = one ray at a time; 4 or 8 = at most that many. The image is the same
+    /// bit for bit whatever the lanes; height stacks are traced one ray at a time.
+    int simd_lanes = 0;
 };
 
 /// An RGB image with the distance along each pixel's ray to its hit (+inf for a miss).

@@ -1,0 +1,209 @@
+// The hierarchical traversal of trace_octant (view_renderer.cpp) for kLanes rays at once, one
+// ray per lane: descending or stepping is a per-lane select, and a lane takes the next ray as
+// soon as its ray ends. Written once against the lane operations of view_lanes_avx2.inl or
+// view_lanes_avx512.inl, which view_trace_simd.cpp includes first in the same namespace.
+
+/// The lanes' rays and walks, one array per field.
+struct alignas(64) Lanes {
+    double ox[kLanes], oy[kLanes], oz[kLanes], dx[kLanes], dy[kLanes], dz[kLanes];
+    double inv_dx[kLanes], inv_dy[kLanes], t_max[kLanes], t[kLanes];
+    std::int64_t cx[kLanes], cy[kLanes], level[kLanes], entered[kLanes];
+    std::int64_t sx[kLanes], sy[kLanes], off_x[kLanes], off_y[kLanes];
+    std::int64_t climb_x[kLanes], climb_y[kLanes];
+    std::size_t ray[kLanes];
+
+    void start(int j, const GridRay& r, std::size_t i, int top) {
+        ox[j] = r.ox;
+        oy[j] = r.oy;
+        oz[j] = r.oz;
+        dx[j] = r.dx;
+        dy[j] = r.dy;
+        dz[j] = r.dz;
+        inv_dx[j] = r.inv_dx;
+        inv_dy[j] = r.inv_dy;
+        t_max[j] = r.t_max;
+        t[j] = r.t_min;
+        cx[j] = r.gx >> top;
+        cy[j] = r.gy >> top;
+        level[j] = top;
+        entered[j] = -1;
+        sx[j] = r.sx;
+        sy[j] = r.sy;
+        off_x[j] = r.sx > 0 ? 1 : 0;
+        off_y[j] = r.sy > 0 ? 1 : 0;
+        climb_x[j] = r.sx > 0 ? 0 : -1;
+        climb_y[j] = r.sy > 0 ? 0 : -1;
+        ray[j] = i;
+    }
+    /// A lane with no ray: a harmless state (it is masked out).
+    void stop(int j) {
+        level[j] = 0;
+        cx[j] = cy[j] = 0;
+        off_x[j] = off_y[j] = 0;
+        ox[j] = oy[j] = oz[j] = dz[j] = t[j] = 0.0;
+        dx[j] = dy[j] = inv_dx[j] = inv_dy[j] = t_max[j] = 1.0;
+    }
+};
+
+/// The per-frame constants of the height lookup.
+struct Lookup {
+    const float* const* address;
+    I n, n2, top1, shift, pyramid_base, pyramid_shift0, one;
+};
+
+/// LevelTable::height(level, x, y) for the lanes of `enabled`.
+BT_LANES D heights(const Lookup& p, I level, I x, I y, M enabled) {
+    // The sections' levels: slot (y >> sh) * n + (x >> sh), rows of 2^sh cells.
+    const I sh = sub(p.shift, level);
+    const I slot = add(mul32(srlv(y, sh), p.n), srlv(x, sh));
+    const I entry_s = add(mul32(level, p.n2), slot);
+    const I m = sub(sllv(p.one, sh), p.one);
+    const I off_s = add(sllv(band(y, m), sh), band(x, m));
+    // The pyramid's levels: one address each, rows of 2^(shift0 - k) cells.
+    const I k = sub(level, p.top1);
+    const I off_p = add(sllv(y, sub(p.pyramid_shift0, k)), x);
+    const M in_sections = gt(p.top1, level);
+    return load_heights(p.address, sel(in_sections, entry_s, add(p.pyramid_base, k)),
+                        sel(in_sections, off_s, off_p), bits(enabled));
+}
+
+BT_LANES void trace(const LevelTable& table, const GridRay* rays, std::size_t count,
+                    GridHit* hits, std::uint8_t* found) {
+    const int top = table.section_top();
+    const auto n = static_cast<std::int64_t>(table.sections_per_side());
+    const I zero = set1(0);
+    const I one = set1(1);
+    Lookup p{};
+    p.address = table.address_table();
+    p.n = set1(n);
+    p.n2 = set1(n * n);
+    p.top1 = set1(top + 1);
+    p.shift = set1(table.finest_shift());
+    p.pyramid_base = set1(static_cast<std::int64_t>(table.pyramid_slot(0)));
+    p.pyramid_shift0 = set1(table.root() > top ? table.row_shift(0) : 0);
+    p.one = one;
+    const I top_v = set1(top);
+    const I root = set1(table.root());
+    const I window = set1(table.cells(0));
+    const D zerod = set1d(0.0);
+    const D empty = set1d(static_cast<double>(kEmptyHeight));
+
+    Lanes s;
+    std::size_t next = 0;
+    int active_bits = 0;
+    const auto refill = [&](int j) {
+        if (next < count) {
+            s.start(j, rays[next], next, top);
+            ++next;
+            active_bits |= 1 << j;
+        } else {
+            s.stop(j);
+            active_bits &= ~(1 << j);
+        }
+    };
+    for (int j = 0; j < kLanes; ++j) {
+        refill(j);
+    }
+    while (active_bits != 0) {
+        const M active = mask_of_bits(active_bits);
+        const D ox = load(s.ox), oy = load(s.oy), oz = load(s.oz);
+        const D dx = load(s.dx), dy = load(s.dy), dz = load(s.dz);
+        const D t = load(s.t), t_max = load(s.t_max);
+        const I level = load(s.level), cx = load(s.cx), cy = load(s.cy);
+        const I climb_x = load(s.climb_x), climb_y = load(s.climb_y);
+
+        // The cell's exits and the ray's height over it, as trace_octant.
+        const D bx = to_double(sllv(add(cx, load(s.off_x)), level));
+        const D by = to_double(sllv(add(cy, load(s.off_y)), level));
+        const D tx = muld(subd(bx, ox), load(s.inv_dx));
+        const D ty = muld(subd(by, oy), load(s.inv_dy));
+        const D t_out = mind(ty, tx);       // std::min(tx, ty)
+        const D t_end = mind(t_max, t_out);  // std::min(t_out, t_max)
+        const D h = heights(p, level, cx, cy, active);
+        const D z = addd(oz, muld(dz, seld(ltd(dz, zerod), t_end, t)));
+        const M below = mand(led(z, h), active);
+        const M hit = mand(below, eq(level, zero));
+
+        // Descend: the child under the ray at t.
+        const I down_level = sub(level, one);
+        const D px = addd(ox, muld(dx, t));
+        const D py = addd(oy, muld(dy, t));
+        const I cx2 = add(cx, cx), cy2 = add(cy, cy);
+        const I dcx = add(cx2, keep(ged(px, to_double(sllv(add(cx2, one), down_level))), one));
+        const I dcy = add(cy2, keep(ged(py, to_double(sllv(add(cy2, one), down_level))), one));
+
+        // Step to the next cell. Past t_max, or out of the window (ceil(window cells /
+        // 2^level) cells per side, as LevelTable::cells), the ray ends.
+        const M step_x = led(tx, ty);
+        const M step_y = led(ty, tx);
+        I acx = add(cx, keep(step_x, load(s.sx)));
+        I acy = add(cy, keep(step_y, load(s.sy)));
+        const I cells = srlv(sub(add(window, sllv(one, level)), one), level);
+        const M inside = mand(mand(gt(cells, acx), gt(cells, acy)),
+                              mandnot(mor(gt(zero, acx), gt(zero, acy)), active));
+        const M out = mor(ged(t_out, t_max), mandnot(inside, active));
+        const M miss = mandnot(below, mand(active, out));
+        // Climb while the step left the parent: within the sections' levels always...
+        const I kx = keep(step_x, trailing_zeros(bxor(acx, climb_x)));
+        const I ky = keep(step_y, trailing_zeros(bxor(acy, climb_y)));
+        const I k = min64(max64(kx, ky), max64(sub(top_v, level), zero));
+        I alevel = add(level, k);
+        acx = srlv(acx, k);
+        acy = srlv(acy, k);
+        // ... and into the pyramid only while its cell there is empty.
+        M climbing = mandnot(mor(below, out), active);
+        for (;;) {
+            const M cross_x = mand(step_x, eq(band(bxor(acx, climb_x), one), zero));
+            const M cross_y = mand(step_y, eq(band(bxor(acy, climb_y), one), zero));
+            climbing = mand(mand(climbing, mor(cross_x, cross_y)),
+                            mandnot(gt(top_v, alevel), gt(root, alevel)));
+            if (bits(climbing) == 0) {
+                break;
+            }
+            const I up_level = add(alevel, one);
+            const I px2 = srl1(acx), py2 = srl1(acy);
+            climbing = mand(climbing, eqd(heights(p, up_level, px2, py2, climbing), empty));
+            alevel = sel(climbing, up_level, alevel);
+            acx = sel(climbing, px2, acx);
+            acy = sel(climbing, py2, acy);
+        }
+
+        const int hit_bits = bits(hit);
+        const int done = hit_bits | bits(miss);
+        if (done != 0) {
+            alignas(64) double h_lanes[kLanes], t_end_lanes[kLanes];
+            store(h_lanes, h);
+            store(t_end_lanes, t_end);
+            for (int j = 0; j < kLanes; ++j) {
+                if ((done & (1 << j)) == 0) {
+                    continue;
+                }
+                const std::size_t i = s.ray[j];
+                const bool is_hit = (hit_bits & (1 << j)) != 0;
+                found[i] = is_hit ? 1 : 0;
+                if (is_hit) {
+                    GridHit& g = hits[i];
+                    g.x = s.cx[j];
+                    g.y = s.cy[j];
+                    g.t_in = s.t[j];
+                    g.t_out = t_end_lanes[j];
+                    g.entered_axis = static_cast<int>(s.entered[j]);
+                    g.h = static_cast<float>(h_lanes[j]);
+                    g.bottom = false;
+                }
+            }
+        }
+        store(s.cx, sel(below, dcx, acx));
+        store(s.cy, sel(below, dcy, acy));
+        store(s.level, sel(below, down_level, alevel));
+        store(s.t, seld(below, t, t_out));
+        store(s.entered, sel(below, load(s.entered), sel(step_x, zero, one)));
+        if (done != 0) {
+            for (int j = 0; j < kLanes; ++j) {
+                if ((done & (1 << j)) != 0) {
+                    refill(j);
+                }
+            }
+        }
+    }
+}
