@@ -240,6 +240,7 @@ void render(const SectionGrid& grid, const ViewCamera& camera, const RenderOptio
     image.rgb.resize(pixels * 3);
     image.depth.resize(pixels);
     const CameraRays rays(camera);
+    const detail::RaySetup setup(grid, camera.position);
     const PixelSink sink(grid, table, options, image);
     const int tile = std::max(1, options.tile_pixels);
     const int tiles_x = (camera.width + tile - 1) / tile;
@@ -257,8 +258,7 @@ void render(const SectionGrid& grid, const ViewCamera& camera, const RenderOptio
                     for_each_pixel(t, [&](int px, int py, std::size_t i) {
                         GridRay r;
                         GridHit hit;
-                        if (detail::setup_ray(grid, camera.position, rays.direction(px, py), r) &&
-                            trace(grid, table, r, hit)) {
+                        if (setup(rays.direction(px, py), r) && trace(grid, table, r, hit)) {
                             sink.hit(i, r, hit);
                         } else {
                             sink.miss(i);
@@ -270,7 +270,7 @@ void render(const SectionGrid& grid, const ViewCamera& camera, const RenderOptio
                 buffers.pixels.clear();
                 for_each_pixel(t, [&](int px, int py, std::size_t i) {
                     GridRay r;
-                    if (detail::setup_ray(grid, camera.position, rays.direction(px, py), r)) {
+                    if (setup(rays.direction(px, py), r)) {
                         buffers.rays.push_back(r);
                         buffers.pixels.push_back(i);
                     } else {

@@ -23,7 +23,9 @@ namespace avx2 {
 #include "detail/view_lanes_avx2.inl"
 #undef BT_LANES
 #define BT_LANES __attribute__((target("avx2")))
+#define BT_LANES_INLINE __attribute__((target("avx2"), always_inline)) inline
 #include "detail/view_lanes_kernel.inl"
+#undef BT_LANES_INLINE
 #undef BT_LANES
 }  // namespace avx2
 
@@ -36,7 +38,10 @@ namespace avx512 {
 #include "detail/view_lanes_avx512.inl"
 #undef BT_LANES
 #define BT_LANES __attribute__((target("avx512f,avx512dq,avx512cd,avx2")))
+#define BT_LANES_INLINE \
+    __attribute__((target("avx512f,avx512dq,avx512cd,avx2"), always_inline)) inline
 #include "detail/view_lanes_kernel.inl"
+#undef BT_LANES_INLINE
 #undef BT_LANES
 }  // namespace avx512
 #pragma GCC diagnostic pop

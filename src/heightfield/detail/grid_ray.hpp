@@ -38,68 +38,86 @@ struct GridRay {
     return static_cast<std::uint8_t>(i + static_cast<int>(v - static_cast<double>(i) >= 0.5));
 }
 
-/// Clips the ray to the window box between the lowest and the highest loaded height; false
-/// when it misses.
-[[nodiscard]] inline bool setup_ray(const SectionGrid& grid, const Vec3d& position,
-                                    const Vec3d& dir, GridRay& r) {
-    const double zmax = grid.max_height();
-    if (zmax == -kInf) {
-        return false;
+/// Rays from one camera position into the window: what depends only on the frame is worked out
+/// once (the window, its height range, the position in cells).
+class RaySetup {
+  public:
+    RaySetup(const SectionGrid& grid, const Vec3d& position)
+        : zmax_(grid.max_height()),
+          zmin_(grid.min_height()),
+          cell_(grid.config().cell_size),
+          w_(static_cast<double>(grid.window_cells())),
+          last_(grid.window_cells() - 1) {
+        const Vec3d corner = grid.window_corner();
+        ox_ = (position.x - corner.x) / cell_;
+        oy_ = (position.y - corner.y) / cell_;
+        oz_ = position.z - corner.z;
     }
-    const Vec3d corner = grid.window_corner();
-    const double cell = grid.config().cell_size;
-    const auto w = static_cast<double>(grid.window_cells());
-    r.ox = (position.x - corner.x) / cell;
-    r.oy = (position.y - corner.y) / cell;
-    r.oz = position.z - corner.z;
-    r.dx = dir.x / cell;
-    r.dy = dir.y / cell;
-    r.dz = dir.z;
-    r.sx = r.dx < 0 ? -1 : 1;
-    r.sy = r.dy < 0 ? -1 : 1;
-    r.inv_dx = r.dx != 0 ? 1.0 / r.dx : kInf;
-    r.inv_dy = r.dy != 0 ? 1.0 / r.dy : kInf;
-    double t0 = 0.0, t1 = kInf;
-    if (r.dx != 0) {
-        const double a = (0.0 - r.ox) * r.inv_dx, b = (w - r.ox) * r.inv_dx;
-        t0 = std::max(t0, std::min(a, b));
-        t1 = std::min(t1, std::max(a, b));
-    } else if (!(r.ox >= 0 && r.ox < w)) {
-        return false;
-    }
-    if (r.dy != 0) {
-        const double a = (0.0 - r.oy) * r.inv_dy, b = (w - r.oy) * r.inv_dy;
-        t0 = std::max(t0, std::min(a, b));
-        t1 = std::min(t1, std::max(a, b));
-    } else if (!(r.oy >= 0 && r.oy < w)) {
-        return false;
-    }
-    if (r.oz > zmax) {
-        if (r.dz >= 0) {
+
+    /// Clips the ray along `dir` (unit) to the window box between the lowest and the highest
+    /// loaded height; false when it misses.
+    [[nodiscard]] bool operator()(const Vec3d& dir, GridRay& r) const {
+        const double zmax = zmax_;
+        if (zmax == -kInf) {
             return false;
         }
-        t0 = std::max(t0, (zmax - r.oz) / r.dz);
+        const double w = w_;
+        r.ox = ox_;
+        r.oy = oy_;
+        r.oz = oz_;
+        r.dx = dir.x / cell_;
+        r.dy = dir.y / cell_;
+        r.dz = dir.z;
+        r.sx = r.dx < 0 ? -1 : 1;
+        r.sy = r.dy < 0 ? -1 : 1;
+        r.inv_dx = r.dx != 0 ? 1.0 / r.dx : kInf;
+        r.inv_dy = r.dy != 0 ? 1.0 / r.dy : kInf;
+        double t0 = 0.0, t1 = kInf;
+        if (r.dx != 0) {
+            const double a = (0.0 - r.ox) * r.inv_dx, b = (w - r.ox) * r.inv_dx;
+            t0 = std::max(t0, std::min(a, b));
+            t1 = std::min(t1, std::max(a, b));
+        } else if (!(r.ox >= 0 && r.ox < w)) {
+            return false;
+        }
+        if (r.dy != 0) {
+            const double a = (0.0 - r.oy) * r.inv_dy, b = (w - r.oy) * r.inv_dy;
+            t0 = std::max(t0, std::min(a, b));
+            t1 = std::min(t1, std::max(a, b));
+        } else if (!(r.oy >= 0 && r.oy < w)) {
+            return false;
+        }
+        if (r.oz > zmax) {
+            if (r.dz >= 0) {
+                return false;
+            }
+            t0 = std::max(t0, (zmax - r.oz) / r.dz);
+        }
+        if (r.dz > 0) {
+            t1 = std::min(t1, (zmax - r.oz) / r.dz);
+        } else if (r.dz < 0) {
+            // Below the lowest loaded height there is nothing to hit (columns do not reach
+            // down forever): an empty cell stays see-through even for near-vertical rays.
+            // A hair below it, so that rounding in oz + dz * t does not lose a surface that
+            // lies exactly at the lowest height (flat ground seen at a grazing angle).
+            const double floor_z = zmin_;
+            t1 = std::min(t1, (floor_z - 1e-9 * (1.0 + std::abs(floor_z)) - r.oz) / r.dz);
+        }
+        if (!(t0 <= t1)) {  // equal: a ray that just touches the only height (a flat plateau)
+            return false;
+        }
+        r.t_min = t0;
+        r.t_max = t1;
+        r.gx = std::clamp(floor_to_int(r.ox + r.dx * t0), std::int64_t{0}, last_);
+        r.gy = std::clamp(floor_to_int(r.oy + r.dy * t0), std::int64_t{0}, last_);
+        return true;
     }
-    if (r.dz > 0) {
-        t1 = std::min(t1, (zmax - r.oz) / r.dz);
-    } else if (r.dz < 0) {
-        // Below the lowest loaded height there is nothing to hit (columns do not reach down
-        // forever): an empty cell stays see-through even for near-vertical rays.
-        // A hair below it, so that rounding in oz + dz * t does not lose a surface that lies
-        // exactly at the lowest height (flat ground seen at a grazing angle).
-        const double floor_z = static_cast<double>(grid.min_height());
-        t1 = std::min(t1, (floor_z - 1e-9 * (1.0 + std::abs(floor_z)) - r.oz) / r.dz);
-    }
-    if (!(t0 <= t1)) {  // equal: a ray that just touches the only height (a flat plateau)
-        return false;
-    }
-    r.t_min = t0;
-    r.t_max = t1;
-    const auto last = grid.window_cells() - 1;
-    r.gx = std::clamp(floor_to_int(r.ox + r.dx * t0), std::int64_t{0}, last);
-    r.gy = std::clamp(floor_to_int(r.oy + r.dy * t0), std::int64_t{0}, last);
-    return true;
-}
+
+  private:
+    double zmax_, zmin_, cell_, w_;
+    std::int64_t last_;
+    double ox_ = 0, oy_ = 0, oz_ = 0;
+};
 
 /// Exit distance of cell (cx, cy) of `level` along x and along y.
 inline void cell_exits(const GridRay& r, std::int64_t cx, std::int64_t cy, int level, double& tx,

@@ -52,7 +52,7 @@ struct Lookup {
 };
 
 /// LevelTable::height(level, x, y) for the lanes of `enabled`.
-BT_LANES D heights(const Lookup& p, I level, I x, I y, M enabled) {
+BT_LANES_INLINE D heights(const Lookup& p, I level, I x, I y, M enabled) {
     // The sections' levels: slot (y >> sh) * n + (x >> sh), rows of 2^sh cells.
     const I sh = sub(p.shift, level);
     const I slot = add(mul32(srlv(y, sh), p.n), srlv(x, sh));
