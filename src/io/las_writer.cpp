@@ -186,6 +186,9 @@ LasWriter::LasWriter(std::filesystem::path path, LasWriterConfig config)
     h.point_record_length = static_cast<std::uint16_t>(las_point_record_size(h.point_format) +
                                                        config_.extra_bytes_per_point);
     h.scale = config_.scale;
+    for (std::size_t k = 0; k < 3; ++k) {
+        steps_per_unit_[k] = 1.0 / h.scale[k];
+    }
     h.offset = config_.offset;
 
     file_ = std::make_unique<AtomicFile>(path_);
@@ -265,7 +268,9 @@ void LasWriter::encode_base(const LasSimplePoint& p, std::uint8_t flags, std::ui
     };
     const double xyz[3] = {p.x, p.y, p.z};
     for (std::size_t k = 0; k < 3; ++k) {
-        const double steps = (xyz[k] - header_.offset[k]) / header_.scale[k];
+        // A multiplication, not a division (a quarter of the encoding time): the same steps
+        // except where (x - offset) / scale falls within an ulp of a half step.
+        const double steps = (xyz[k] - header_.offset[k]) * steps_per_unit_[k];
         if (!rounds_into_int32(steps)) {
             reject(std::string(1, "xyz"[k]) + " = " + number(xyz[k]) +
                    " does not fit in a 32-bit LAS coordinate with scale " +
@@ -278,12 +283,16 @@ void LasWriter::encode_base(const LasSimplePoint& p, std::uint8_t flags, std::ui
         reject("return " + std::to_string(p.return_number) + " of " +
                std::to_string(p.number_of_returns) + " exceeds 15");
     }
-    const double angle = static_cast<double>(p.scan_angle_deg) / kScanAngleStepDeg;
+    const double angle = static_cast<double>(p.scan_angle_deg) * (1.0 / kScanAngleStepDeg);
     const std::int32_t angle_steps = rounds_into_int32(angle) ? round_to_int32(angle) : 1 << 30;
     if (!(angle_steps >= -30000 && angle_steps <= 30000)) {
         reject("scan angle " + number(p.scan_angle_deg) + " deg is outside [-180, 180]");
     }
-    std::memcpy(r, q, 3 * sizeof(std::int32_t));
+    // Each value from its register (a 12-byte copy of q read back just-stored 4-byte values
+    // as 8 bytes, which stalls store forwarding).
+    store<std::int32_t>(r, q[0]);
+    store<std::int32_t>(r + 4, q[1]);
+    store<std::int32_t>(r + 8, q[2]);
     store<std::uint16_t>(r + 12, p.intensity);
     r[14] = static_cast<std::uint8_t>(p.return_number | (p.number_of_returns << 4));
     r[15] = flags;

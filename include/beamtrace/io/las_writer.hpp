@@ -140,6 +140,7 @@ class LasWriter {
     std::filesystem::path path_;
     LasWriterConfig config_;
     LasHeader header_;
+    double steps_per_unit_[3] = {1, 1, 1};  ///< 1 / header_.scale
     std::unique_ptr<AtomicFile> file_;
     std::unique_ptr<detail::DirectSink> sink_;  ///< header, VLRs and points, by large writes
     std::vector<std::uint8_t> chunk_;

@@ -96,6 +96,8 @@ class LinearLegs final : public Trajectory {
   private:
     /// The pose at time t (within the range) on leg k (times_s_[k] <= t <= times_s_[k + 1]).
     [[nodiscard]] Pose pose_on_leg(double t, std::size_t k) const;
+    /// pose_on_leg into `out` (poses_at: no pose returned through memory and copied).
+    void pose_on_leg_into(double t, std::size_t k, Pose& out) const;
     LinearLegsConfig config_;
     std::vector<double> times_s_;
     std::vector<Quat> attitude_;  ///< per waypoint (given) or per leg (facing along it)
