@@ -240,6 +240,18 @@ void render(const SectionGrid& grid, const ViewCamera& camera, const RenderOptio
     image.rgb.resize(pixels * 3);
     image.depth.resize(pixels);
     const CameraRays rays(camera);
+    // Image-plane coordinates per column and row (the same values as in direction(px, py)).
+    std::vector<double> u(static_cast<std::size_t>(camera.width));
+    std::vector<double> v(static_cast<std::size_t>(camera.height));
+    for (int px = 0; px < camera.width; ++px) {
+        u[static_cast<std::size_t>(px)] = rays.u(px);
+    }
+    for (int py = 0; py < camera.height; ++py) {
+        v[static_cast<std::size_t>(py)] = rays.v(py);
+    }
+    const auto direction = [&](int px, int py) {
+        return rays.direction_at(u[static_cast<std::size_t>(px)], v[static_cast<std::size_t>(py)]);
+    };
     const detail::RaySetup setup(grid, camera.position);
     const PixelSink sink(grid, table, options, image);
     const int tile = std::max(1, options.tile_pixels);
@@ -258,7 +270,7 @@ void render(const SectionGrid& grid, const ViewCamera& camera, const RenderOptio
                     for_each_pixel(t, [&](int px, int py, std::size_t i) {
                         GridRay r;
                         GridHit hit;
-                        if (setup(rays.direction(px, py), r) && trace(grid, table, r, hit)) {
+                        if (setup(direction(px, py), r) && trace(grid, table, r, hit)) {
                             sink.hit(i, r, hit);
                         } else {
                             sink.miss(i);
@@ -270,7 +282,7 @@ void render(const SectionGrid& grid, const ViewCamera& camera, const RenderOptio
                 buffers.pixels.clear();
                 for_each_pixel(t, [&](int px, int py, std::size_t i) {
                     GridRay r;
-                    if (setup(rays.direction(px, py), r)) {
+                    if (setup(direction(px, py), r)) {
                         buffers.rays.push_back(r);
                         buffers.pixels.push_back(i);
                     } else {

@@ -25,9 +25,12 @@ struct ViewCamera {
 class CameraRays {
   public:
     explicit CameraRays(const ViewCamera& camera);
-    [[nodiscard]] Vec3d direction(int px, int py) const {
-        const double u = (2.0 * (px + 0.5) / width_ - 1.0) * tan_x_;
-        const double v = (1.0 - 2.0 * (py + 0.5) / height_) * tan_y_;
+    [[nodiscard]] Vec3d direction(int px, int py) const { return direction_at(u(px), v(py)); }
+    /// The image-plane coordinates of pixel column px and row py (direction(px, py) is
+    /// direction_at(u(px), v(py)): renderers work them out once per column and row).
+    [[nodiscard]] double u(int px) const { return (2.0 * (px + 0.5) / width_ - 1.0) * tan_x_; }
+    [[nodiscard]] double v(int py) const { return (1.0 - 2.0 * (py + 0.5) / height_) * tan_y_; }
+    [[nodiscard]] Vec3d direction_at(double u, double v) const {
         return normalize(forward_ + right_ * u + up_ * v);
     }
     [[nodiscard]] const Vec3d& forward() const { return forward_; }

@@ -52,6 +52,10 @@ class RaySetup {
         ox_ = (position.x - corner.x) / cell_;
         oy_ = (position.y - corner.y) / cell_;
         oz_ = position.z - corner.z;
+        per_cell_ = 1.0 / cell_;
+        // A hair below the lowest height, so that rounding in oz + dz * t does not lose a
+        // surface that lies exactly at it (flat ground seen at a grazing angle).
+        floor_dz_ = zmin_ - 1e-9 * (1.0 + std::abs(zmin_)) - oz_;
     }
 
     /// Clips the ray along `dir` (unit) to the window box between the lowest and the highest
@@ -65,8 +69,8 @@ class RaySetup {
         r.ox = ox_;
         r.oy = oy_;
         r.oz = oz_;
-        r.dx = dir.x / cell_;
-        r.dy = dir.y / cell_;
+        r.dx = dir.x * per_cell_;
+        r.dy = dir.y * per_cell_;
         r.dz = dir.z;
         r.sx = r.dx < 0 ? -1 : 1;
         r.sy = r.dy < 0 ? -1 : 1;
@@ -87,21 +91,19 @@ class RaySetup {
         } else if (!(r.oy >= 0 && r.oy < w)) {
             return false;
         }
+        const double inv_dz = 1.0 / r.dz;  // +-inf for a level ray (not used then)
         if (r.oz > zmax) {
             if (r.dz >= 0) {
                 return false;
             }
-            t0 = std::max(t0, (zmax - r.oz) / r.dz);
+            t0 = std::max(t0, (zmax - r.oz) * inv_dz);
         }
         if (r.dz > 0) {
-            t1 = std::min(t1, (zmax - r.oz) / r.dz);
+            t1 = std::min(t1, (zmax - r.oz) * inv_dz);
         } else if (r.dz < 0) {
             // Below the lowest loaded height there is nothing to hit (columns do not reach
             // down forever): an empty cell stays see-through even for near-vertical rays.
-            // A hair below it, so that rounding in oz + dz * t does not lose a surface that
-            // lies exactly at the lowest height (flat ground seen at a grazing angle).
-            const double floor_z = zmin_;
-            t1 = std::min(t1, (floor_z - 1e-9 * (1.0 + std::abs(floor_z)) - r.oz) / r.dz);
+            t1 = std::min(t1, floor_dz_ * inv_dz);
         }
         if (!(t0 <= t1)) {  // equal: a ray that just touches the only height (a flat plateau)
             return false;
@@ -117,6 +119,8 @@ class RaySetup {
     double zmax_, zmin_, cell_, w_;
     std::int64_t last_;
     double ox_ = 0, oy_ = 0, oz_ = 0;
+    double per_cell_ = 1;  ///< 1 / cell size: directions in cells per unit by a product
+    double floor_dz_ = 0;  ///< height of the floor below the camera
 };
 
 /// Exit distance of cell (cx, cy) of `level` along x and along y.
