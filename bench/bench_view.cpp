@@ -136,11 +136,13 @@ void check_against_reference(bt::ViewSession& session, const bt::RenderOptions& 
 
 /// Loads the benchmark's 1920x1080 view, checks it against the reference, then times frames
 /// rendered into one reused image (as a viewer would).
-void time_frames(benchmark::State& state, bt::ViewSession& session, const std::string& what) {
+void time_frames(benchmark::State& state, bt::ViewSession& session, const std::string& what,
+                 int simd_lanes = 0) {
     const bt::ViewCamera cam = frame_camera(session, 1920, 1080);
     static_cast<void>(session.move_to(cam.position));
     bt::RenderOptions options;
     options.fog_distance = 3000.0;
+    options.simd_lanes = simd_lanes;
     check_against_reference(session, options, what);
     bt::ViewImage img;
     for (auto _ : state) {
@@ -165,7 +167,7 @@ void BM_ViewFrame(benchmark::State& state) {
         config.threads = static_cast<unsigned>(state.range(2));
     }
     bt::ViewSession session(inputs, config);
-    time_frames(state, session, "");
+    time_frames(state, session, "", static_cast<int>(state.range(3)));
 }
 
 /// A fly-through of 16 poses across the 8 x 8 tiled autzen (7 M points, so every section load is
@@ -255,13 +257,16 @@ void BM_ViewFrameStacks(benchmark::State& state) {
 BENCHMARK_CAPTURE(BM_ViewIngest, autzen_trim, 0)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_CAPTURE(BM_ViewIngest, autzen_8x8_tiled, 1)->Unit(benchmark::kMillisecond)->UseRealTime();
 // threads:0 = every core; threads:1 makes the CPU time the whole work of a frame (comparable
-// between runs on a loaded machine).
+// between runs on a loaded machine). lanes: rays traced together in SIMD lanes (0 = the most
+// the CPU has: 8 with AVX-512, 4 with AVX2; 4 and 1 are the baselines of the same run).
 BENCHMARK(BM_ViewFrame)
-    ->Args({16, 8, 0})
-    ->Args({32, 8, 0})
-    ->Args({64, 8, 0})
-    ->Args({32, 8, 1})
-    ->ArgNames({"cells", "levels", "threads"})
+    ->Args({16, 8, 0, 0})
+    ->Args({32, 8, 0, 0})
+    ->Args({64, 8, 0, 0})
+    ->Args({32, 8, 1, 0})
+    ->Args({32, 8, 0, 4})
+    ->Args({32, 8, 0, 1})
+    ->ArgNames({"cells", "levels", "threads", "lanes"})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 BENCHMARK(BM_ViewPath)
