@@ -77,18 +77,17 @@ class RaySetup {
         r.inv_dx = r.dx != 0 ? 1.0 / r.dx : kInf;
         r.inv_dy = r.dy != 0 ? 1.0 / r.dy : kInf;
         double t0 = 0.0, t1 = kInf;
-        if (r.dx != 0) {
-            const double a = (0.0 - r.ox) * r.inv_dx, b = (w - r.ox) * r.inv_dx;
-            t0 = std::max(t0, std::min(a, b));
-            t1 = std::min(t1, std::max(a, b));
-        } else if (!(r.ox >= 0 && r.ox < w)) {
-            return false;
-        }
-        if (r.dy != 0) {
-            const double a = (0.0 - r.oy) * r.inv_dy, b = (w - r.oy) * r.inv_dy;
-            t0 = std::max(t0, std::min(a, b));
-            t1 = std::min(t1, std::max(a, b));
-        } else if (!(r.oy >= 0 && r.oy < w)) {
+        // Between the window's two sides along one axis; false when parallel and outside.
+        const auto clip = [&](double o, double d, double inv_d) {
+            if (d != 0) {
+                const double a = (0.0 - o) * inv_d, b = (w - o) * inv_d;
+                t0 = std::max(t0, std::min(a, b));
+                t1 = std::min(t1, std::max(a, b));
+                return true;
+            }
+            return o >= 0 && o < w;
+        };
+        if (!clip(r.ox, r.dx, r.inv_dx) || !clip(r.oy, r.dy, r.inv_dy)) {
             return false;
         }
         const double inv_dz = 1.0 / r.dz;  // +-inf for a level ray (not used then)

@@ -52,34 +52,40 @@ class LevelTable {
             cells_[static_cast<std::size_t>(l)] = grid.window_cells() >> l;
         }
         // The pyramid: level top_ + 1 + k has ceil(cells(top_) / 2^(k+1)) cells per side, in
-        // rows of 2^row_shift(k) (the next power of two).
+        // rows of 2^row_shift(k) (the next power of two). Sizes first, so that the addresses
+        // stay put while it is filled level by level with height().
+        std::vector<std::size_t> offsets;
+        std::size_t size = 0;
         std::int64_t below = cells_[static_cast<std::size_t>(top_)];
         root_ = top_;
-        std::vector<std::size_t> offsets;
         while (below > 1 && root_ + 1 < kMaxTraceLevels) {
             const std::int64_t c = (below + 1) / 2;
             int lp = 0;
             while ((std::int64_t{1} << lp) < c) {
                 ++lp;
             }
-            const std::size_t off = pyramid_.size();
-            pyramid_.resize(off + (std::size_t{1} << (2 * lp)), kEmptyHeight);
-            for (std::int64_t y = 0; y < below; ++y) {
-                for (std::int64_t x = 0; x < below; ++x) {
-                    float& v =
-                        pyramid_[off + static_cast<std::size_t>(((y >> 1) << lp) + (x >> 1))];
-                    v = std::max(v, lookup(base, offsets, root_, x, y));
-                }
-            }
             row_shift_[static_cast<std::size_t>(root_ - top_)] = lp;
-            offsets.push_back(off);
+            offsets.push_back(size);
+            size += std::size_t{1} << (2 * lp);
             ++root_;
             cells_[static_cast<std::size_t>(root_)] = c;
             below = c;
         }
+        pyramid_.assign(size, kEmptyHeight);
         address_ = std::move(base);
         for (const std::size_t off : offsets) {
             address_.push_back(pyramid_.data() + off);
+        }
+        for (int l = top_; l < root_; ++l) {
+            const auto k = static_cast<std::size_t>(l - top_);
+            const int lp = row_shift_[k];
+            for (std::int64_t y = 0; y < cells(l); ++y) {
+                for (std::int64_t x = 0; x < cells(l); ++x) {
+                    float& v = pyramid_[offsets[k] +
+                                        static_cast<std::size_t>(((y >> 1) << lp) + (x >> 1))];
+                    v = std::max(v, height(l, x, y));
+                }
+            }
         }
     }
     LevelTable(const LevelTable&) = delete;
@@ -136,25 +142,6 @@ class LevelTable {
     }
 
   private:
-    /// height() while the table is being built (the pyramid's levels so far in `offsets`).
-    [[nodiscard]] float lookup(const std::vector<const float*>& base,
-                               const std::vector<std::size_t>& offsets, int level, std::int64_t x,
-                               std::int64_t y) const {
-        if (level > top_) {
-            const auto k = static_cast<std::size_t>(level - top_ - 1);
-            return pyramid_[offsets[k] + static_cast<std::size_t>((y << row_shift_[k]) + x)];
-        }
-        const int sh = shift_ - level;
-        const float* b = base[static_cast<std::size_t>(level) * static_cast<std::size_t>(n_) *
-                                  static_cast<std::size_t>(n_) +
-                              static_cast<std::size_t>((y >> sh) * n_ + (x >> sh))];
-        if (b == nullptr) {
-            return kEmptyHeight;
-        }
-        const std::int64_t mask = (std::int64_t{1} << sh) - 1;
-        return b[static_cast<std::size_t>(((y & mask) << sh) + (x & mask))];
-    }
-
     int n_;
     int top_;
     int shift_;
