@@ -451,11 +451,21 @@ SurveyResult run_survey(const SurveySpec& spec, const SurveyRunConfig& run,
         result.outputs.push_back(run.output_dir / "points.csv");
     }
     if (images) {
-        write_npy_f32(run.output_dir / "range.npy", static_cast<std::size_t>(img_h),
-                      static_cast<std::size_t>(img_w), range_img);
-        write_png_rgb8(run.output_dir / "range.png", img_w, img_h,
-                       range_image_rgb(range_img, img_w, img_h));
-        write_png_gray16(run.output_dir / "labels.png", img_w, img_h, label_img);
+        // The three files at once (PNG compression is most of it: 40 ms of a 110 ms panorama
+        // survey when written one after the other).
+        pool.parallel_for(3, 1, [&](std::size_t kb, std::size_t ke) {
+            for (std::size_t k = kb; k < ke; ++k) {
+                if (k == 0) {
+                    write_png_rgb8(run.output_dir / "range.png", img_w, img_h,
+                                   range_image_rgb(range_img, img_w, img_h));
+                } else if (k == 1) {
+                    write_png_gray16(run.output_dir / "labels.png", img_w, img_h, label_img);
+                } else {
+                    write_npy_f32(run.output_dir / "range.npy", static_cast<std::size_t>(img_h),
+                                  static_cast<std::size_t>(img_w), range_img);
+                }
+            }
+        });
         for (const char* f : {"range.npy", "range.png", "labels.png"}) {
             result.outputs.push_back(run.output_dir / f);
         }

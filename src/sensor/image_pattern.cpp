@@ -56,6 +56,16 @@ ImagePattern::ImagePattern(ImagePatternConfig config) : config_(std::move(config
     for (int v = 0; v < c.height; ++v) {
         row_value_[static_cast<std::size_t>(v)] = linspace_at(z0, -z0, c.height, v);
     }
+    if (scan) {
+        for (const double phi : column_value_) {
+            column_cos_.push_back(std::cos(phi));
+            column_sin_.push_back(std::sin(phi));
+        }
+        for (const double theta : row_value_) {
+            row_cos_.push_back(std::cos(theta));
+            row_sin_.push_back(std::sin(theta));
+        }
+    }
 }
 
 void ImagePattern::generate_pulses(std::uint64_t first, std::size_t count, PulseBatch& out) const {
@@ -68,8 +78,7 @@ void ImagePattern::generate_pulses(std::uint64_t first, std::size_t count, Pulse
         const auto v = static_cast<std::size_t>(pixel % height);
         Vec3d d;
         if (scan) {
-            const double phi = column_value_[u], theta = row_value_[v];
-            d = {std::cos(theta) * std::cos(phi), std::cos(theta) * std::sin(phi), std::sin(theta)};
+            d = {row_cos_[v] * column_cos_[u], row_cos_[v] * column_sin_[u], row_sin_[v]};
         } else {
             d = normalize(Vec3d{1.0, column_value_[u], row_value_[v]});
         }

@@ -61,6 +61,8 @@ class ImagePattern final : public ScanPattern {
     Mat3 orientation_;
     std::vector<double> column_value_;  ///< y_u (pinhole) or phi_u (scan)
     std::vector<double> row_value_;     ///< z_v (pinhole) or theta_v (scan)
+    /// scan: cos and sin of phi_u and theta_v, worked out once (the same values per pulse).
+    std::vector<double> column_cos_, column_sin_, row_cos_, row_sin_;
     std::vector<float> column_angle_deg_;
 };
 
