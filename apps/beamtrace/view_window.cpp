@@ -259,14 +259,18 @@ void run_view_window(ViewSession& session, ViewCamera camera, const RenderOption
             ((key(GLFW_KEY_UP) ? 1.0 : 0.0) - (key(GLFW_KEY_DOWN) ? 1.0 : 0.0)) * turn +
             input.drag_pitch_deg;
         input.drag_yaw_deg = input.drag_pitch_deg = 0.0;
+        // Where the camera will be in a few seconds at this speed: its sections load ahead.
+        constexpr double kLookAheadS = 3.0;
+        const Vec3d ahead = camera.position + move * (dt > 0 ? speed / dt * kLookAheadS : 0.0);
         if (move.x != 0 || move.y != 0 || move.z != 0 || yaw_change != 0 || pitch_change != 0) {
             camera.position += move * speed;
             camera.yaw_deg = std::fmod(camera.yaw_deg + yaw_change + 360.0, 360.0);
             camera.pitch_deg = std::clamp(camera.pitch_deg + pitch_change, -89.9, 89.9);
             dirty = true;
         }
-        // Never waits for sections: adopts finished loads and starts new ones.
-        dirty = session.update(camera.position) || dirty;
+        // Never waits for sections: adopts finished loads and starts new ones, for the
+        // camera's window first, then for the window ahead.
+        dirty = session.update(camera.position, ahead) || dirty;
         const LoadStatus status = session.load_status();
         if (dirty || status.loading || options.frames > 0) {
             const auto start = Clock::now();

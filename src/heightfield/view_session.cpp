@@ -11,6 +11,7 @@ struct ViewSession::Load {
     std::vector<std::pair<std::int64_t, std::int64_t>> keys;
     std::vector<std::unique_ptr<HeightSection>> sections;
     std::size_t bytes = 0;
+    bool ahead = false;  ///< for the window ahead of the camera (update's look-ahead)
     std::atomic<bool> done{false};
     std::atomic<bool> cancel{false};
     std::atomic<std::uint64_t> points_done{0};
@@ -36,7 +37,12 @@ ViewSession::~ViewSession() {
 }
 
 std::size_t ViewSession::budgeted_bytes() const {
-    return grid_->resident_bytes() + (load_ ? load_->bytes : 0) + config_.ingest.block_bytes;
+    std::size_t spare = 0;
+    for (const Spare& s : spares_) {
+        spare += s.section->bytes();
+    }
+    return grid_->resident_bytes() + spare + (load_ ? load_->bytes : 0) +
+           config_.ingest.block_bytes;
 }
 
 void ViewSession::note_peak() {
@@ -56,8 +62,8 @@ LoadStatus ViewSession::load_status() const {
 
 void ViewSession::start_load(std::vector<std::pair<std::int64_t, std::int64_t>> keys) {
     const std::size_t each = config_.field.section_bytes();
-    // The budget holds at every moment: resident + loading + the read buffer.
-    const std::size_t fixed = grid_->resident_bytes() + config_.ingest.block_bytes;
+    // The budget holds at every moment: resident + spares + loading + the read buffer.
+    const std::size_t fixed = budgeted_bytes() - (load_ ? load_->bytes : 0);
     const std::uint64_t budget = config_.field.memory_budget_bytes;
     std::size_t fit = 0;
     while (fit < keys.size() && fixed + (fit + 1) * each <= budget) {
@@ -117,27 +123,59 @@ std::unique_ptr<ViewSession::Load> ViewSession::join_load(const IngestProgress& 
     return load;
 }
 
-int ViewSession::adopt(Load& load) {
+int ViewSession::adopt(Load& load, bool keep_spares) {
     if (load.stats.cancelled) {
         return 0;
     }
     int adopted = 0;
     for (std::size_t i = 0; i < load.keys.size(); ++i) {
-        adopted += grid_->adopt(load.keys[i].first, load.keys[i].second, load.sections[i]) ? 1 : 0;
+        if (grid_->adopt(load.keys[i].first, load.keys[i].second, load.sections[i])) {
+            ++adopted;
+        } else if (keep_spares && load.sections[i]) {
+            spares_.push_back(
+                {load.keys[i].first, load.keys[i].second, std::move(load.sections[i])});
+        }
     }
     if (load.stats.max_intensity > 0) {
         grid_->set_intensity_full_scale(
             std::max(static_cast<double>(load.stats.max_intensity), grid_->intensity_full_scale()));
     }
-    return adopted;  // the sections not adopted are freed with `load`
+    return adopted;  // the sections neither adopted nor kept are freed with `load`
+}
+
+int ViewSession::install_spares() {
+    int installed = 0;
+    for (std::size_t i = 0; i < spares_.size();) {
+        if (grid_->adopt(spares_[i].x, spares_[i].y, spares_[i].section)) {
+            ++installed;
+            spares_.erase(spares_.begin() + static_cast<std::ptrdiff_t>(i));
+        } else {
+            ++i;
+        }
+    }
+    return installed;
+}
+
+void ViewSession::free_spares_for(std::size_t bytes) {
+    const auto half = static_cast<std::int64_t>(grid_->sections_per_side() / 2);
+    const std::int64_t cx = grid_->window_first_x() + half, cy = grid_->window_first_y() + half;
+    const auto distance = [&](const Spare& s) {
+        return (s.x - cx) * (s.x - cx) + (s.y - cy) * (s.y - cy);
+    };
+    std::sort(spares_.begin(), spares_.end(),
+              [&](const Spare& a, const Spare& b) { return distance(a) < distance(b); });
+    while (!spares_.empty() && budgeted_bytes() + bytes > config_.field.memory_budget_bytes) {
+        spares_.pop_back();
+    }
 }
 
 IngestStats ViewSession::move_to(const Vec3d& camera_position, const IngestProgress& progress) {
     std::unique_ptr<Load> load = join_load(progress);
     grid_->place(grid_->plan(camera_position.x, camera_position.y, sources_.bounds(),
                              config_.ingest.block_bytes));
-    const int prefetched = load ? adopt(*load) : 0;
+    const int prefetched = (load ? adopt(*load, false) : 0) + install_spares();
     load.reset();  // free what was not adopted before allocating
+    spares_.clear();
     std::vector<int> slots;
     for (int i = 0; i < static_cast<int>(grid_->admitted().size()); ++i) {
         if (grid_->admitted()[static_cast<std::size_t>(i)] && grid_->loaded(i) == nullptr) {
@@ -168,7 +206,7 @@ void ViewSession::prefetch(const Vec3d& next_position) {
     start_load(std::move(keys));
 }
 
-bool ViewSession::update(const Vec3d& camera_position) {
+bool ViewSession::update(const Vec3d& camera_position, const Vec3d& ahead_position) {
     bool changed = false;
     std::unique_ptr<Load> finished;
     if (load_ && load_->done.load(std::memory_order_acquire)) {
@@ -182,17 +220,43 @@ bool ViewSession::update(const Vec3d& camera_position) {
         changed = true;
     }
     if (finished) {
-        changed = adopt(*finished) > 0 || changed;
+        // Sections the camera has moved away from meanwhile are kept as spares too.
+        changed = adopt(*finished, true) > 0 || changed;
         finished.reset();
     }
-    if (!load_) {
-        std::vector<std::pair<std::int64_t, std::int64_t>> keys;
-        for (const int slot : plan.order) {
-            if (grid_->slot(slot) == nullptr) {
-                keys.emplace_back(grid_->section_x(slot), grid_->section_y(slot));
-            }
+    changed = install_spares() > 0 || changed;
+    std::vector<std::pair<std::int64_t, std::int64_t>> keys;
+    for (const int slot : plan.order) {
+        if (grid_->slot(slot) == nullptr) {
+            keys.emplace_back(grid_->section_x(slot), grid_->section_y(slot));
         }
+    }
+    if (load_) {
+        if (load_->ahead && !keys.empty()) {
+            load_->cancel.store(true);  // the camera's own window comes first
+        }
+        return changed;
+    }
+    if (!keys.empty()) {
+        free_spares_for(keys.size() * config_.field.section_bytes());
         start_load(std::move(keys));
+        return changed;
+    }
+    // Everything the camera's window admits is loaded: load ahead.
+    const SectionGrid::Plan next = grid_->plan(ahead_position.x, ahead_position.y,
+                                               sources_.bounds(), config_.ingest.block_bytes);
+    const int n = grid_->sections_per_side();
+    for (const int slot : next.order) {
+        const std::int64_t x = next.first_x + slot % n, y = next.first_y + slot / n;
+        const bool spare = std::any_of(spares_.begin(), spares_.end(),
+                                       [&](const Spare& s) { return s.x == x && s.y == y; });
+        if (!grid_->holds(x, y) && !spare) {
+            keys.emplace_back(x, y);
+        }
+    }
+    start_load(std::move(keys));
+    if (load_) {
+        load_->ahead = true;
     }
     return changed;
 }
@@ -200,7 +264,7 @@ bool ViewSession::update(const Vec3d& camera_position) {
 void ViewSession::finish_loading() {
     std::unique_ptr<Load> load = join_load({});
     if (load) {
-        adopt(*load);
+        adopt(*load, true);
     }
 }
 

@@ -136,5 +136,47 @@ TEST_F(ViewPrefetch, NonBlockingUpdatesConvergeToTheSynchronousFrame) {
     EXPECT_LE(live.peak_budgeted_bytes(), c.field.memory_budget_bytes);
 }
 
+TEST_F(ViewPrefetch, LookAheadLoadsTheWindowAheadAsSparesAndShowsThemWhenReached) {
+    // Room for the 3 x 3 window and 3 sections more: a column of the window ahead.
+    const ViewSessionConfig c = config(12);
+    ViewSession live(std::span(&path_, 1), c);
+    ViewSession sync(std::span(&path_, 1), c);
+    const Vec3d here = poses_[4];
+    const Vec3d ahead = here + Vec3d{64.0, 0.0, 0.0};  // one section along +x
+    const auto settle = [&](const Vec3d& at, const Vec3d& next) {
+        for (int frames = 0; frames < 2000; ++frames) {
+            static_cast<void>(live.update(at, next));
+            EXPECT_LE(live.budgeted_bytes(), c.field.memory_budget_bytes);
+            if (live.load_status().sections == 0) {
+                return;
+            }
+            std::this_thread::sleep_for(std::chrono::milliseconds(2));
+        }
+        FAIL() << "loads did not settle";
+    };
+    settle(here, ahead);
+    // The window here is complete and the column ahead was loaded aside.
+    static_cast<void>(sync.move_to(here));
+    EXPECT_EQ(live.grid().loaded_sections(), sync.grid().loaded_sections());
+    EXPECT_EQ(live.spare_sections(), 3);
+    // Reaching it shows those sections at once: no load is needed for the new window.
+    EXPECT_TRUE(live.update(ahead, ahead));
+    EXPECT_EQ(live.load_status().sections, 0);
+    static_cast<void>(sync.move_to(ahead));
+    EXPECT_EQ(live.grid().loaded_sections(), sync.grid().loaded_sections());
+    const ViewCamera cam = camera(ahead, 3);
+    std::string first;
+    EXPECT_EQ(test::count_mismatches(live.render(cam, {}), sync.render(cam, {}), first), 0u)
+        << first;
+    // Turning back: the spares (the column left behind) make room for the camera's window,
+    // and the frame converges to the synchronous one within the budget.
+    settle(poses_[1], poses_[1]);
+    static_cast<void>(sync.move_to(poses_[1]));
+    const ViewCamera back = camera(poses_[1], 1);
+    EXPECT_EQ(test::count_mismatches(live.render(back, {}), sync.render(back, {}), first), 0u)
+        << first;
+    EXPECT_LE(live.peak_budgeted_bytes(), c.field.memory_budget_bytes);
+}
+
 }  // namespace
 }  // namespace beamtrace

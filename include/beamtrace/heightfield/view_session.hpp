@@ -69,7 +69,18 @@ class ViewSession {
     /// moves the window to the camera (freeing sections it no longer admits, keeping the
     /// others visible) and, when no load is in flight, starts loading the admitted sections that
     /// are missing. Returns true when the grid changed. Rethrows a background load's error.
-    bool update(const Vec3d& camera_position);
+    bool update(const Vec3d& camera_position) { return update(camera_position, camera_position); }
+
+    /// The same, looking ahead: once the camera's window has every section it admits, loads
+    /// in the background the sections the window at `ahead_position` (where the camera is
+    /// heading) will need, as far as the budget leaves room next to the resident ones. They are
+    /// kept aside as spares (counted in the budget) and shown as soon as the window reaches
+    /// them; spares farthest from the camera are freed first when the camera's own window
+    /// needs the room, and a look-ahead load in flight is cancelled then.
+    bool update(const Vec3d& camera_position, const Vec3d& ahead_position);
+
+    /// Loaded sections kept aside for the window ahead (see update).
+    [[nodiscard]] int spare_sections() const { return static_cast<int>(spares_.size()); }
 
     /// Waits for a background load in flight and adopts what it loaded.
     void finish_loading();
@@ -97,8 +108,20 @@ class ViewSession {
     void start_load(std::vector<std::pair<std::int64_t, std::int64_t>> keys);
     /// Waits for the load in flight (calling `progress` meanwhile) and takes it.
     std::unique_ptr<Load> join_load(const IngestProgress& progress);
-    /// Installs what a finished load filled that the grid admits; frees the rest.
-    int adopt(Load& load);
+    /// Installs what a finished load filled that the grid admits; keeps the rest as spares
+    /// (`keep_spares`) or frees it.
+    int adopt(Load& load, bool keep_spares);
+    /// Installs the spares the grid now admits; returns how many.
+    int install_spares();
+    /// Frees spares, farthest from the window's centre first, until `bytes` more fit in the
+    /// budget next to the resident sections, the spares left and the read buffer.
+    void free_spares_for(std::size_t bytes);
+
+    /// A loaded section outside the window, kept for the window ahead.
+    struct Spare {
+        std::int64_t x = 0, y = 0;
+        std::unique_ptr<HeightSection> section;
+    };
     void note_peak();
 
     ViewSessionConfig config_;
@@ -107,6 +130,7 @@ class ViewSession {
     ThreadPool pool_;
     std::unique_ptr<ThreadPool> loader_pool_;
     std::unique_ptr<Load> load_;
+    std::vector<Spare> spares_;
     std::size_t peak_bytes_ = 0;
 };
 
