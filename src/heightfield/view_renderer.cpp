@@ -257,10 +257,20 @@ void render(const SectionGrid& grid, const ViewCamera& camera, const RenderOptio
     const int tile = std::max(1, options.tile_pixels);
     const int tiles_x = (camera.width + tile - 1) / tile;
     const int tiles_y = (camera.height + tile - 1) / tile;
+    // Four tiles a chunk: each chunk sets up its buffers once (about 2000 chunks a 1920x1080
+    // frame, still plenty to balance two to a few dozen threads).
     pool.parallel_for(
-        static_cast<std::size_t>(tiles_x) * static_cast<std::size_t>(tiles_y), 1,
+        static_cast<std::size_t>(tiles_x) * static_cast<std::size_t>(tiles_y), 4,
         [&](std::size_t begin, std::size_t end) {
+            // Reused by every tile of the chunk: one allocation each, not one per ray.
             SimdBuffers buffers;
+            if (lanes > 1) {
+                const auto most = static_cast<std::size_t>(tile) * static_cast<std::size_t>(tile);
+                buffers.rays.reserve(most);
+                buffers.pixels.reserve(most);
+                buffers.hits.reserve(most);
+                buffers.found.reserve(most);
+            }
             for (std::size_t k = begin; k < end; ++k) {
                 const int x0 = static_cast<int>(k % static_cast<std::size_t>(tiles_x)) * tile;
                 const int y0 = static_cast<int>(k / static_cast<std::size_t>(tiles_x)) * tile;

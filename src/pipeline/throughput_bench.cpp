@@ -18,6 +18,7 @@
 #include "beamtrace/pipeline/survey.hpp"
 #include "beamtrace/scene/demo_scene.hpp"
 #include "beamtrace/scene/scene_builder.hpp"
+#include "beamtrace/sensor/scan_pattern.hpp"
 
 namespace beamtrace {
 namespace {
@@ -157,15 +158,7 @@ SurveyResult run_checked(const SurveySpec& spec, const SurveyRunConfig& run,
 
 ThroughputReport run_throughput_bench(const ThroughputBenchConfig& config,
                                       const std::function<void(const std::string&)>& log) {
-    const auto problems = config.validate();
-    if (!problems.empty()) {
-        std::string message = "bench settings:";
-        for (const auto& p : problems) {
-            message += " " + p + ";";
-        }
-        message.pop_back();
-        throw ConfigError(message);
-    }
+    throw_if_problems("bench settings", config.validate());
     const auto say = [&](const std::string& s) {
         if (log) {
             log(s);
