@@ -1,6 +1,6 @@
 // The three own backends: brute force (the oracle), the report's k-d tree and the binned-SAH BVH
-// (single-level over one mesh, or two-level over instanced meshes); Embree is in
-// embree_backend.cpp.
+// (single-level over one mesh, or two-level over instanced meshes and exact spheres); Embree is
+// in embree_backend.cpp.
 #include <cmath>
 #include <memory>
 #include <span>
@@ -21,10 +21,28 @@ using detail::TraceRay;
 
 constexpr float kPad = 2.0f * 3.0f * std::numeric_limits<float>::epsilon();
 
+/// Visits every exact sphere of `spheres` (may be null) in turn; true when the visitor stops.
+template <class Visitor>
+bool visit_spheres(const std::vector<ExactSphere>* spheres, const TraceRay& ray, Visitor& vis) {
+    if (spheres != nullptr) {
+        for (const ExactSphere& s : *spheres) {
+            if (vis.visit_sphere(s, ray)) {
+                return true;
+            }
+        }
+    }
+    return false;
+}
+
 struct BruteForceTraverser {
     const TriangleMesh* mesh = nullptr;
+    const std::vector<ExactSphere>* spheres = nullptr;  ///< tested one by one before the mesh
+
     template <class Visitor>
     void traverse(const TraceRay& ray, Visitor& vis) const {
+        if (visit_spheres(spheres, ray, vis)) {
+            return;
+        }
         vis.enter(*mesh, ray, 0, false);
         const auto face_count = static_cast<std::uint32_t>(mesh->triangle_count());
         for (std::uint32_t f = 0; f < face_count; ++f) {
@@ -121,7 +139,8 @@ struct BvhTraverser {
     return o;
 }
 
-/// Two-level BVH: a top-level BVH over instance bounds and one BVH per unique mesh.
+/// Two-level BVH: a top-level BVH over instance bounds and exact spheres (prims past the last
+/// instance), and one BVH per unique mesh.
 struct TwoLevelTraverser {
     struct Instance {
         std::uint32_t mesh;
@@ -138,6 +157,9 @@ struct TwoLevelTraverser {
     template <class Visitor>
     void traverse(const TraceRay& r, Visitor& vis) const {
         walk_bvh(top, r, vis, [&](std::uint32_t k) {
+            if (k >= instances.size()) {
+                return vis.visit_sphere(geometry->spheres[k - instances.size()], r);
+            }
             const Instance& inst = instances[k];
             const TriangleMesh& mesh = geometry->meshes[inst.mesh];
             if (inst.identity) {
@@ -161,13 +183,16 @@ TwoLevelTraverser build_two_level(const SceneGeometry& geometry, const BvhBuildC
     for (const auto& mesh : geometry.meshes) {
         t.blas.push_back(build_bvh(mesh, config, pool));
     }
-    std::vector<Aabb> boxes(geometry.instances.size());
+    std::vector<Aabb> boxes(geometry.instances.size() + geometry.spheres.size());
     t.instances.reserve(geometry.instances.size());
     for (std::size_t k = 0; k < geometry.instances.size(); ++k) {
         const MeshInstance& mi = geometry.instances[k];
         boxes[k] = geometry.instance_bounds(k);
         t.instances.push_back({mi.mesh, mi.first_face, mi.to_world.is_identity(),
                                mi.to_world.determinant() < 0.0, mi.to_world.inverse()});
+    }
+    for (std::size_t k = 0; k < geometry.spheres.size(); ++k) {
+        boxes[geometry.instances.size() + k] = SceneGeometry::sphere_bounds(geometry.spheres[k]);
     }
     BvhBuildConfig top_config = config;
     top_config.min_leaf_size = 1;
@@ -179,9 +204,13 @@ TwoLevelTraverser build_two_level(const SceneGeometry& geometry, const BvhBuildC
 struct KdTreeTraverser {
     const TriangleMesh* mesh = nullptr;
     KdTree tree;
+    const std::vector<ExactSphere>* spheres = nullptr;  ///< tested one by one before the tree
 
     template <class Visitor>
     void traverse(const TraceRay& r, Visitor& vis) const {
+        if (visit_spheres(spheres, r, vis)) {
+            return;
+        }
         vis.enter(*mesh, r, 0, false);
         if (tree.prim_ids.empty()) {
             return;
@@ -326,14 +355,16 @@ std::unique_ptr<Backend> make_backend(BackendKind kind, const SceneGeometry& geo
         return std::make_unique<detail::QueryBackend<TwoLevelTraverser, BackendKind::bvh>>(
             build_two_level(geometry, config.bvh, pool));
     }
-    // The oracle backends trace a flattened copy (face IDs are the same).
+    // The oracle backends trace a flattened copy (face IDs are the same) and test the exact
+    // spheres one by one.
     auto flat = std::make_shared<const TriangleMesh>(geometry.flatten());
+    const auto* spheres = geometry.spheres.empty() ? nullptr : &geometry.spheres;
     if (kind == BackendKind::brute) {
         return std::make_unique<detail::QueryBackend<BruteForceTraverser, BackendKind::brute>>(
-            BruteForceTraverser{flat.get()}, flat);
+            BruteForceTraverser{flat.get(), spheres}, flat);
     }
     return std::make_unique<detail::QueryBackend<KdTreeTraverser, BackendKind::kdtree>>(
-        KdTreeTraverser{flat.get(), build_kdtree(*flat, config.kdtree)}, flat);
+        KdTreeTraverser{flat.get(), build_kdtree(*flat, config.kdtree), spheres}, flat);
 }
 
 }  // namespace beamtrace

@@ -12,6 +12,9 @@
 // - Instances placed with the identity are plain geometries of the top scene; other instances are
 //   RTC_GEOMETRY_TYPE_INSTANCE of one committed sub-scene per mesh (triangles never copied). Every
 //   top-level geometry has the ID of its instance, so global face = first_face + primID.
+// - Exact spheres are one RTC_GEOMETRY_TYPE_SPHERE_POINT geometry of the top scene (x, y, z,
+//   radius per sphere), after the instances; primID indexes SceneGeometry::spheres. Embree's
+//   roots are single precision, ours (sphere_roots) double from the same float ray.
 // - All-hits is a context filter that records each candidate and rejects it (valid = 0), then the
 //   hits are sorted by (t, face) and deduplicated as in our own backends. The side is computed
 //   from our own triangle data (normal (b - a) x (c - a) against the ray direction in object
@@ -23,6 +26,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstring>
 #include <limits>
 #include <memory>
@@ -43,6 +47,7 @@ namespace {
 /// Where a top-level geometry's faces go and how to read its side.
 struct Placement {
     const TriangleMesh* mesh = nullptr;
+    const ExactSphere* spheres = nullptr;  ///< set for the sphere geometry (mesh is then null)
     std::uint32_t first_face = 0;
     bool identity = true;
     bool mirrored = false;
@@ -53,7 +58,8 @@ struct Placement {
 struct AllHitsContext {
     RTCIntersectContext ctx;
     const std::vector<Placement>* placements = nullptr;
-    Vec3d dir;  ///< the ray direction in world coordinates
+    TraceRay ray;  ///< the ray in world coordinates
+    Vec3d dir;     ///< its direction in double
     Facing facing = Facing::both;
     std::vector<AllHit>* out = nullptr;
 };
@@ -71,6 +77,19 @@ void record_all_hits(const RTCFilterFunctionNArguments* args) {
         const unsigned prim = RTCHitN_primID(args->hit, args->N, k);
         const Placement& p =
             (*c->placements)[inst_id != RTC_INVALID_GEOMETRY_ID ? inst_id : geom_id];
+        const float t = RTCRayN_tfar(args->ray, args->N, k);
+        if (p.spheres != nullptr) {
+            // Front is the entry: the root of ours nearer to Embree's (a tangent is one front).
+            const ExactSphere& s = p.spheres[prim];
+            float t0 = t, t1 = t;
+            const bool front = !sphere_roots(c->ray, s, t0, t1) ||
+                               std::fabs(t - t0) <= std::fabs(t - t1);
+            if ((c->facing == Facing::front && !front) || (c->facing == Facing::back && front)) {
+                continue;
+            }
+            c->out->push_back({t, s.face, static_cast<std::uint8_t>(front ? 1 : 0)});
+            continue;
+        }
         const Face& f = p.mesh->faces[prim];
         const Vec3d a(p.mesh->vertices[f[0]]), b(p.mesh->vertices[f[1]]),
             cc(p.mesh->vertices[f[2]]);
@@ -80,8 +99,7 @@ void record_all_hits(const RTCFilterFunctionNArguments* args) {
         if ((c->facing == Facing::front && !front) || (c->facing == Facing::back && front)) {
             continue;
         }
-        c->out->push_back({RTCRayN_tfar(args->ray, args->N, k), p.first_face + prim,
-                           static_cast<std::uint8_t>(front ? 1 : 0)});
+        c->out->push_back({t, p.first_face + prim, static_cast<std::uint8_t>(front ? 1 : 0)});
     }
 }
 
@@ -109,7 +127,8 @@ class EmbreeBackend final : public Backend {
 
   public:
     EmbreeBackend(const std::vector<const TriangleMesh*>& meshes,
-                  const std::vector<MeshInstance>& instances, ThreadPool& pool) {
+                  const std::vector<MeshInstance>& instances,
+                  const std::vector<ExactSphere>& spheres, ThreadPool& pool) {
         const std::string config = "threads=" + std::to_string(pool.size()) + ",set_affinity=0";
         device_ = rtcNewDevice(config.c_str());
         if (device_ == nullptr) {
@@ -124,8 +143,15 @@ class EmbreeBackend final : public Backend {
                 "Embree was built with backface culling or without filter functions; the "
                 "embree backend needs both sides and filter callbacks");
         }
+        if (!spheres.empty() &&
+            rtcGetDeviceProperty(device_, RTC_DEVICE_PROPERTY_POINT_GEOMETRY_SUPPORTED) == 0) {
+            release();
+            throw ConfigError(
+                "Embree was built without point geometry, which the scene's exact spheres need; "
+                "use another backend or spheres with subdivisions");
+        }
         try {
-            build(meshes, instances);
+            build(meshes, instances, spheres);
         } catch (...) {
             release();
             throw;
@@ -204,6 +230,7 @@ class EmbreeBackend final : public Backend {
             c.out = &out;
             for (std::size_t i = b; i < e; ++i) {
                 const std::size_t before = out.size();
+                c.ray = make_trace_ray(rays, i);
                 c.dir = rays.direction(i);
                 RTCRayHit rh;
                 set_embree_ray(rh.ray, rays, i);
@@ -241,9 +268,14 @@ class EmbreeBackend final : public Backend {
             hits.u[i] = hits.v[i] = 0.0f;
             return;
         }
-        const unsigned id = inst_id != RTC_INVALID_GEOMETRY_ID ? inst_id : geom_id;
+        const Placement& p = placements_[inst_id != RTC_INVALID_GEOMETRY_ID ? inst_id : geom_id];
         hits.t[i] = t;
-        hits.face[i] = placements_[id].first_face + prim_id;
+        if (p.spheres != nullptr) {
+            hits.face[i] = p.spheres[prim_id].face;
+            hits.u[i] = hits.v[i] = 0.0f;
+            return;
+        }
+        hits.face[i] = p.first_face + prim_id;
         hits.u[i] = u;
         hits.v[i] = v;
     }
@@ -291,8 +323,25 @@ class EmbreeBackend final : public Backend {
         return s;
     }
 
+    /// One sphere-point geometry holding every exact sphere (x, y, z, radius).
+    RTCGeometry sphere_geometry(const std::vector<ExactSphere>& spheres) {
+        RTCGeometry g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_SPHERE_POINT);
+        auto* xyzr = static_cast<float*>(rtcSetNewGeometryBuffer(
+            g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, 4 * sizeof(float), spheres.size()));
+        check("sphere buffer");
+        for (std::size_t k = 0; k < spheres.size(); ++k) {
+            xyzr[4 * k + 0] = spheres[k].center.x;
+            xyzr[4 * k + 1] = spheres[k].center.y;
+            xyzr[4 * k + 2] = spheres[k].center.z;
+            xyzr[4 * k + 3] = spheres[k].radius;
+        }
+        rtcCommitGeometry(g);
+        return g;
+    }
+
     void build(const std::vector<const TriangleMesh*>& meshes,
-               const std::vector<MeshInstance>& instances) {
+               const std::vector<MeshInstance>& instances,
+               const std::vector<ExactSphere>& spheres) {
         meshes_ = meshes;
         vertex_buffers_.assign(meshes.size(), nullptr);
         index_buffers_.assign(meshes.size(), nullptr);
@@ -343,6 +392,15 @@ class EmbreeBackend final : public Backend {
             rtcReleaseGeometry(g);
             check("geometry");
         }
+        if (!spheres.empty()) {
+            Placement p;
+            p.spheres = spheres.data();
+            placements_.push_back(p);
+            RTCGeometry g = sphere_geometry(spheres);
+            rtcAttachGeometryByID(scene_, g, static_cast<unsigned>(instances.size()));
+            rtcReleaseGeometry(g);
+            check("spheres");
+        }
         rtcCommitScene(scene_);
         check("scene build");
     }
@@ -371,7 +429,7 @@ class EmbreeBackend final : public Backend {
     std::vector<RTCScene> scenes_;  // top scene and per-mesh sub-scenes, released at the end
     std::vector<const TriangleMesh*> meshes_;
     std::vector<RTCBuffer> vertex_buffers_, index_buffers_;
-    std::vector<Placement> placements_;  // indexed by top-level geometry ID = instance index
+    std::vector<Placement> placements_;  // by top-level geometry ID: instances, then spheres
     std::size_t copied_meshes_ = 0;
     std::mutex error_mutex_;
     std::string error_;
@@ -382,7 +440,8 @@ class EmbreeBackend final : public Backend {
 std::unique_ptr<Backend> make_embree_backend(const TriangleMesh& mesh, ThreadPool& pool) {
     MeshInstance only;
     return std::make_unique<EmbreeBackend>(std::vector<const TriangleMesh*>{&mesh},
-                                           std::vector<MeshInstance>{only}, pool);
+                                           std::vector<MeshInstance>{only},
+                                           std::vector<ExactSphere>{}, pool);
 }
 
 std::unique_ptr<Backend> make_embree_backend(const SceneGeometry& geometry, ThreadPool& pool) {
@@ -391,7 +450,7 @@ std::unique_ptr<Backend> make_embree_backend(const SceneGeometry& geometry, Thre
     for (const auto& m : geometry.meshes) {
         meshes.push_back(&m);
     }
-    return std::make_unique<EmbreeBackend>(meshes, geometry.instances, pool);
+    return std::make_unique<EmbreeBackend>(meshes, geometry.instances, geometry.spheres, pool);
 }
 
 }  // namespace beamtrace::detail

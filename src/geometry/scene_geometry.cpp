@@ -32,7 +32,7 @@ void SceneGeometry::add_instance(std::uint32_t mesh, const Affine3& to_world) {
     if (!std::isfinite(det) || det == 0.0) {
         throw ConfigError("instance transform is not invertible");
     }
-    const std::uint64_t first = triangle_count();
+    const std::uint64_t first = face_count();
     if (first + meshes[mesh].triangle_count() >= kMaxFaces) {
         throw ConfigError("the scene would exceed 2^32 - 1 triangles (" +
                           std::to_string(first + meshes[mesh].triangle_count()) + ")");
@@ -44,7 +44,7 @@ void SceneGeometry::add_instance(std::uint32_t mesh, const Affine3& to_world) {
 void SceneGeometry::append_flat(const TriangleMesh& part) {
     if (flat_open) {
         TriangleMesh& m = meshes.back();
-        if (triangle_count() + part.triangle_count() >= kMaxFaces ||
+        if (face_count() + part.triangle_count() >= kMaxFaces ||
             m.vertices.size() + part.vertices.size() >= kMaxFaces) {
             throw ConfigError("the scene would exceed 2^32 - 1 triangles or vertices");
         }
@@ -55,12 +55,33 @@ void SceneGeometry::append_flat(const TriangleMesh& part) {
     flat_open = true;
 }
 
-std::uint64_t SceneGeometry::triangle_count() const {
-    if (instances.empty()) {
-        return 0;
+void SceneGeometry::add_sphere(const Vec3f& center, float radius) {
+    if (!(radius > 0.0f) || !std::isfinite(radius) || !std::isfinite(center.x) ||
+        !std::isfinite(center.y) || !std::isfinite(center.z)) {
+        throw ConfigError("an exact sphere needs a finite centre and a positive, finite radius");
     }
-    const auto& last = instances.back();
-    return std::uint64_t{last.first_face} + meshes[last.mesh].triangle_count();
+    const std::uint64_t face = face_count();
+    if (face + 1 >= kMaxFaces) {
+        throw ConfigError("the scene would exceed 2^32 - 1 faces");
+    }
+    spheres.push_back({center, radius, static_cast<std::uint32_t>(face)});
+    flat_open = false;
+}
+
+std::uint64_t SceneGeometry::face_count() const {
+    std::uint64_t n = 0;
+    if (!instances.empty()) {
+        const auto& last = instances.back();
+        n = std::uint64_t{last.first_face} + meshes[last.mesh].triangle_count();
+    }
+    if (!spheres.empty()) {
+        n = std::max<std::uint64_t>(n, std::uint64_t{spheres.back().face} + 1);
+    }
+    return n;
+}
+
+std::uint64_t SceneGeometry::triangle_count() const {
+    return face_count() - spheres.size();
 }
 
 std::uint64_t SceneGeometry::stored_triangle_count() const {
@@ -72,7 +93,14 @@ std::uint64_t SceneGeometry::stored_triangle_count() const {
 }
 
 bool SceneGeometry::is_single_mesh() const {
-    return instances.size() == 1 && instances[0].to_world.is_identity();
+    return instances.size() == 1 && instances[0].to_world.is_identity() && spheres.empty();
+}
+
+const ExactSphere* SceneGeometry::sphere_of_face(std::uint32_t face) const {
+    const auto it = std::lower_bound(
+        spheres.begin(), spheres.end(), face,
+        [](const ExactSphere& s, std::uint32_t f) { return s.face < f; });
+    return it != spheres.end() && it->face == face ? &*it : nullptr;
 }
 
 std::size_t SceneGeometry::instance_of_face(std::uint32_t face) const {
@@ -98,6 +126,13 @@ Vec3d SceneGeometry::normal(std::uint32_t face) const {
     return normalize(cross(t[1] - t[0], t[2] - t[0]));
 }
 
+Vec3d SceneGeometry::normal_at(std::uint32_t face, const Vec3d& point) const {
+    if (const ExactSphere* s = spheres.empty() ? nullptr : sphere_of_face(face)) {
+        return normalize(point - Vec3d(s->center));
+    }
+    return normal(face);
+}
+
 Aabb SceneGeometry::instance_bounds(std::size_t instance) const {
     const MeshInstance& inst = instances[instance];
     const Aabb local = meshes[inst.mesh].bounds();
@@ -120,10 +155,25 @@ Aabb SceneGeometry::instance_bounds(std::size_t instance) const {
     return box;
 }
 
+Aabb SceneGeometry::sphere_bounds(const ExactSphere& sphere) {
+    // Rounded outward like instance_bounds: the float box contains the whole sphere.
+    Aabb box;
+    constexpr float kInf = std::numeric_limits<float>::infinity();
+    for (std::size_t a = 0; a < 3; ++a) {
+        const double c = sphere.center[a], r = sphere.radius;
+        box.lo[a] = std::nextafter(static_cast<float>(c - r), -kInf);
+        box.hi[a] = std::nextafter(static_cast<float>(c + r), kInf);
+    }
+    return box;
+}
+
 Aabb SceneGeometry::bounds() const {
     Aabb box;
     for (std::size_t i = 0; i < instances.size(); ++i) {
         box.extend(instance_bounds(i));
+    }
+    for (const auto& s : spheres) {
+        box.extend(sphere_bounds(s));
     }
     return box;
 }
@@ -137,9 +187,19 @@ TriangleMesh SceneGeometry::flatten() const {
     for (const auto& inst : instances) {
         vertex_count += meshes[inst.mesh].vertices.size();
     }
-    out.vertices.reserve(vertex_count);
-    out.faces.reserve(triangle_count());
+    out.vertices.reserve(vertex_count + spheres.size());
+    out.faces.reserve(face_count());
+    auto sphere = spheres.begin();
+    // Exact spheres with IDs below `face`, as degenerate triangles at their centres.
+    const auto spheres_before = [&](std::uint64_t face) {
+        for (; sphere != spheres.end() && sphere->face < face; ++sphere) {
+            const auto c = static_cast<std::uint32_t>(out.vertices.size());
+            out.vertices.push_back(sphere->center);
+            out.faces.push_back({c, c, c});
+        }
+    };
     for (const auto& inst : instances) {
+        spheres_before(inst.first_face);
         const TriangleMesh& m = meshes[inst.mesh];
         const auto base = static_cast<std::uint32_t>(out.vertices.size());
         for (const auto& v : m.vertices) {
@@ -149,6 +209,7 @@ TriangleMesh SceneGeometry::flatten() const {
             out.faces.push_back({f[0] + base, f[1] + base, f[2] + base});
         }
     }
+    spheres_before(face_count());
     return out;
 }
 

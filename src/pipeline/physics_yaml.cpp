@@ -21,11 +21,7 @@ void number(YamlChecker& c, const YAML::Node& n, const std::string& prefix, cons
 void flag(YamlChecker& c, const YAML::Node& n, const std::string& prefix, const char* key,
           bool& out) {
     if (const auto f = n[key]) {
-        try {
-            out = f.as<bool>();
-        } catch (const YAML::Exception&) {
-            c.error(f, prefix + key, "expected true or false");
-        }
+        c.boolean(f, prefix + key, out);
     }
 }
 

@@ -345,8 +345,9 @@ SurveyResult run_survey(const SurveySpec& spec, const SurveyRunConfig& run,
                     const Vec3d d{w.rays.dx[h], w.rays.dy[h], w.rays.dz[h]};
                     const double t = w.hits.t[h];
                     const ScenePart& part = scene.parts[scene.part_of_face(w.hits.face[h])];
-                    w.sub[j] = make_sub_ray_hit(materials[part.material], t, w.origin[k] + d * t,
-                                                scene.geometry.normal(w.hits.face[h]), d);
+                    const Vec3d at = w.origin[k] + d * t;
+                    w.sub[j] = make_sub_ray_hit(materials[part.material], t, at,
+                                                scene.geometry.normal_at(w.hits.face[h], at), d);
                 }
                 sim->simulate(run.seed, first + k, w.sub, w.response);
                 if (keep_waves) {

@@ -72,11 +72,7 @@ void parse_scanner(YamlChecker& c, const YAML::Node& n, SurveySpec& s) {
         positive(c, n["azimuth_resolution_deg"], "scanner.azimuth_resolution_deg",
                  s.rotating.azimuth_resolution_deg);
         if (const auto cw = n["spin_clockwise"]) {
-            try {
-                s.rotating.spin_clockwise = cw.as<bool>();
-            } catch (const YAML::Exception&) {
-                c.error(cw, "scanner.spin_clockwise", "expected true or false");
-            }
+            c.boolean(cw, "scanner.spin_clockwise", s.rotating.spin_clockwise);
         }
         if (has_duration) {
             s.rotating.duration_s = duration;
@@ -250,11 +246,7 @@ SurveySpec parse_survey_spec(const std::string& yaml_text, const std::filesystem
         for (const auto& [key, flag] :
              {std::pair{"ply", &s.write_ply}, std::pair{"csv", &s.write_csv}}) {
             if (const auto p = o[key]) {
-                try {
-                    *flag = p.as<bool>();
-                } catch (const YAML::Exception&) {
-                    c.error(p, std::string("output.") + key, "expected true or false");
-                }
+                c.boolean(p, std::string("output.") + key, *flag);
             }
         }
         if (o["trajectory_rate_hz"] &&

@@ -255,6 +255,11 @@ ThroughputReport run_throughput_bench(const ThroughputBenchConfig& config,
         say(res.name + ": loading the scene and generating the rays");
         const Scene scene =
             spec.scene_file.empty() ? make_demo_scene() : load_scene_file(spec.scene_file);
+        if (!scene.geometry.spheres.empty()) {
+            throw ConfigError(res.name +
+                              ": the scene has exact spheres, and the Embree limit loop traces "
+                              "triangles only; give its spheres subdivisions to bench it");
+        }
         res.triangles = scene.geometry.triangle_count();
         res.stored_triangles = scene.geometry.stored_triangle_count();
         ThreadPool build_pool(threads.back());

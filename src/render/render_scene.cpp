@@ -64,12 +64,15 @@ RenderScene build_render_scene(const Scene& scene, bool analytic) {
         out.materials.emplace_back();
     }
     std::vector<std::uint8_t> exact(scene.parts.size(), 0);
-    if (analytic) {
-        for (const auto& s : scene.spheres) {
+    for (const auto& s : scene.spheres) {
+        // Exact sphere parts have no triangles: they are spheres whatever `analytic` says.
+        if (analytic || scene.geometry.sphere_of_face(scene.parts.at(s.part).first_face)) {
             exact.at(s.part) = 1;
             out.spheres.push_back(
                 {{s.center_m, s.radius_m}, s.attitude, scene.parts[s.part].material, s.part});
         }
+    }
+    if (analytic) {
         for (const auto& p : scene.planes) {
             exact.at(p.part) = 1;
             out.planes.push_back(

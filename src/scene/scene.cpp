@@ -16,7 +16,7 @@ void Scene::add_part(std::string name, const TriangleMesh& part) {
 }
 
 void Scene::add_part(ScenePart meta, const TriangleMesh& part) {
-    const std::uint64_t first = geometry.triangle_count();
+    const std::uint64_t first = geometry.face_count();
     try {
         geometry.append_flat(part);
     } catch (const ConfigError& e) {
@@ -30,7 +30,7 @@ void Scene::add_part(ScenePart meta, const TriangleMesh& part) {
 
 void Scene::add_instanced_part(ScenePart meta, std::uint32_t mesh,
                                const std::vector<Affine3>& to_world) {
-    const std::uint64_t first = geometry.triangle_count();
+    const std::uint64_t first = geometry.face_count();
     try {
         for (const auto& t : to_world) {
             geometry.add_instance(mesh, t);
@@ -39,8 +39,23 @@ void Scene::add_instanced_part(ScenePart meta, std::uint32_t mesh,
         throw InputError(meta.name, e.what());
     }
     meta.first_face = static_cast<std::uint32_t>(first);
-    meta.face_count = static_cast<std::uint32_t>(geometry.triangle_count() - first);
+    meta.face_count = static_cast<std::uint32_t>(geometry.face_count() - first);
     meta.instance_count = static_cast<std::uint32_t>(to_world.size());
+    parts.push_back(std::move(meta));
+}
+
+void Scene::add_sphere_part(ScenePart meta, const std::vector<ExactSphere>& balls) {
+    const std::uint64_t first = geometry.face_count();
+    try {
+        for (const auto& s : balls) {
+            geometry.add_sphere(s.center, s.radius);
+        }
+    } catch (const ConfigError& e) {
+        throw InputError(meta.name, e.what());
+    }
+    meta.first_face = static_cast<std::uint32_t>(first);
+    meta.face_count = static_cast<std::uint32_t>(balls.size());
+    meta.instance_count = static_cast<std::uint32_t>(balls.size());
     parts.push_back(std::move(meta));
 }
 

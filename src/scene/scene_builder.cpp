@@ -60,6 +60,21 @@ void add_analytic_copy(const PartSpec& p, std::uint32_t part, Scene& scene) {
     }
 }
 
+/// One exact sphere per copy of the part (the spec checked that the scale is uniform), and its
+/// analytic copy for the renderers.
+void add_exact_spheres(const PartSpec& p, ScenePart meta, Scene& scene) {
+    const auto part = static_cast<std::uint32_t>(scene.parts.size());
+    const Quat q = Quat::from_rpy(p.transform.rotate);
+    const double radius_m = p.radius_m * std::fabs(p.transform.scale.x);
+    std::vector<ExactSphere> spheres;
+    for (const Affine3& t : copy_transforms(p)) {
+        const Vec3d c = t.apply_point(p.center_m);
+        spheres.push_back({Vec3f(c), static_cast<float>(radius_m), 0});
+        scene.spheres.push_back({c, radius_m, q, part});
+    }
+    scene.add_sphere_part(std::move(meta), spheres);
+}
+
 }  // namespace
 
 Scene build_scene(const SceneSpec& spec) {
@@ -80,7 +95,7 @@ Scene build_scene(const SceneSpec& spec) {
     }
     std::map<std::filesystem::path, std::uint32_t> stored;  // file -> SceneGeometry mesh index
     for (const auto& p : spec.parts) {
-        if (p.array.copies() == 1) {
+        if (p.array.copies() == 1 && !p.exact_sphere) {
             add_analytic_copy(p, static_cast<std::uint32_t>(scene.parts.size()), scene);
         }
         ScenePart meta;
@@ -91,6 +106,10 @@ Scene build_scene(const SceneSpec& spec) {
             if (spec.materials[i].name == p.material) {
                 meta.material = static_cast<std::uint32_t>(i);
             }
+        }
+        if (p.kind == PartKind::sphere && p.exact_sphere) {
+            add_exact_spheres(p, std::move(meta), scene);
+            continue;
         }
         const bool shared_file = p.kind == PartKind::mesh && uses[p.file] > 1;
         if (!shared_file && p.array.copies() == 1) {

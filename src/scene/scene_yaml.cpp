@@ -104,7 +104,7 @@ void parse_part(Checker& c, const YAML::Node& n, std::size_t index, SceneSpec& s
         if (!s.IsMap()) {
             c.error(s, sk, "expected a map with center_m, radius_m");
         } else {
-            c.only_keys(s, sk, {"center_m", "radius_m", "subdivisions"});
+            c.only_keys(s, sk, {"center_m", "radius_m", "subdivisions", "exact"});
             if (s["center_m"]) {
                 c.vec3(s["center_m"], sk + ".center_m", p.center_m);
             }
@@ -116,6 +116,11 @@ void parse_part(Checker& c, const YAML::Node& n, std::size_t index, SceneSpec& s
             if (s["subdivisions"] &&
                 c.integer(s["subdivisions"], sk + ".subdivisions", 0, 8, sub)) {
                 p.sphere_subdivisions = static_cast<int>(sub);
+            }
+            if (s["exact"] && c.boolean(s["exact"], sk + ".exact", p.exact_sphere) &&
+                p.exact_sphere && s["subdivisions"]) {
+                c.error(s["subdivisions"], sk + ".subdivisions",
+                        "an exact sphere has no subdivisions (drop one of exact, subdivisions)");
             }
         }
     }
@@ -155,6 +160,14 @@ void parse_part(Checker& c, const YAML::Node& n, std::size_t index, SceneSpec& s
     }
     if (const auto a = n["array"]) {
         parse_array(c, a, key + ".array", p.array);
+    }
+    if (p.exact_sphere) {
+        const Vec3d& k = p.transform.scale;
+        if (!(std::fabs(k.x) == std::fabs(k.y) && std::fabs(k.y) == std::fabs(k.z))) {
+            c.error(n["transform"], key + ".transform.scale",
+                    "an exact sphere needs the same scale on every axis (it would be an "
+                    "ellipsoid); use subdivisions instead of exact");
+        }
     }
     if (const auto m = n["material"]) {
         p.material = m.IsScalar() ? m.Scalar() : "";

@@ -141,6 +141,47 @@ output: {trajectory_rate_hz: 0}
     }
 }
 
+TEST(SurveyPhysics, ExactSphereReturnsLieOnItAndFollowItsNormal) {
+    test::TempDir dir;
+    test::write_file(dir / "ball.yaml", R"(parts:
+  - {sphere: {center_m: [3, -2, 1], radius_m: 5, exact: true}, label: 9}
+)");
+    // A row of 9 pixels across 28 degrees from 20 m above the centre: every ray meets the
+    // sphere, at incidence angle acos(-d . n) with n the sphere's outward normal at the point.
+    const auto points = run_and_read(R"(scene: ball.yaml
+scanner: {type: scan, width: 9, height: 1, hfov_deg: 28, vfov_deg: 1}
+platform: {type: static, position_m: [3, -2, 21], rotate_deg: [0, -90, 0]}
+physics:
+  atmosphere: {enabled: false}
+  intensity: {reference_range_m: 10}
+output: {trajectory_rate_hz: 0}
+)",
+                                     dir);
+    ASSERT_EQ(points.size(), 9u);
+    const Vec3d centre{3, -2, 1};
+    const LasPoint* top = nullptr;
+    for (const auto& p : points) {
+        EXPECT_NEAR(length(Vec3d{p.x, p.y, p.z} - centre), 5.0, 1e-3);
+        EXPECT_EQ(p.classification, 9);
+        if (std::hypot(p.x - centre.x, p.y - centre.y) < 1e-6) {
+            top = &p;
+        }
+    }
+    ASSERT_NE(top, nullptr);
+    EXPECT_NEAR(top->z, 6.0, 1e-3);
+    bool oblique = false;
+    for (const auto& p : points) {
+        const Vec3d at = Vec3d{p.x, p.y, p.z} - centre;
+        const Vec3d to_sensor = Vec3d{0, 0, 20} - at;
+        const double range = length(to_sensor);
+        const double cos_incidence = dot(to_sensor, at) / (range * 5.0);
+        const double want = top->intensity * cos_incidence * (15.0 * 15.0) / (range * range);
+        EXPECT_NEAR(p.intensity, want, 0.01 * want + 1.0) << p.x << " " << p.y;
+        oblique = oblique || cos_incidence < 0.6;
+    }
+    EXPECT_TRUE(oblique) << "the row should reach the sphere's flank";
+}
+
 TEST(SurveyPhysics, LibraryMaterialsResolveAtTheSurveyWavelength) {
     test::TempDir dir;
     // Grass is bright at 1064 nm and dark at 1550 nm (leaf water); the survey looks straight

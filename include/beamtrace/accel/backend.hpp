@@ -88,10 +88,12 @@ struct BackendConfig {
                                                     const BackendConfig& config = {});
 
 /// Builds a backend over instanced geometry, which must outlive it. One mesh placed once is
-/// traced exactly as above; otherwise the BVH backend is two-level (a BVH over instances, one per
-/// unique mesh: triangles are never copied), Embree places identity instances directly in its top
-/// scene and the others as Embree instances of one sub-scene per mesh, and brute/kdtree trace a
-/// flattened copy. Face IDs are global (SceneGeometry).
+/// traced exactly as above; otherwise the BVH backend is two-level (a BVH over instances and exact
+/// spheres, one per unique mesh: triangles are never copied), Embree places identity instances
+/// directly in its top scene and the others as Embree instances of one sub-scene per mesh, with
+/// the exact spheres as one native sphere geometry, and brute/kdtree trace a flattened copy and
+/// test the spheres one by one. Face IDs are global (SceneGeometry). A sphere hit has u = v = 0.
+/// Embree's sphere ranges are its single-precision roots, within about 1e-6 relative of ours.
 [[nodiscard]] std::unique_ptr<Backend> make_backend(BackendKind kind, const SceneGeometry& geometry,
                                                     ThreadPool& pool,
                                                     const BackendConfig& config = {});

@@ -45,7 +45,7 @@ struct RenderScene {
 
 /// The one place that reads a Scene: triangles of every part except those with an analytic copy
 /// (Scene::spheres / Scene::planes), which are traced exactly instead (or, with
-/// `analytic = false`, as their triangles).
+/// `analytic = false`, as their triangles; exact sphere parts have none and stay exact).
 [[nodiscard]] RenderScene build_render_scene(const Scene& scene, bool analytic = true);
 
 }  // namespace beamtrace

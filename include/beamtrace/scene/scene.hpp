@@ -21,7 +21,8 @@ struct ScenePart {
     std::uint8_t label = 1;            ///< class written as LAS classification (1 = unclassified)
     std::uint16_t part_id = 0;         ///< written as LAS point source ID
     std::uint32_t material = 0;        ///< index into Scene::materials
-    std::uint32_t instance_count = 0;  ///< instances that make up the part (1 for a flat part)
+    /// Instances that make up the part (1 for a flat part; for exact spheres, the spheres).
+    std::uint32_t instance_count = 0;
 };
 
 struct SceneMaterial {
@@ -33,8 +34,9 @@ struct SceneMaterial {
     std::string library;     ///< physics library material (see MaterialSpec::library)
 };
 
-/// Exact copy of a sphere part (its triangles are in `mesh` too), for renderers that trace
-/// spheres analytically. Only parts with a uniform scale have one.
+/// Exact copy of a sphere part, for renderers that trace spheres analytically: of each copy of an
+/// exact sphere part (PartSpec::exact_sphere), and of other single sphere parts with a uniform
+/// scale (whose triangles are in `geometry` too).
 struct SceneSphere {
     Vec3d center_m{0, 0, 0};
     double radius_m = 1.0;
@@ -71,10 +73,14 @@ struct Scene {
     /// one per transform, without copying its triangles.
     void add_instanced_part(ScenePart meta, std::uint32_t mesh,
                             const std::vector<Affine3>& to_world);
+    /// Appends a part made of exact spheres (their `face` is ignored: each gets the next ID).
+    void add_sphere_part(ScenePart meta, const std::vector<ExactSphere>& balls);
     /// Index of the part that holds `face` (binary search).
     [[nodiscard]] std::size_t part_of_face(std::uint32_t face) const;
-    /// Global face count (instances counted as copies).
+    /// Triangles (instances counted as copies; exact spheres are not triangles).
     [[nodiscard]] std::uint64_t triangle_count() const { return geometry.triangle_count(); }
+    /// Exact spheres (each one face).
+    [[nodiscard]] std::uint64_t sphere_count() const { return geometry.spheres.size(); }
 };
 
 /// Loads and concatenates mesh files in order (face IDs 0-based over all of them).

@@ -64,6 +64,9 @@ struct PartSpec {
     Vec3d center_m{0, 0, 0};      ///< sphere centre
     double radius_m = 1.0;        ///< sphere radius
     int sphere_subdivisions = 4;  ///< icosphere refinement (20 * 4^n triangles)
+    /// Sphere traced exactly (one face ID per copy, native Embree geometry) instead of as an
+    /// icosphere; needs a uniform scale.
+    bool exact_sphere = false;
     Vec3d point_m{0, 0, 0};       ///< plane: a point on it (the centre of the square)
     Vec3d normal{0, 0, 1};        ///< plane: its normal (need not be unit)
     double size_m = 100.0;        ///< plane: side of the square patch

@@ -1,8 +1,9 @@
 // The three ray queries (nearest, any, all), written once over a traverser. A traverser has
 //   template <class Visitor> void traverse(const TraceRay&, Visitor&) const;
 // calls `visitor.enter(mesh, ray, face_offset, mirrored)` for each mesh it descends into, then
-// `visitor.visit(local_face)` for candidate faces, skipping nodes farther than
-// `visitor.limit()`, and stops when `visit` returns true.
+// `visitor.visit(local_face)` for candidate faces, and `visitor.visit_sphere(sphere, world_ray)`
+// for candidate exact spheres, skipping nodes farther than `visitor.limit()`, and stops when a
+// visit returns true.
 #pragma once
 
 #include <algorithm>
@@ -14,6 +15,7 @@
 #include <vector>
 
 #include "beamtrace/accel/backend.hpp"
+#include "beamtrace/geometry/ray_sphere.hpp"
 #include "trace_ray.hpp"
 
 namespace beamtrace::detail {
@@ -21,6 +23,20 @@ namespace beamtrace::detail {
 /// Rays per work item: 1024 for large batches, smaller so small batches still use every thread.
 [[nodiscard]] inline std::size_t ray_grain(std::size_t rays, const ThreadPool& pool) {
     return std::clamp<std::size_t>(rays / (8 * std::size_t{pool.size()}), 16, 1024);
+}
+
+/// Where the ray's line meets an exact sphere, as floats: the roots are worked out in double
+/// from the float ray (the same arithmetic in every backend). False when the line misses.
+[[nodiscard]] inline bool sphere_roots(const TraceRay& r, const ExactSphere& s, float& t_enter,
+                                       float& t_exit) {
+    const auto iv = intersect_sphere_line(Vec3d(r.org), Vec3d(r.dir),
+                                          Sphere{Vec3d(s.center), static_cast<double>(s.radius)});
+    if (!iv) {
+        return false;
+    }
+    t_enter = static_cast<float>(iv->t_enter);
+    t_exit = static_cast<float>(iv->t_exit);
+    return true;
 }
 
 /// What every visitor keeps of the mesh it is in: a traverser calls enter() before it visits
@@ -63,6 +79,19 @@ class NearestVisitor : public VisitorBase {
         }
         return false;
     }
+    bool visit_sphere(const ExactSphere& s, const TraceRay& world) {
+        float t0 = 0, t1 = 0;
+        if (!sphere_roots(world, s, t0, t1)) {
+            return false;
+        }
+        const float t = t0 >= world.tmin ? t0 : t1;
+        if (t >= world.tmin && t <= best_t_ && (t < best_t_ || s.face < face_)) {
+            best_t_ = t;
+            face_ = s.face;
+            u_ = v_ = 0.0f;
+        }
+        return false;
+    }
     void store(HitBatch& hits, std::size_t i) const {
         if (face_ != kNoFace) {
             hits.t[i] = best_t_;
@@ -91,6 +120,12 @@ class AnyVisitor : public VisitorBase {
         hit_ = test(local_face, tmax_, Facing::both, h);
         return hit_;
     }
+    bool visit_sphere(const ExactSphere& s, const TraceRay& world) {
+        float t0 = 0, t1 = 0;
+        hit_ = sphere_roots(world, s, t0, t1) &&
+               ((t0 >= world.tmin && t0 <= tmax_) || (t1 >= world.tmin && t1 <= tmax_));
+        return hit_;
+    }
     [[nodiscard]] bool hit() const { return hit_; }
 
   private:
@@ -104,14 +139,17 @@ struct AllHit {
     std::uint8_t front;
 };
 
-/// Sorts the hits of one ray, out[first..], by (t, face) and drops duplicates (a face met twice).
+/// Sorts the hits of one ray, out[first..], by (t, face) and drops duplicates (a face met twice at
+/// the same range, from two leaves; a sphere's entry and exit differ in range).
 inline void sort_unique_hits(std::vector<AllHit>& out, std::size_t first) {
     const auto b = out.begin() + static_cast<std::ptrdiff_t>(first);
     std::sort(b, out.end(), [](const AllHit& x, const AllHit& y) {
         return x.t < y.t || (x.t == y.t && x.face < y.face);
     });
     out.erase(std::unique(b, out.end(),
-                          [](const AllHit& x, const AllHit& y) { return x.face == y.face; }),
+                          [](const AllHit& x, const AllHit& y) {
+                              return x.face == y.face && x.t == y.t;
+                          }),
               out.end());
 }
 
@@ -150,6 +188,21 @@ class AllVisitor : public VisitorBase {
         if (test(local_face, tmax_, facing, h)) {
             const bool front = h.front != mirrored_;
             out_.push_back({h.t, offset_ + local_face, static_cast<std::uint8_t>(front ? 1 : 0)});
+        }
+        return false;
+    }
+    /// A sphere's entry is its front side and its exit its back (one front hit when tangent).
+    bool visit_sphere(const ExactSphere& s, const TraceRay& world) {
+        float t0 = 0, t1 = 0;
+        if (!sphere_roots(world, s, t0, t1)) {
+            return false;
+        }
+        const auto in_range = [&](float t) { return t >= world.tmin && t <= tmax_; };
+        if (facing_ != Facing::back && in_range(t0)) {
+            out_.push_back({t0, s.face, 1});
+        }
+        if (facing_ != Facing::front && in_range(t1) && t1 != t0) {
+            out_.push_back({t1, s.face, 0});
         }
         return false;
     }

@@ -84,6 +84,16 @@ class YamlChecker {
         return ok;
     }
 
+    bool boolean(const YAML::Node& node, const std::string& key, bool& out) {
+        try {
+            out = node.as<bool>();
+            return true;
+        } catch (const YAML::Exception&) {
+            error(node, key, "expected true or false");
+            return false;
+        }
+    }
+
     bool integer(const YAML::Node& node, const std::string& key, long lo, long hi, long& out) {
         double v = 0;
         if (!number(node, key, v)) {
