@@ -82,8 +82,8 @@ void record_all_hits(const RTCFilterFunctionNArguments* args) {
             // Front is the entry: the root of ours nearer to Embree's (a tangent is one front).
             const ExactSphere& s = p.spheres[prim];
             float t0 = t, t1 = t;
-            const bool front = !sphere_roots(c->ray, s, t0, t1) ||
-                               std::fabs(t - t0) <= std::fabs(t - t1);
+            const bool front =
+                !sphere_roots(c->ray, s, t0, t1) || std::fabs(t - t0) <= std::fabs(t - t1);
             if ((c->facing == Facing::front && !front) || (c->facing == Facing::back && front)) {
                 continue;
             }

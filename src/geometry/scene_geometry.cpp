@@ -97,9 +97,9 @@ bool SceneGeometry::is_single_mesh() const {
 }
 
 const ExactSphere* SceneGeometry::sphere_of_face(std::uint32_t face) const {
-    const auto it = std::lower_bound(
-        spheres.begin(), spheres.end(), face,
-        [](const ExactSphere& s, std::uint32_t f) { return s.face < f; });
+    const auto it =
+        std::lower_bound(spheres.begin(), spheres.end(), face,
+                         [](const ExactSphere& s, std::uint32_t f) { return s.face < f; });
     return it != spheres.end() && it->face == face ? &*it : nullptr;
 }
 

@@ -18,9 +18,9 @@ struct ScenePart {
     std::string name;              ///< file path or procedural part name
     std::uint32_t first_face = 0;  ///< global face IDs [first_face, first_face + face_count)
     std::uint32_t face_count = 0;
-    std::uint8_t label = 1;            ///< class written as LAS classification (1 = unclassified)
-    std::uint16_t part_id = 0;         ///< written as LAS point source ID
-    std::uint32_t material = 0;        ///< index into Scene::materials
+    std::uint8_t label = 1;      ///< class written as LAS classification (1 = unclassified)
+    std::uint16_t part_id = 0;   ///< written as LAS point source ID
+    std::uint32_t material = 0;  ///< index into Scene::materials
     /// Instances that make up the part (1 for a flat part; for exact spheres, the spheres).
     std::uint32_t instance_count = 0;
 };

@@ -67,9 +67,9 @@ struct PartSpec {
     /// Sphere traced exactly (one face ID per copy, native Embree geometry) instead of as an
     /// icosphere; needs a uniform scale.
     bool exact_sphere = false;
-    Vec3d point_m{0, 0, 0};       ///< plane: a point on it (the centre of the square)
-    Vec3d normal{0, 0, 1};        ///< plane: its normal (need not be unit)
-    double size_m = 100.0;        ///< plane: side of the square patch
+    Vec3d point_m{0, 0, 0};  ///< plane: a point on it (the centre of the square)
+    Vec3d normal{0, 0, 1};   ///< plane: its normal (need not be unit)
+    double size_m = 100.0;   ///< plane: side of the square patch
     PartTransform transform;
     PartArray array;  ///< more than one copy makes the part instanced
     std::string material = "default";

@@ -146,10 +146,9 @@ inline void sort_unique_hits(std::vector<AllHit>& out, std::size_t first) {
     std::sort(b, out.end(), [](const AllHit& x, const AllHit& y) {
         return x.t < y.t || (x.t == y.t && x.face < y.face);
     });
-    out.erase(std::unique(b, out.end(),
-                          [](const AllHit& x, const AllHit& y) {
-                              return x.face == y.face && x.t == y.t;
-                          }),
+    out.erase(std::unique(
+                  b, out.end(),
+                  [](const AllHit& x, const AllHit& y) { return x.face == y.face && x.t == y.t; }),
               out.end());
 }
 
