@@ -33,8 +33,10 @@ int run(const SurveyOptions& o) {
         spec, run, [&](std::size_t done, std::size_t total) { bar.update(done, total); });
     bar.finish();
     if (!o.quiet) {
-        std::printf("scene: %zu triangles; pulses: %llu; points: %llu\n", r.triangles,
-                    static_cast<unsigned long long>(r.pulses),
+        const std::string spheres =
+            r.spheres > 0 ? ", " + std::to_string(r.spheres) + " exact spheres" : "";
+        std::printf("scene: %zu triangles%s; pulses: %llu; points: %llu\n", r.triangles,
+                    spheres.c_str(), static_cast<unsigned long long>(r.pulses),
                     static_cast<unsigned long long>(r.points));
         std::printf("time: build %.3f s, survey %.3f s (%.2f M pulses/s, %.2f M points/s)\n",
                     r.build_s, r.survey_s,

@@ -228,6 +228,7 @@ SurveyResult run_survey(const SurveySpec& spec, const SurveyRunConfig& run,
         sim ? static_cast<std::size_t>(sim->config().max_returns) : std::size_t{1};
 
     result.triangles = scene.triangle_count();
+    result.spheres = scene.sphere_count();
     result.pulses = run.max_pulses > 0 ? std::min(pattern->pulse_count(), run.max_pulses)
                                        : pattern->pulse_count();
 

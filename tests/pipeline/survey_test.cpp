@@ -247,5 +247,39 @@ TEST(SurveyExamples, AllRunAndPassTheIndependentValidator) {
     }
 }
 
+TEST(SurveyExamples, SphereTargetPointsLieOnTheirSpheres) {
+    // The tripod scan of six exact 0.1 m spheres (five in a row 8 m north, one 19 m away) with
+    // 2 mm range noise: every target point is within 5 sigma of its sphere's surface, the near
+    // targets get about a hundred points each, and the far one fewer.
+    test::TempDir dir;
+    const auto points = read_las_points(run_example("tripod_spheres.yaml", dir));
+    std::vector<Vec3d> centres;
+    for (int k = 0; k < 5; ++k) {
+        centres.push_back({-8.0 + 4.0 * k, 8.0, 1.5});
+    }
+    centres.push_back({12.0, -15.0, 1.2});
+    std::vector<int> per_target(centres.size(), 0);
+    for (const auto& p : points) {
+        if (p.classification != 64) {
+            continue;
+        }
+        std::size_t best = 0;
+        for (std::size_t k = 1; k < centres.size(); ++k) {
+            if (length(Vec3d{p.x, p.y, p.z} - centres[k]) <
+                length(Vec3d{p.x, p.y, p.z} - centres[best])) {
+                best = k;
+            }
+        }
+        EXPECT_NEAR(length(Vec3d{p.x, p.y, p.z} - centres[best]), 0.1, 0.011)
+            << p.x << " " << p.y << " " << p.z;
+        ++per_target[best];
+    }
+    for (std::size_t k = 0; k < 5; ++k) {
+        EXPECT_GT(per_target[k], 40) << "target " << k;
+        EXPECT_GT(per_target[k], per_target[5]) << "target " << k;
+    }
+    EXPECT_GT(per_target[5], 5);
+}
+
 }  // namespace
 }  // namespace beamtrace

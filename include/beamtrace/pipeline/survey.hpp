@@ -75,6 +75,7 @@ struct SurveyResult {
     std::uint64_t pulses = 0;
     std::uint64_t points = 0;
     std::size_t triangles = 0;
+    std::size_t spheres = 0;  ///< exact spheres
     double build_s = 0, survey_s = 0;
     std::vector<std::filesystem::path> outputs;
 };
