@@ -328,7 +328,12 @@ class EmbreeBackend final : public Backend {
         RTCGeometry g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_SPHERE_POINT);
         auto* xyzr = static_cast<float*>(rtcSetNewGeometryBuffer(
             g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, 4 * sizeof(float), spheres.size()));
-        check("sphere buffer");
+        if (xyzr == nullptr) {
+            rtcReleaseGeometry(g);
+            check("sphere buffer");
+            throw ConfigError("Embree: no buffer for " + std::to_string(spheres.size()) +
+                              " spheres");
+        }
         for (std::size_t k = 0; k < spheres.size(); ++k) {
             xyzr[4 * k + 0] = spheres[k].center.x;
             xyzr[4 * k + 1] = spheres[k].center.y;
