@@ -23,6 +23,7 @@
 #include <unistd.h>
 
 #include "beamtrace/core/error.hpp"
+#include "beamtrace/core/ray_batch.hpp"
 #include "beamtrace/geometry/triangle_mesh.hpp"
 
 namespace beamtrace::test {
@@ -227,6 +228,33 @@ inline TriangleMesh make_grid(int n, float z = 0.0f) {
         }
     }
     return m;
+}
+
+/// Rays from a sphere around box `b` (1.5 x its diagonal) aimed at random points of the box (most
+/// hit); with `stray_every` = k > 0, every k-th ray goes in a random direction instead (many miss).
+inline RayBatch rays_toward(const Aabb& b, std::size_t n, unsigned seed,
+                            std::size_t stray_every = 0) {
+    const Vec3d c(b.center());
+    const double radius = 1.5 * length(Vec3d(b.extent()));
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<double> uni(0.0, 1.0);
+    std::normal_distribution<double> g(0.0, 1.0);
+    RayBatch rays;
+    rays.reserve(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        const Vec3d o = c + normalize(Vec3d{g(rng), g(rng), g(rng)}) * radius;
+        Vec3d d;
+        if (stray_every > 0 && i % stray_every == stray_every - 1) {
+            d = normalize(Vec3d{g(rng), g(rng), g(rng)});
+        } else {
+            const Vec3d target{b.lo.x + uni(rng) * (b.hi.x - b.lo.x),
+                               b.lo.y + uni(rng) * (b.hi.y - b.lo.y),
+                               b.lo.z + uni(rng) * (b.hi.z - b.lo.z)};
+            d = normalize(target - o);
+        }
+        rays.push_back(o, d);
+    }
+    return rays;
 }
 
 /// Scale factor for heavy tests: 1 in optimised builds, smaller under sanitizers.

@@ -16,28 +16,7 @@ namespace {
 /// Rays from a sphere around the mesh aimed at random points of its bounding box (most hit),
 /// plus 10 % in random directions (many miss).
 RayBatch random_rays(const TriangleMesh& mesh, std::size_t n, unsigned seed) {
-    const Aabb b = mesh.bounds();
-    const Vec3d c(b.center());
-    const double radius = 1.5 * length(Vec3d(b.extent()));
-    std::mt19937_64 rng(seed);
-    std::uniform_real_distribution<double> uni(0.0, 1.0);
-    std::normal_distribution<double> g(0.0, 1.0);
-    RayBatch rays;
-    rays.reserve(n);
-    for (std::size_t i = 0; i < n; ++i) {
-        const Vec3d o = c + normalize(Vec3d{g(rng), g(rng), g(rng)}) * radius;
-        Vec3d d;
-        if (i % 10 == 9) {
-            d = normalize(Vec3d{g(rng), g(rng), g(rng)});
-        } else {
-            const Vec3d target{b.lo.x + uni(rng) * (b.hi.x - b.lo.x),
-                               b.lo.y + uni(rng) * (b.hi.y - b.lo.y),
-                               b.lo.z + uni(rng) * (b.hi.z - b.lo.z)};
-            d = normalize(target - o);
-        }
-        rays.push_back(o, d);
-    }
-    return rays;
+    return test::rays_toward(mesh.bounds(), n, seed, 10);
 }
 
 /// Rays aimed exactly at every vertex and at edge points of the mesh.

@@ -45,20 +45,7 @@ SceneGeometry mixed_scene() {
 }
 
 RayBatch rays_at(const Aabb& b, std::size_t n, unsigned seed) {
-    const Vec3d c(b.center());
-    const double radius = 1.5 * length(Vec3d(b.extent()));
-    std::mt19937_64 rng(seed);
-    std::uniform_real_distribution<double> uni(0.0, 1.0);
-    std::normal_distribution<double> g(0.0, 1.0);
-    RayBatch rays;
-    for (std::size_t i = 0; i < n; ++i) {
-        const Vec3d o = c + normalize(Vec3d{g(rng), g(rng), g(rng)}) * radius;
-        const Vec3d target{b.lo.x + uni(rng) * (b.hi.x - b.lo.x),
-                           b.lo.y + uni(rng) * (b.hi.y - b.lo.y),
-                           b.lo.z + uni(rng) * (b.hi.z - b.lo.z)};
-        rays.push_back(o, normalize(target - o));
-    }
-    return rays;
+    return test::rays_toward(b, n, seed);
 }
 
 /// How far ray i's line passes from the surface of the nearest exact sphere, relative to its

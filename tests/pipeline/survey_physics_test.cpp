@@ -38,6 +38,21 @@ output: {trajectory_rate_hz: 0}
 )";
 }
 
+/// A row of 9 pixels across `hfov_deg` looking straight down from `position_m`, with
+/// intensities (a white panel at 10 m is full scale) and no atmosphere.
+std::string nadir_row_survey(const std::string& scene, int hfov_deg,
+                             const std::string& position_m) {
+    return "scene: " + scene +
+           "\nscanner: {type: scan, width: 9, height: 1, hfov_deg: " + std::to_string(hfov_deg) +
+           ", vfov_deg: 1}\nplatform: {type: static, position_m: " + position_m +
+           R"(, rotate_deg: [0, -90, 0]}
+physics:
+  atmosphere: {enabled: false}
+  intensity: {reference_range_m: 10}
+output: {trajectory_rate_hz: 0}
+)";
+}
+
 TEST(SurveyPhysics, StepEdgeStraddledByTheFootprintGivesTwoReturns) {
     test::TempDir dir;
     test::write_file(dir / "step.yaml", kStep);
@@ -114,15 +129,7 @@ TEST(SurveyPhysics, LambertianIntensityFollowsCosineOverRangeSquared) {
     // A row of 9 pixels across 120 degrees, looking down from 10 m: pixel k sees the floor at
     // angle theta from the vertical, range 10 / cos(theta) and incidence theta, so the power is
     // proportional to cos(theta) / R^2 = cos^3(theta) / 100.
-    const auto points = run_and_read(R"(scene: floor.yaml
-scanner: {type: scan, width: 9, height: 1, hfov_deg: 120, vfov_deg: 1}
-platform: {type: static, position_m: [0, 0, 0], rotate_deg: [0, -90, 0]}
-physics:
-  atmosphere: {enabled: false}
-  intensity: {reference_range_m: 10}
-output: {trajectory_rate_hz: 0}
-)",
-                                     dir);
+    const auto points = run_and_read(nadir_row_survey("floor.yaml", 120, "[0, 0, 0]"), dir);
     ASSERT_EQ(points.size(), 9u);
     const LasPoint* centre = nullptr;
     for (const auto& p : points) {
@@ -148,15 +155,7 @@ TEST(SurveyPhysics, ExactSphereReturnsLieOnItAndFollowItsNormal) {
 )");
     // A row of 9 pixels across 28 degrees from 20 m above the centre: every ray meets the
     // sphere, at incidence angle acos(-d . n) with n the sphere's outward normal at the point.
-    const auto points = run_and_read(R"(scene: ball.yaml
-scanner: {type: scan, width: 9, height: 1, hfov_deg: 28, vfov_deg: 1}
-platform: {type: static, position_m: [3, -2, 21], rotate_deg: [0, -90, 0]}
-physics:
-  atmosphere: {enabled: false}
-  intensity: {reference_range_m: 10}
-output: {trajectory_rate_hz: 0}
-)",
-                                     dir);
+    const auto points = run_and_read(nadir_row_survey("ball.yaml", 28, "[3, -2, 21]"), dir);
     ASSERT_EQ(points.size(), 9u);
     const Vec3d centre{3, -2, 1};
     const LasPoint* top = nullptr;
