@@ -159,6 +159,16 @@ TEST(Cli, BenchMeasuresTheLimitBackendsAndSurveysOnTheSameRays) {
     const auto huge = run("bench " + big + " --quiet");
     EXPECT_EQ(huge.exit_code, 2) << huge.out;
     EXPECT_NE(huge.out.find("use --pulses"), std::string::npos) << huge.out;
+    // A scene with exact spheres: refused at once (the limit loop is given triangles only).
+    const std::string spheres =
+        std::string(BEAMTRACE_EXAMPLES_DIR) + "/surveys/tripod_spheres.yaml";
+    const auto refused = run("bench " + spheres + " --quiet --output " + (dir / "s.md").string());
+    EXPECT_EQ(refused.exit_code, 2) << refused.out;
+    EXPECT_NE(refused.out.find("tripod_spheres.yaml: part 'targets' is an exact sphere"),
+              std::string::npos)
+        << refused.out;
+    EXPECT_EQ(count_lines(refused.out), 1u) << refused.out;
+    EXPECT_FALSE(std::filesystem::exists(dir / "s.md"));
 }
 
 TEST(Cli, BadInputsGiveOneLineErrorExitCode2AndNoOutputs) {
