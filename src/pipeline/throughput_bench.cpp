@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <optional>
 #include <stdexcept>
@@ -19,6 +20,7 @@
 #include "beamtrace/scene/demo_scene.hpp"
 #include "beamtrace/scene/scene_builder.hpp"
 #include "beamtrace/sensor/scan_pattern.hpp"
+#include "pipeline/detail/child_run.hpp"
 
 namespace beamtrace {
 namespace {
@@ -154,6 +156,41 @@ SurveyResult run_checked(const SurveySpec& spec, const SurveyRunConfig& run,
     return sr;
 }
 
+/// What a memory run gives: the survey's counts, its survey-stage time and the peak RSS.
+struct MemoryRun {
+    std::uint64_t pulses = 0, points = 0;
+    double survey_s = 0.0;
+    std::size_t peak_rss_bytes = 0;
+};
+
+/// The survey in this process: the peak RSS counts from what the process holds after freeing
+/// what it can.
+MemoryRun memory_run_here(const SurveySpec& spec, const SurveyRunConfig& run,
+                          const std::string& name) {
+    trim_free_memory();
+    reset_peak_rss();
+    const SurveyResult sr = run_checked(spec, run, name);
+    return {sr.pulses, sr.points, sr.survey_s, peak_rss_bytes()};
+}
+
+/// The survey in a forked child: its peak RSS is the child's.
+MemoryRun memory_run_in_child(const SurveySpec& spec, const SurveyRunConfig& run,
+                              const std::string& name) {
+    const detail::ChildRun child = detail::run_in_child([&] {
+        const SurveyResult sr = run_checked(spec, run, name);
+        MemoryRun m{sr.pulses, sr.points, sr.survey_s, 0};
+        return std::string(reinterpret_cast<const char*>(&m), sizeof m);
+    });
+    MemoryRun m;
+    if (child.payload.size() != sizeof m) {
+        throw std::runtime_error("bench: " + name + ": the memory run's child sent " +
+                                 std::to_string(child.payload.size()) + " bytes");
+    }
+    std::memcpy(&m, child.payload.data(), sizeof m);
+    m.peak_rss_bytes = child.peak_rss_bytes;
+    return m;
+}
+
 }  // namespace
 
 ThroughputReport run_throughput_bench(const ThroughputBenchConfig& config,
@@ -233,37 +270,49 @@ ThroughputReport run_throughput_bench(const ThroughputBenchConfig& config,
     ThroughputReport report;
     report.machine = machine_description();
     report.backend = std::string(to_string(default_backend_kind()));
-    for (const SurveySpec& spec : specs) {
-        SurveyBenchResult res;
-        res.name = spec.source.stem().string();
-        res.runs.resize(threads.size());
+    const auto run_config = [&](const SurveyBenchResult& res) {
         SurveyRunConfig run;
         run.output_dir = scratch / res.name;
         run.seed = config.seed;
         run.max_pulses = config.max_pulses;
+        return run;
+    };
 
-        // 1. Memory: each thread count end to end once, with nothing of the benchmark's own in
-        //    memory, so the peak RSS is the survey's (the default backend, as `beamtrace survey`).
+    // 1. Memory: every survey end to end once per thread count (the default backend, as
+    //    `beamtrace survey`), before anything else runs. Each run is a child process of its own
+    //    when this process has one thread (as the CLI has here), so its peak RSS is the survey's
+    //    alone; otherwise it runs here, after freeing what it can.
+    report.memory_isolated = detail::process_is_single_threaded();
+    for (const SurveySpec& spec : specs) {
+        SurveyBenchResult& res = report.surveys.emplace_back();
+        res.name = spec.source.stem().string();
+        res.runs.resize(threads.size());
+        SurveyRunConfig run = run_config(res);
         for (std::size_t ti = 0; ti < threads.size(); ++ti) {
             ThreadFigures& fig = res.runs[ti];
             fig.threads = threads[ti];
             run.threads = fig.threads;
             say(res.name + ", " + std::to_string(fig.threads) + " thread(s): end to end, memory");
-            trim_free_memory();  // what earlier surveys freed does not count
-            reset_peak_rss();
             const auto t0 = Clock::now();
-            const SurveyResult sr = run_checked(spec, run, res.name);
-            fig.peak_rss_bytes = peak_rss_bytes();
-            fig.load_build_s = seconds_since(t0) - sr.survey_s;
-            if (ti > 0 && sr.points != res.points) {
+            const MemoryRun m = report.memory_isolated ? memory_run_in_child(spec, run, res.name)
+                                                       : memory_run_here(spec, run, res.name);
+            fig.peak_rss_bytes = m.peak_rss_bytes;
+            fig.load_build_s = seconds_since(t0) - m.survey_s;
+            if (ti > 0 && m.points != res.points) {
                 throw std::runtime_error("bench check failed: " + res.name + ": " +
-                                         std::to_string(sr.points) + " points with " +
+                                         std::to_string(m.points) + " points with " +
                                          std::to_string(fig.threads) + " threads, " +
                                          std::to_string(res.points) + " before");
             }
-            res.pulses = sr.pulses;
-            res.points = sr.points;
+            res.pulses = m.pulses;
+            res.points = m.points;
         }
+    }
+
+    for (std::size_t si = 0; si < specs.size(); ++si) {
+        const SurveySpec& spec = specs[si];
+        SurveyBenchResult& res = report.surveys[si];
+        SurveyRunConfig run = run_config(res);
 
         // 2. The tracers, on the survey's own rays, each checked before it is timed.
         say(res.name + ": loading the scene and generating the rays");
@@ -348,7 +397,6 @@ ThroughputReport run_throughput_bench(const ThroughputBenchConfig& config,
             }
         }
         std::filesystem::remove_all(run.output_dir);
-        report.surveys.push_back(std::move(res));
     }
     return report;
 }
@@ -356,6 +404,10 @@ ThroughputReport run_throughput_bench(const ThroughputBenchConfig& config,
 std::string format_throughput_report(const ThroughputReport& report) {
     std::string out = "Machine: " + report.machine + ". End-to-end surveys use the " +
                       report.backend + " backend; every figure is the best of the timed runs.\n";
+    out += report.memory_isolated
+               ? "Peak RSS: each end-to-end run in a child process of its own (the survey's "
+                 "alone).\n"
+               : "Peak RSS: measured in this process, on top of what it already held.\n";
     for (const auto& s : report.surveys) {
         out += "\n### " + s.name + ": " + std::to_string(s.triangles) + " triangles";
         if (s.stored_triangles != s.triangles) {

@@ -125,6 +125,10 @@ TEST(Cli, BenchMeasuresTheLimitBackendsAndSurveysOnTheSameRays) {
                        (dir / "report.md").string());
     ASSERT_EQ(r.exit_code, 0) << r.out;
     EXPECT_EQ(test::read_file(dir / "report.md"), r.out);
+    // The CLI is single-threaded when the bench starts: each memory run is a child of its own.
+    EXPECT_NE(r.out.find("Peak RSS: each end-to-end run in a child process of its own"),
+              std::string::npos)
+        << r.out;
     // "### car_hdl64: 80182 triangles, 20000 pulses, 20000 rays, H hits, H points"
     const auto head = r.out.find("### car_hdl64: ");
     ASSERT_NE(head, std::string::npos) << r.out;

@@ -60,6 +60,10 @@ struct SurveyBenchResult {
 struct ThroughputReport {
     std::string machine;  ///< CPU model and hardware threads
     std::string backend;  ///< the backend of the end-to-end surveys (the default)
+    /// True when each end-to-end memory run ran in a child process of its own (its peak RSS is
+    /// the survey's alone); false when it ran in this process (a process with other threads),
+    /// on top of what the process held.
+    bool memory_isolated = false;
     std::vector<SurveyBenchResult> surveys;
 };
 
