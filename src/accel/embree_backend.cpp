@@ -14,7 +14,8 @@
 //   top-level geometry has the ID of its instance, so global face = first_face + primID.
 // - Exact spheres are one RTC_GEOMETRY_TYPE_SPHERE_POINT geometry of the top scene (x, y, z,
 //   radius per sphere), after the instances; primID indexes SceneGeometry::spheres. Embree's
-//   roots are single precision, ours (sphere_roots) double from the same float ray.
+//   roots are single precision, ours (sphere_roots) double from the same float ray. In all-hits
+//   a sphere's side comes from Embree's outward Ng.
 // - All-hits is a context filter that records each candidate and rejects it (valid = 0), then the
 //   hits are sorted by (t, face) and deduplicated as in our own backends. The side is computed
 //   from our own triangle data (normal (b - a) x (c - a) against the ray direction in object
@@ -26,7 +27,6 @@
 
 #include <algorithm>
 #include <array>
-#include <cmath>
 #include <cstring>
 #include <limits>
 #include <memory>
@@ -58,8 +58,7 @@ struct Placement {
 struct AllHitsContext {
     RTCIntersectContext ctx;
     const std::vector<Placement>* placements = nullptr;
-    TraceRay ray;  ///< the ray in world coordinates
-    Vec3d dir;     ///< its direction in double
+    Vec3d dir;  ///< the ray direction in world coordinates
     Facing facing = Facing::both;
     std::vector<AllHit>* out = nullptr;
 };
@@ -79,11 +78,12 @@ void record_all_hits(const RTCFilterFunctionNArguments* args) {
             (*c->placements)[inst_id != RTC_INVALID_GEOMETRY_ID ? inst_id : geom_id];
         const float t = RTCRayN_tfar(args->ray, args->N, k);
         if (p.spheres != nullptr) {
-            // Front is the entry: the root of ours nearer to Embree's (a tangent is one front).
+            // Embree's Ng of a sphere hit points outward from the centre: the entry (front) is
+            // where the ray runs against it (a tangent counts as front, as in our backends).
+            const Vec3d ng(RTCHitN_Ng_x(args->hit, args->N, k), RTCHitN_Ng_y(args->hit, args->N, k),
+                           RTCHitN_Ng_z(args->hit, args->N, k));
             const ExactSphere& s = p.spheres[prim];
-            float t0 = t, t1 = t;
-            const bool front =
-                !sphere_roots(c->ray, s, t0, t1) || std::fabs(t - t0) <= std::fabs(t - t1);
+            const bool front = dot(c->dir, ng) <= 0.0;
             if ((c->facing == Facing::front && !front) || (c->facing == Facing::back && front)) {
                 continue;
             }
@@ -230,7 +230,6 @@ class EmbreeBackend final : public Backend {
             c.out = &out;
             for (std::size_t i = b; i < e; ++i) {
                 const std::size_t before = out.size();
-                c.ray = make_trace_ray(rays, i);
                 c.dir = rays.direction(i);
                 RTCRayHit rh;
                 set_embree_ray(rh.ray, rays, i);

@@ -127,7 +127,7 @@ Vec3d SceneGeometry::normal(std::uint32_t face) const {
 }
 
 Vec3d SceneGeometry::normal_at(std::uint32_t face, const Vec3d& point) const {
-    if (const ExactSphere* s = spheres.empty() ? nullptr : sphere_of_face(face)) {
+    if (const ExactSphere* s = sphere_of_face(face)) {
         return normalize(point - Vec3d(s->center));
     }
     return normal(face);

@@ -65,7 +65,7 @@ void add_analytic_copy(const PartSpec& p, std::uint32_t part, Scene& scene) {
 void add_exact_spheres(const PartSpec& p, ScenePart meta, Scene& scene) {
     const auto part = static_cast<std::uint32_t>(scene.parts.size());
     const Quat q = Quat::from_rpy(p.transform.rotate);
-    const double radius_m = p.radius_m * std::fabs(p.transform.scale.x);
+    const double radius_m = p.radius_m * p.transform.scale.x;
     std::vector<ExactSphere> spheres;
     for (const Affine3& t : copy_transforms(p)) {
         const Vec3d c = t.apply_point(p.center_m);

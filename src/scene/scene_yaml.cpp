@@ -163,7 +163,7 @@ void parse_part(Checker& c, const YAML::Node& n, std::size_t index, SceneSpec& s
     }
     if (p.exact_sphere) {
         const Vec3d& k = p.transform.scale;
-        if (!(std::fabs(k.x) == std::fabs(k.y) && std::fabs(k.y) == std::fabs(k.z))) {
+        if (!(k.x == k.y && k.y == k.z)) {
             c.error(n["transform"], key + ".transform.scale",
                     "an exact sphere needs the same scale on every axis (it would be an "
                     "ellipsoid); use subdivisions instead of exact");
