@@ -10,6 +10,7 @@
 #include <atomic>
 #include <bit>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -37,12 +38,36 @@ inline std::filesystem::path shared_mesh(const std::string& rel) {
     return shared_data("meshes/" + rel);
 }
 
+/// True when every test that CI expects to run must run: `BEAMTRACE_REQUIRE_ALL=1`, which
+/// `.ci/run` sets. Then a missing prerequisite (a tool, a data file, an optional part) fails the
+/// test instead of skipping it.
+inline bool require_all() {
+    const char* v = std::getenv("BEAMTRACE_REQUIRE_ALL");
+    return v != nullptr && std::string_view(v) == "1";
+}
+
+/// Skips the current test because a prerequisite that set-up installs is missing (`why` says
+/// which and how to get it); under BEAMTRACE_REQUIRE_ALL=1 the test fails instead. The only
+/// way tests skip, but for BEAMTRACE_SKIP_HARDWARE (a test checks that no raw GTEST_SKIP is left).
+#define BEAMTRACE_SKIP_OR_FAIL(why)                                                     \
+    do {                                                                                \
+        if (::beamtrace::test::require_all()) {                                         \
+            GTEST_FAIL() << "expected to run but would skip (BEAMTRACE_REQUIRE_ALL=1): " \
+                         << why;                                                        \
+        }                                                                               \
+        GTEST_SKIP() << why;                                                            \
+    } while (0)
+
+/// Skips the current test because this machine's hardware cannot run it whatever is installed
+/// (a CPU without AVX-512, say): a skip even under BEAMTRACE_REQUIRE_ALL=1.
+#define BEAMTRACE_SKIP_HARDWARE(why) GTEST_SKIP() << "hardware: " << why
+
 /// Skips the current test when a shared data file is missing (CI has ../shared too).
-#define BEAMTRACE_REQUIRE_FILE(path)                                 \
-    do {                                                             \
-        if (!std::filesystem::exists(path)) {                        \
-            GTEST_SKIP() << "missing test data " << (path).string(); \
-        }                                                            \
+#define BEAMTRACE_REQUIRE_FILE(path)                                              \
+    do {                                                                          \
+        if (!std::filesystem::exists(path)) {                                     \
+            BEAMTRACE_SKIP_OR_FAIL("missing test data " << (path).string());       \
+        }                                                                         \
     } while (0)
 
 /// A fresh empty folder, removed with everything in it when the object dies.

@@ -41,7 +41,7 @@ RayBatch sphere_rays(std::size_t n, unsigned seed) {
 
 TEST(EmbreeBackend, BarycentricsAndRangeMatchOurConvention) {
     if (!embree_available()) {
-        GTEST_SKIP() << "built without Embree";
+        BEAMTRACE_SKIP_OR_FAIL("built without Embree");
     }
     const TriangleMesh sphere = test::make_icosphere(3, 2.0f);
     ThreadPool pool(2);
@@ -74,7 +74,7 @@ TEST(EmbreeBackend, BarycentricsAndRangeMatchOurConvention) {
 
 TEST(EmbreeBackend, SharedAndCopiedVertexBuffersAgreeAndTminTmaxApply) {
     if (!embree_available()) {
-        GTEST_SKIP() << "built without Embree";
+        BEAMTRACE_SKIP_OR_FAIL("built without Embree");
     }
     TriangleMesh tight = test::make_icosphere(3, 2.0f);
     tight.vertices.shrink_to_fit();  // no slack: the backend copies the vertices once
@@ -106,7 +106,7 @@ TEST(EmbreeBackend, SharedAndCopiedVertexBuffersAgreeAndTminTmaxApply) {
 
 TEST(EmbreeBackend, PartialRangeLeavesOtherSlotsAlone) {
     if (!embree_available()) {
-        GTEST_SKIP() << "built without Embree";
+        BEAMTRACE_SKIP_OR_FAIL("built without Embree");
     }
     const TriangleMesh sphere = test::make_icosphere(2, 2.0f);
     ThreadPool pool(2);
@@ -156,7 +156,7 @@ TEST(EmbreeBackend, PacketsGiveTheSameHitsWhateverTheSplitAndThreads) {
     EXPECT_GT(hits, rays.size() / 2);
     EXPECT_GE(same + 2, hits);
 #else
-    GTEST_SKIP() << "built without Embree";
+    BEAMTRACE_SKIP_OR_FAIL("built without Embree");
 #endif
 }
 

@@ -49,7 +49,7 @@ TEST_F(ViewCli, WritesOneFramePerPathRow) {
 
 TEST_F(ViewCli, WritesAnMp4OfThePathWithFfmpeg) {
     if (test::run_command("command -v ffmpeg && command -v ffprobe").exit_code != 0) {
-        GTEST_SKIP() << "ffmpeg/ffprobe not installed (apt install ffmpeg)";
+        BEAMTRACE_SKIP_OR_FAIL("ffmpeg/ffprobe not installed (apt install ffmpeg)");
     }
     const auto path = test::write_file(dir_ / "path.csv",
                                        "x,y,z,yaw,pitch\n"

@@ -18,7 +18,7 @@ class Mp4Video : public test::TempDirTest {
   protected:
     void SetUp() override {
         if (!find_ffmpeg() || test::run_command("command -v ffprobe").exit_code != 0) {
-            GTEST_SKIP() << "ffmpeg/ffprobe not installed (apt install ffmpeg)";
+            BEAMTRACE_SKIP_OR_FAIL("ffmpeg/ffprobe not installed (apt install ffmpeg)");
         }
     }
     [[nodiscard]] static std::vector<std::uint8_t> frame(int w, int h, int k) {
