@@ -49,13 +49,12 @@ inline bool require_all() {
 /// Skips the current test because a prerequisite that set-up installs is missing (`why` says
 /// which and how to get it); under BEAMTRACE_REQUIRE_ALL=1 the test fails instead. The only
 /// way tests skip, but for BEAMTRACE_SKIP_HARDWARE (a test checks that no raw GTEST_SKIP is left).
-#define BEAMTRACE_SKIP_OR_FAIL(why)                                                     \
-    do {                                                                                \
-        if (::beamtrace::test::require_all()) {                                         \
-            GTEST_FAIL() << "expected to run but would skip (BEAMTRACE_REQUIRE_ALL=1): " \
-                         << why;                                                        \
-        }                                                                               \
-        GTEST_SKIP() << why;                                                            \
+#define BEAMTRACE_SKIP_OR_FAIL(why)                                                              \
+    do {                                                                                         \
+        if (::beamtrace::test::require_all()) {                                                  \
+            GTEST_FAIL() << "expected to run but would skip (BEAMTRACE_REQUIRE_ALL=1): " << why; \
+        }                                                                                        \
+        GTEST_SKIP() << why;                                                                     \
     } while (0)
 
 /// Skips the current test because this machine's hardware cannot run it whatever is installed
@@ -63,11 +62,11 @@ inline bool require_all() {
 #define BEAMTRACE_SKIP_HARDWARE(why) GTEST_SKIP() << "hardware: " << why
 
 /// Skips the current test when a shared data file is missing (CI has ../shared too).
-#define BEAMTRACE_REQUIRE_FILE(path)                                              \
-    do {                                                                          \
-        if (!std::filesystem::exists(path)) {                                     \
-            BEAMTRACE_SKIP_OR_FAIL("missing test data " << (path).string());       \
-        }                                                                         \
+#define BEAMTRACE_REQUIRE_FILE(path)                                         \
+    do {                                                                     \
+        if (!std::filesystem::exists(path)) {                                \
+            BEAMTRACE_SKIP_OR_FAIL("missing test data " << (path).string()); \
+        }                                                                    \
     } while (0)
 
 /// A fresh empty folder, removed with everything in it when the object dies.
@@ -313,6 +312,16 @@ inline RunResult run_command(const std::string& cmd) {
     return r;
 }
 
+/// Puts our tests/tools/lasdump.mjs (it only calls the npm readers) beside them in `lasval`,
+/// replacing any older copy atomically (other tests may be running it).
+inline void install_lasdump(const std::filesystem::path& lasval) {
+    const auto source =
+        std::filesystem::path(BEAMTRACE_TEST_DATA_DIR).parent_path() / "tools" / "lasdump.mjs";
+    const auto staging = lasval / ("lasdump.mjs." + std::to_string(::getpid()));
+    std::filesystem::copy_file(source, staging, std::filesystem::copy_options::overwrite_existing);
+    std::filesystem::rename(staging, lasval / "lasdump.mjs");
+}
+
 /// The lasval folder inside the build tree with its npm packages installed, or "" and `why`.
 inline std::filesystem::path install_lasval(std::string& why) {
     if (run_command("node --version").exit_code != 0) {
@@ -328,6 +337,7 @@ inline std::filesystem::path install_lasval(std::string& why) {
     const std::filesystem::path target =
         std::filesystem::path(BEAMTRACE_CLI_PATH).parent_path() / "lasval-cache";
     if (std::filesystem::exists(target / "node_modules")) {
+        install_lasdump(target);
         return target;
     }
     // Install into a private folder and rename it into place, so concurrent runs never see a
@@ -349,7 +359,12 @@ inline std::filesystem::path install_lasval(std::string& why) {
     if (ec) {
         std::filesystem::remove_all(staging);  // another run installed it first
     }
-    return std::filesystem::exists(target / "node_modules") ? target : std::filesystem::path();
+    if (!std::filesystem::exists(target / "node_modules")) {
+        why = "npm ci left no node_modules in " + target.string();
+        return {};
+    }
+    install_lasdump(target);
+    return target;
 }
 
 /// Number of entries in a folder (to check that nothing, not even a temporary file, was left).

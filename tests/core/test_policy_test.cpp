@@ -11,7 +11,8 @@ namespace beamtrace {
 namespace {
 
 TEST(TestPolicy, EverySkipGoesThroughTheRequireAllMacros) {
-    const std::filesystem::path tests = std::filesystem::path(BEAMTRACE_TEST_DATA_DIR).parent_path();
+    const std::filesystem::path tests =
+        std::filesystem::path(BEAMTRACE_TEST_DATA_DIR).parent_path();
     ASSERT_TRUE(std::filesystem::exists(tests / "test_support.hpp")) << tests;
     std::size_t files = 0;
     for (const auto& entry : std::filesystem::recursive_directory_iterator(tests)) {
