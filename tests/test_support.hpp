@@ -23,6 +23,7 @@
 
 #include <unistd.h>
 
+#include "beamtrace/accel/backend.hpp"
 #include "beamtrace/core/error.hpp"
 #include "beamtrace/core/ray_batch.hpp"
 #include "beamtrace/geometry/triangle_mesh.hpp"
@@ -60,6 +61,21 @@ inline bool require_all() {
 /// Skips the current test because this machine's hardware cannot run it whatever is installed
 /// (a CPU without AVX-512, say): a skip even under BEAMTRACE_REQUIRE_ALL=1.
 #define BEAMTRACE_SKIP_HARDWARE(why) GTEST_SKIP() << "hardware: " << why
+
+/// Whether a test's Embree part should run: true when Embree is built in. When it is not, the
+/// test says so on stdout, and under BEAMTRACE_REQUIRE_ALL=1 fails (set-up installs Embree).
+inline bool with_embree() {
+    if (embree_available()) {
+        return true;
+    }
+    if (require_all()) {
+        ADD_FAILURE() << "built without Embree, so its part of this test cannot run "
+                         "(BEAMTRACE_REQUIRE_ALL=1; apt install libembree-dev)";
+    } else {
+        std::printf("  note: built without Embree: its part of this test did not run\n");
+    }
+    return false;
+}
 
 /// Skips the current test when a shared data file is missing (CI has ../shared too).
 #define BEAMTRACE_REQUIRE_FILE(path)                                         \

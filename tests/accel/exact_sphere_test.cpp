@@ -18,7 +18,7 @@ namespace {
 
 std::vector<BackendKind> all_kinds() {
     std::vector<BackendKind> kinds{BackendKind::brute, BackendKind::kdtree, BackendKind::bvh};
-    if (embree_available()) {
+    if (test::with_embree()) {
         kinds.push_back(BackendKind::embree);
     }
     return kinds;

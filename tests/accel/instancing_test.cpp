@@ -113,7 +113,7 @@ TEST(Instancing, TwoLevelBvhAgreesWithBruteForceOnTheFlattenedScene) {
     const auto kd = make_backend(BackendKind::kdtree, g, pool);
     std::vector<const Backend*> backends{bvh.get(), kd.get()};
     std::unique_ptr<Backend> embree;
-    if (embree_available()) {
+    if (test::with_embree()) {
         embree = make_backend(BackendKind::embree, g, pool);
         backends.push_back(embree.get());
     }
@@ -163,7 +163,7 @@ TEST(Instancing, AllHitsAndFacingSurviveMirroredPlacements) {
     const auto brute = make_backend(BackendKind::brute, g, pool);
     const auto bvh = make_backend(BackendKind::bvh, g, pool);
     std::vector<BackendKind> kinds{BackendKind::bvh};
-    if (embree_available()) {
+    if (test::with_embree()) {
         kinds.push_back(BackendKind::embree);
     }
     for (const BackendKind kind : kinds) {
@@ -235,7 +235,7 @@ TEST(Instancing, LargeArrayTracesLikeTheSingleMesh) {
         copy.push_back(j * n + i);
     }
     std::vector<BackendKind> kinds{BackendKind::bvh};
-    if (embree_available()) {
+    if (test::with_embree()) {
         kinds.push_back(BackendKind::embree);
     }
     const HitBatch hl = single->intersect(local, pool);

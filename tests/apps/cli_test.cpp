@@ -149,7 +149,7 @@ TEST(Cli, BenchMeasuresTheLimitBackendsAndSurveysOnTheSameRays) {
           "| 2 | **survey end to end** (LAS written) | ", "Scaling 1 -> 2"}) {
         EXPECT_NE(r.out.find(row), std::string::npos) << row << "\n" << r.out;
     }
-    if (embree_available()) {
+    if (test::with_embree()) {
         EXPECT_NE(r.out.find("| 1 | Embree rtcIntersect1 | "), std::string::npos) << r.out;
         EXPECT_NE(r.out.find("| 1 | our embree | "), std::string::npos) << r.out;
     }
