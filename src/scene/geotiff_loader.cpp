@@ -32,6 +32,7 @@ constexpr std::uint16_t kRasterPixelIsPoint = 2;
 /// libtiff's messages for this file, collected by per-handle handlers (no global state).
 struct TiffMessages {
     std::string last_error;
+    std::string lost_tag;  ///< a tag whose data libtiff could not read, and so dropped
 };
 
 int on_tiff_error(TIFF*, void* user, const char* module, const char* fmt, va_list ap) {
@@ -43,8 +44,17 @@ int on_tiff_error(TIFF*, void* user, const char* module, const char* fmt, va_lis
     return 1;
 }
 
-int on_tiff_warning(TIFF*, void*, const char*, const char*, va_list) {
-    return 1;  // unknown GeoTIFF tags and the like: not our concern
+int on_tiff_warning(TIFF*, void* user, const char* module, const char* fmt, va_list ap) {
+    // Unknown GeoTIFF tags and the like are not our concern, but libtiff also only warns when a
+    // tag's data lies past the end of a truncated file, and then opens the file without it.
+    std::array<char, 512> buffer{};
+    std::vsnprintf(buffer.data(), buffer.size(), fmt, ap);
+    const std::string message = buffer.data();
+    if (message.find("IO error") != std::string::npos) {
+        static_cast<TiffMessages*>(user)->lost_tag =
+            std::string(module != nullptr ? module : "libtiff") + ": " + message;
+    }
+    return 1;
 }
 
 struct TiffCloser {
@@ -210,6 +220,11 @@ Raster load_geotiff(const std::filesystem::path& path) {
     TIFFOpenOptionsFree(options);
     if (!tif) {
         throw InputError(p, "cannot open as TIFF (" + messages.last_error + ")");
+    }
+    if (!messages.lost_tag.empty()) {
+        // The georeferencing or the nodata value would otherwise be lost without a word.
+        throw InputError(p, "a tag's data runs past the end of the file (" + messages.lost_tag +
+                                "): the file is truncated or damaged");
     }
     auto fail = [&](const std::string& what) -> InputError {
         return InputError(

@@ -1,17 +1,20 @@
 // LasWriter round trips through LasReader, and the reader's checks on deliberately broken files.
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <iterator>
 #include <random>
+#include <set>
 #include <string>
 #include <vector>
 
 #include "beamtrace/core/error.hpp"
 #include "beamtrace/io/las_reader.hpp"
 #include "beamtrace/io/las_writer.hpp"
+#include "corruption_support.hpp"
 #include "test_support.hpp"
 
 namespace beamtrace {
@@ -20,6 +23,7 @@ namespace {
 namespace fs = std::filesystem;
 
 using test::entry_count;
+using test::write_file;
 
 /// `n` points with every field of `format` set to varied in-range values (fields the format does
 /// not store are left 0, as the reader returns them).
@@ -538,15 +542,233 @@ TEST_F(LasReaderBroken, ExtraHeaderBytesAndUserBytesAreSkipped) {
     }
 }
 
-TEST_F(LasReaderBroken, EveryTruncationAndRandomByteFlipsFailCleanly) {
-    const fs::path path = dir_ / "fuzz.las";
-    const auto load = [&](const std::string& bytes) {
-        test::write_file(path, bytes);
-        static_cast<void>(read_las_points(path));
+// --- damaged files: refused, or loaded with only what the damage can reach changed ------------
+
+/// Everything a reader returns for a LAS file.
+struct LasContents {
+    LasHeader header;
+    std::vector<LasVlr> vlrs;
+    std::vector<LasPoint> points;
+};
+
+LasContents load_las(const fs::path& path) {
+    LasReader reader(path);
+    LasContents c{reader.header(), reader.vlrs(), {}};
+    c.points.resize(static_cast<std::size_t>(c.header.point_count));
+    c.points.resize(reader.read(c.points));
+    return c;
+}
+
+/// The LAS 1.4 header's fields, [begin, end) bytes each (ASPRS LAS 1.4 R15, table 3).
+struct LasHeaderField {
+    std::size_t begin, end;
+    const char* name;
+};
+constexpr LasHeaderField kLasHeaderFields[] = {{0, 4, "signature"},
+                                               {4, 6, "file_source_id"},
+                                               {6, 8, "global_encoding"},
+                                               {8, 24, "project_guid"},
+                                               {24, 25, "version_major"},
+                                               {25, 26, "version_minor"},
+                                               {26, 58, "system_identifier"},
+                                               {58, 90, "generating_software"},
+                                               {90, 92, "creation_day"},
+                                               {92, 94, "creation_year"},
+                                               {94, 96, "header_size"},
+                                               {96, 100, "offset_to_point_data"},
+                                               {100, 104, "number_of_vlrs"},
+                                               {104, 105, "point_format"},
+                                               {105, 107, "record_length"},
+                                               {107, 111, "legacy_point_count"},
+                                               {111, 131, "legacy_by_return"},
+                                               {131, 139, "scale.x"},
+                                               {139, 147, "scale.y"},
+                                               {147, 155, "scale.z"},
+                                               {155, 163, "offset.x"},
+                                               {163, 171, "offset.y"},
+                                               {171, 179, "offset.z"},
+                                               {179, 187, "max.x"},
+                                               {187, 195, "min.x"},
+                                               {195, 203, "max.y"},
+                                               {203, 211, "min.y"},
+                                               {211, 219, "max.z"},
+                                               {219, 227, "min.z"},
+                                               {227, 235, "start_of_waveform"},
+                                               {235, 243, "start_of_first_evlr"},
+                                               {243, 247, "number_of_evlrs"},
+                                               {247, 255, "point_count"},
+                                               {255, 375, "points_by_return"}};
+
+/// The names (as in kLasHeaderFields) of the header fields in which `a` and `b` differ.
+std::set<std::string> header_differences(const LasHeader& a, const LasHeader& b) {
+    std::set<std::string> d;
+    const auto note = [&d](const std::string& name, bool same) {
+        if (!same) {
+            d.insert(name);
+        }
     };
-    test::load_every_truncation(good_, load);
+    note("file_source_id", a.file_source_id == b.file_source_id);
+    note("global_encoding", a.global_encoding == b.global_encoding);
+    note("project_guid", a.project_guid == b.project_guid);
+    note("version_major", a.version_major == b.version_major);
+    note("version_minor", a.version_minor == b.version_minor);
+    note("system_identifier", a.system_identifier == b.system_identifier);
+    note("generating_software", a.generating_software == b.generating_software);
+    note("creation_day", a.creation_day_of_year == b.creation_day_of_year);
+    note("creation_year", a.creation_year == b.creation_year);
+    note("header_size", a.header_size == b.header_size);
+    note("offset_to_point_data", a.offset_to_point_data == b.offset_to_point_data);
+    note("number_of_vlrs", a.number_of_vlrs == b.number_of_vlrs);
+    note("point_format", a.point_format == b.point_format);
+    note("record_length", a.point_record_length == b.point_record_length);
+    note("legacy_point_count", a.legacy_point_count == b.legacy_point_count);
+    note("legacy_by_return", a.legacy_points_by_return == b.legacy_points_by_return);
+    for (std::size_t k = 0; k < 3; ++k) {
+        const std::string axis(1, "xyz"[k]);
+        // Bit patterns, so that a NaN read back from the same bytes counts as the same.
+        note("scale." + axis,
+             std::bit_cast<std::uint64_t>(a.scale[k]) == std::bit_cast<std::uint64_t>(b.scale[k]));
+        note("offset." + axis, std::bit_cast<std::uint64_t>(a.offset[k]) ==
+                                   std::bit_cast<std::uint64_t>(b.offset[k]));
+        note("min." + axis,
+             std::bit_cast<std::uint64_t>(a.min[k]) == std::bit_cast<std::uint64_t>(b.min[k]));
+        note("max." + axis,
+             std::bit_cast<std::uint64_t>(a.max[k]) == std::bit_cast<std::uint64_t>(b.max[k]));
+    }
+    note("start_of_waveform", a.start_of_waveform_data == b.start_of_waveform_data);
+    note("start_of_first_evlr", a.start_of_first_evlr == b.start_of_first_evlr);
+    note("number_of_evlrs", a.number_of_evlrs == b.number_of_evlrs);
+    note("point_count", a.point_count == b.point_count);
+    note("points_by_return", a.points_by_return == b.points_by_return);
+    return d;
+}
+
+bool same_vlrs(const std::vector<LasVlr>& a, const std::vector<LasVlr>& b) {
+    return std::equal(a.begin(), a.end(), b.begin(), b.end(), [](const auto& x, const auto& y) {
+        return x.user_id == y.user_id && x.record_id == y.record_id &&
+               x.description == y.description && x.data == y.data && x.extended == y.extended &&
+               x.length == y.length;
+    });
+}
+
+/// How the points of a damaged file may differ from the original's.
+enum class PointsMay {
+    stay,               ///< all there, all equal
+    change_one,         ///< all there, all equal but point `which`
+    change_coordinate,  ///< all there, equal but for coordinate `which` (0-2) of any point
+    shrink,             ///< the first n of the original, n = the header's point count
+    change_all,         ///< all there (the count is not touched), any values
+};
+
+/// What a load of a file with one damaged byte may legitimately return.
+struct LasAllowance {
+    std::set<std::string> header_fields;  ///< header fields that may differ
+    bool vlrs = false;                    ///< whether the VLRs may differ
+    PointsMay points = PointsMay::stay;
+    std::size_t which = 0;
+};
+
+/// What a flip at byte `offset` of `want` (one file, no EVLRs) can reach: a header field and
+/// what the reader derives from it, a VLR, or the one point record the byte is in.
+LasAllowance las_allowance(std::size_t offset, const LasContents& want) {
+    LasAllowance may;
+    const LasHeader& h = want.header;
+    if (offset >= h.offset_to_point_data) {
+        may.points = PointsMay::change_one;
+        may.which = (offset - h.offset_to_point_data) / h.point_record_length;
+        return may;
+    }
+    if (offset >= h.header_size) {
+        may.vlrs = true;
+        return may;
+    }
+    const auto* field = std::find_if(std::begin(kLasHeaderFields), std::end(kLasHeaderFields),
+                                     [&](const auto& f) { return offset < f.end; });
+    const std::string name = field->name;
+    may.header_fields.insert(name);
+    if (name.starts_with("scale.") || name.starts_with("offset.")) {
+        may.points = PointsMay::change_coordinate;  // x, y or z of every point
+        may.which = static_cast<std::size_t>(name.back() - 'x');
+    } else if (name == "version_minor") {
+        // Before 1.4 the count comes from the legacy field (0 in formats 6-10).
+        may.header_fields.insert({"point_count", "points_by_return", "start_of_waveform",
+                                  "start_of_first_evlr", "number_of_evlrs"});
+        may.points = PointsMay::shrink;
+    } else if (name == "point_count") {
+        may.points = PointsMay::shrink;
+    } else if (name == "offset_to_point_data" || name == "point_format" ||
+               name == "record_length") {
+        may.vlrs = name == "offset_to_point_data";
+        may.points = PointsMay::change_all;
+    } else if (name == "header_size" || name == "number_of_vlrs" || name == "number_of_evlrs") {
+        may.vlrs = true;
+    }
+    return may;
+}
+
+template <typename Point>
+auto& coordinate(Point& p, std::size_t k) {
+    return k == 0 ? p.x : (k == 1 ? p.y : p.z);
+}
+
+/// Fails the test unless `got` differs from `want` only as `may` allows.
+void expect_within(const LasContents& got, const LasContents& want, const LasAllowance& may) {
+    for (const auto& name : header_differences(got.header, want.header)) {
+        EXPECT_TRUE(may.header_fields.contains(name)) << "header field " << name << " changed";
+    }
+    EXPECT_TRUE(may.vlrs || same_vlrs(got.vlrs, want.vlrs)) << "the VLRs changed";
+    // Never fewer points than the reader's own header says.
+    ASSERT_EQ(got.points.size(), got.header.point_count);
+    if (may.points == PointsMay::shrink) {
+        ASSERT_LE(got.points.size(), want.points.size());
+    } else {
+        ASSERT_EQ(got.points.size(), want.points.size());
+    }
+    if (may.points == PointsMay::change_all) {
+        return;
+    }
+    for (std::size_t i = 0; i < got.points.size(); ++i) {
+        LasPoint p = got.points[i];
+        if (may.points == PointsMay::change_coordinate) {
+            coordinate(p, may.which) = coordinate(want.points[i], may.which);
+        }
+        if (may.points != PointsMay::change_one || i != may.which) {
+            EXPECT_EQ(p, want.points[i]) << "point " << i << " changed";
+        }
+    }
+}
+
+TEST_F(LasReaderBroken, EveryTruncationIsRefusedAndByteFlipsChangeOnlyWhatTheyHit) {
+    const fs::path path = dir_ / "fuzz.las";
+    const auto load = [&](const std::string& bytes) { return load_las(write_file(path, bytes)); };
+    const LasContents want = load(good_);
+    ASSERT_EQ(want.points.size(), 10u);
+    // Every byte of a LAS file without EVLRs is header, VLRs or points: no cut may load.
+    test::check_every_truncation(good_, load, [](const LasContents& got, std::size_t) {
+        ADD_FAILURE() << "a truncated file loaded, with " << got.points.size() << " points";
+    });
     std::mt19937 rng(7);
-    test::load_random_byte_flips(good_, rng, 300, load);
+    test::check_random_byte_flips(good_, rng, 300, load,
+                                  [&](const LasContents& got, const test::ByteFlip& flip) {
+                                      expect_within(got, want, las_allowance(flip.offset, want));
+                                  });
+}
+
+TEST_F(LasReaderBroken, EveryTruncationOfAFileWithAnEvlrIsRefused) {
+    LasWriterConfig config = las_config_for_extent({634000, 4849000, 0}, {636000, 4851000, 200});
+    config.point_format = 7;
+    config.vlrs.push_back({"test", 8, "after the points", {9, 8, 7, 6}, true, 0});
+    {
+        LasWriter writer(dir_ / "evlr.las", config);
+        writer.write(make_points(4, 7));
+        writer.close();
+    }
+    const std::string bytes = test::read_file(dir_ / "evlr.las");
+    ASSERT_EQ(load_las(dir_ / "evlr.las").vlrs.size(), 1u);
+    const fs::path path = dir_ / "cut.las";
+    test::check_every_truncation(
+        bytes, [&](const std::string& b) { return load_las(write_file(path, b)); },
+        [](const LasContents&, std::size_t) { ADD_FAILURE() << "a truncated file loaded"; });
 }
 
 TEST_F(LasReaderBroken, MissingFileAndDirectory) {

@@ -3,14 +3,17 @@
 #include <gtest/gtest.h>
 
 #include <cstdint>
+#include <cstring>
 #include <filesystem>
 #include <initializer_list>
 #include <random>
+#include <set>
 #include <string>
 #include <vector>
 
 #include "beamtrace/core/error.hpp"
 #include "beamtrace/scene/mesh_loader.hpp"
+#include "corruption_support.hpp"
 #include "test_support.hpp"
 
 namespace beamtrace {
@@ -428,27 +431,175 @@ TEST_F(GltfLoaderTest, BrokenGlbContainers) {
                              "buffers[0]: has no uri");
 }
 
-TEST_F(GltfLoaderTest, TruncatedAndCorruptedFilesThrowOnlyInputError) {
+// ---- damaged files: refused, or loaded with only what the damage can reach changed ---------
+
+/// Where one primitive's data sits in its buffer: VEC3 float positions `stride` bytes apart and
+/// u16 indices, the primitive drawn by `instances` nodes (each instance appends its vertices and
+/// faces to the mesh in turn).
+struct PrimitiveLayout {
+    std::size_t positions = 0, stride = 12, vertex_count = 3;
+    std::size_t indices = 36, index_count = 3;
+    std::size_t instances = 1;
+};
+
+/// What a damaged file may load as: only these vertices and faces changed, or, for damage to the
+/// JSON, which may legitimately mean anything (a digit of a translation), any well-formed mesh.
+struct MeshAllowance {
+    bool anything = false;
+    std::set<std::size_t> vertices, faces;
+};
+
+/// Allows what a change to byte `b` of the buffer reaches: one position (in every instance) or
+/// one index's face; nothing for bytes no accessor reads.
+void allow_buffer_byte(const PrimitiveLayout& l, std::size_t b, MeshAllowance& may) {
+    if (b >= l.positions && (b - l.positions) % l.stride < 12 &&
+        (b - l.positions) / l.stride < l.vertex_count) {
+        for (std::size_t k = 0; k < l.instances; ++k) {
+            may.vertices.insert((b - l.positions) / l.stride + k * l.vertex_count);
+        }
+    }
+    if (b >= l.indices && b < l.indices + 2 * l.index_count) {
+        for (std::size_t k = 0; k < l.instances; ++k) {
+            may.faces.insert((b - l.indices) / 6 + k * (l.index_count / 3));
+        }
+    }
+}
+
+/// A flip at `offset` of a GLB: container headers and the JSON chunk's padding reach nothing,
+/// the JSON anything, the BIN chunk what allow_buffer_byte says.
+MeshAllowance glb_allowance(const std::string& glb, const PrimitiveLayout& l, std::size_t offset) {
+    std::uint32_t json_length = 0;
+    std::memcpy(&json_length, glb.data() + 12, 4);
+    const std::size_t json_end = 20 + json_length;
+    MeshAllowance may;
+    if (offset >= 20 && offset < json_end) {
+        may.anything = offset <= glb.rfind('}', json_end - 1);
+    } else if (offset >= json_end + 8) {
+        allow_buffer_byte(l, offset - json_end - 8, may);
+    }
+    return may;
+}
+
+/// A flip at `offset` of a .gltf whose only buffer is a base64 data URI: a character of the
+/// payload reaches the 3 bytes of its 4-character group, any other byte anything.
+MeshAllowance data_uri_allowance(const std::string& text, const PrimitiveLayout& l,
+                                 std::size_t offset) {
+    const std::size_t begin = text.find(";base64,") + 8;
+    const std::size_t end = text.find('"', begin);
+    MeshAllowance may;
+    if (offset < begin || offset >= end) {
+        may.anything = true;
+        return may;
+    }
+    for (std::size_t b = (offset - begin) / 4 * 3, k = 0; k < 3; ++k) {
+        allow_buffer_byte(l, b + k, may);
+    }
+    return may;
+}
+
+/// Fails the test unless `got` is well formed and differs from `want` only as `may` allows.
+void expect_within(const TriangleMesh& got, const TriangleMesh& want, const MeshAllowance& may) {
+    for (const Face& f : got.faces) {
+        ASSERT_TRUE(f[0] < got.vertices.size() && f[1] < got.vertices.size() &&
+                    f[2] < got.vertices.size())
+            << "a face refers to a vertex that does not exist";
+    }
+    if (may.anything) {
+        return;
+    }
+    ASSERT_EQ(got.vertices.size(), want.vertices.size());
+    ASSERT_EQ(got.faces.size(), want.faces.size());
+    for (std::size_t v = 0; v < got.vertices.size(); ++v) {
+        EXPECT_TRUE(may.vertices.contains(v) || got.vertices[v] == want.vertices[v])
+            << "vertex " << v << " changed";
+    }
+    for (std::size_t f = 0; f < got.faces.size(); ++f) {
+        EXPECT_TRUE(may.faces.contains(f) || got.faces[f] == want.faces[f])
+            << "face " << f << " changed";
+    }
+}
+
+TEST_F(GltfLoaderTest, TruncatedFilesAreRefusedUnlessOnlyPaddingIsCut) {
     OneTriangle t;
     t.uri = "-";
     const std::string glb = make_glb(t.json(), t.bytes());
+    const auto load = [&](const std::string& bytes) {
+        return load_gltf(test::write_file(dir_ / "cut.glb", bytes));
+    };
+    const TriangleMesh want = load(glb);
+    const std::size_t unpadded = glb.size() - (4 - t.bytes().size() % 4) % 4;
+    // Only the BIN chunk's 2 bytes of padding are unused; even then the header's length is wrong.
+    test::check_every_truncation(glb, load, [&](const TriangleMesh& got, std::size_t n) {
+        ASSERT_GE(n, unpadded) << "a GLB cut before its padding loaded";
+        expect_within(got, want, {});
+    });
+    // A .gltf cut anywhere is malformed JSON, whatever holds its buffer.
+    const auto load_text = [&](const std::string& bytes) {
+        return load_gltf(test::write_file(dir_ / "cut.gltf", bytes));
+    };
+    test::check_every_truncation(transformed_scene(true), load_text,
+                                 [](const TriangleMesh&, std::size_t) {
+                                     ADD_FAILURE() << "a truncated .gltf with a data URI loaded";
+                                 });
+    t.uri = "tri.bin";
+    const std::string external = t.json();
+    static_cast<void>(write("tri.bin", t.bytes()));
+    test::check_every_truncation(external, load_text, [](const TriangleMesh&, std::size_t) {
+        ADD_FAILURE() << "a truncated .gltf with an external buffer loaded";
+    });
+    // The external buffer itself, with 2 bytes past its byteLength that no one reads.
+    const std::string bin = t.bytes() + std::string(2, '\0');
+    const fs::path gltf_path = write("ext.gltf", external);
+    test::check_every_truncation(
+        bin,
+        [&](const std::string& bytes) {
+            static_cast<void>(write("tri.bin", bytes));
+            return load_gltf(gltf_path);
+        },
+        [&](const TriangleMesh& got, std::size_t n) {
+            ASSERT_GE(n, t.bytes().size()) << "a buffer shorter than its byteLength loaded";
+            expect_within(got, want, {});
+        });
+}
+
+TEST_F(GltfLoaderTest, ByteFlipsAreRefusedOrChangeOnlyWhatTheyHit) {
     const fs::path path = dir_ / "fuzz.glb";
-    test::load_every_truncation(glb, [&](const std::string& bytes) {
-        static_cast<void>(load_gltf(test::write_file(path, bytes)));
-    });
+    const auto load = [&](const std::string& bytes) {
+        return load_gltf(test::write_file(path, bytes));
+    };
     std::mt19937 rng(7);
-    test::load_random_byte_flips(glb, rng, 300, [&](const std::string& bytes) {
-        static_cast<void>(load_gltf(test::write_file(path, bytes)));
-    });
+    OneTriangle t;
+    t.uri = "-";
+    const std::string glb = make_glb(t.json(), t.bytes());
+    const TriangleMesh tri = load(glb);
+    test::check_random_byte_flips(glb, rng, 300, load,
+                                  [&](const TriangleMesh& got, const test::ByteFlip& flip) {
+                                      expect_within(got, tri, glb_allowance(glb, {}, flip.offset));
+                                  });
+    // Positions at 4 + 16 i, indices 2 bytes into their view at 52; two nodes draw the mesh.
+    const std::string text = transformed_scene(true);
     const fs::path text_path = dir_ / "fuzz.gltf";
-    test::load_random_byte_flips(transformed_scene(true), rng, 300, [&](const std::string& bytes) {
-        static_cast<void>(load_gltf(test::write_file(text_path, bytes)));
-    });
-    const auto box = test::shared_mesh("gltf/BoxTextured.glb");
-    BEAMTRACE_REQUIRE_FILE(box);
-    test::load_random_byte_flips(test::read_file(box), rng, 300, [&](const std::string& bytes) {
-        static_cast<void>(load_gltf(test::write_file(path, bytes)));
-    });
+    const auto load_text = [&](const std::string& bytes) {
+        return load_gltf(test::write_file(text_path, bytes));
+    };
+    const TriangleMesh scene = load_text(text);
+    const PrimitiveLayout scene_layout{4, 16, 3, 54, 3, 2};
+    test::check_random_byte_flips(
+        text, rng, 300, load_text, [&](const TriangleMesh& got, const test::ByteFlip& flip) {
+            expect_within(got, scene, data_uri_allowance(text, scene_layout, flip.offset));
+        });
+    // BoxTextured.glb's JSON: POSITION is accessor 2, 24 VEC3 at byte 288 of its buffer (stride
+    // 12); the 36 u16 indices are at byte 768; normals, texture coordinates and the PNG around
+    // them are read by no one.
+    const auto box_path = test::shared_mesh("gltf/BoxTextured.glb");
+    BEAMTRACE_REQUIRE_FILE(box_path);
+    const std::string box_bytes = test::read_file(box_path);
+    const TriangleMesh box = load(box_bytes);
+    const PrimitiveLayout box_layout{288, 12, 24, 768, 36, 1};
+    test::check_random_byte_flips(
+        box_bytes, rng, 300, load, [&](const TriangleMesh& got, const test::ByteFlip& flip) {
+            expect_within(got, box, glb_allowance(box_bytes, box_layout, flip.offset));
+        });
 }
 
 }  // namespace

@@ -6,12 +6,18 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <limits>
+#include <random>
+#include <set>
 #include <string>
+#include <string_view>
+#include <utility>
 #include <vector>
 
 #include "beamtrace/core/error.hpp"
 #include "beamtrace/scene/mesh_loader.hpp"
+#include "corruption_support.hpp"
 #include "test_support.hpp"
 
 namespace beamtrace {
@@ -351,12 +357,192 @@ TEST_F(RasterTerrainTest, UnsupportedTiffLayoutsNameTheTagValue) {
     test::expect_input_error(load_raster, dir_ / "missing.asc", "");
 }
 
-TEST_F(RasterTerrainTest, TruncatedTiffsThrowOnlyInputError) {
+// ---- damaged files: refused, or loaded with only what the damage can reach changed ---------
+
+/// What a damaged raster may load as: `anything` well formed (the damage hit the size or the
+/// file's structure), or the original but for the parts named here.
+struct RasterAllowance {
+    bool anything = false;
+    bool all_cells = false;
+    std::set<std::size_t> cells;
+    bool georeferencing = false;
+    bool nodata = false;
+};
+
+RasterAllowance allow_anything() {
+    RasterAllowance may;
+    may.anything = true;
+    return may;
+}
+
+RasterAllowance allow_cells(std::set<std::size_t> cells) {
+    RasterAllowance may;
+    may.cells = std::move(cells);
+    return may;
+}
+
+void expect_within(const Raster& got, const Raster& want, const RasterAllowance& may) {
+    ASSERT_EQ(got.z.size(),
+              static_cast<std::size_t>(got.cols) * static_cast<std::size_t>(got.rows));
+    if (may.anything) {
+        return;
+    }
+    ASSERT_EQ(got.cols, want.cols);
+    ASSERT_EQ(got.rows, want.rows);
+    if (!may.georeferencing) {
+        EXPECT_EQ(got.x0_m, want.x0_m);
+        EXPECT_EQ(got.y0_m, want.y0_m);
+        EXPECT_EQ(got.cell_x_m, want.cell_x_m);
+        EXPECT_EQ(got.cell_y_m, want.cell_y_m);
+    }
+    if (!may.nodata) {
+        EXPECT_EQ(got.nodata, want.nodata);
+    }
+    for (std::size_t i = 0; i < got.z.size() && !may.all_cells; ++i) {
+        EXPECT_TRUE(may.cells.contains(i) || got.z[i] == want.z[i]) << "cell " << i << " changed";
+    }
+}
+
+/// What a change to tag `tag`'s entry (but its tag number) or data can reach.
+RasterAllowance tiff_tag_allowance(std::uint16_t tag) {
+    RasterAllowance may;
+    may.anything = tag == 256 || tag == 257;  // ImageWidth, ImageLength
+    may.georeferencing = tag == 33550 || tag == 33922 || tag == 34264 || tag == 34735;
+    may.nodata = tag == 42113;
+    may.all_cells = !may.anything && !may.georeferencing && !may.nodata;  // layout tags
+    return may;
+}
+
+template <typename T>
+T le_at(const std::string& bytes, std::size_t offset) {
+    T v{};
+    std::memcpy(&v, bytes.data() + offset, sizeof v);
+    return v;
+}
+
+/// What a flip at `offset` of `tiff` (as make_tiff writes it: little endian, one IFD, one strip of
+/// int16 samples) can reach, from the file's own IFD: the 8-byte header, the entry count and an
+/// entry's tag number anything; the rest of an entry or its out-of-line data that tag's part of
+/// the raster; a sample its cell; anything else (the next-IFD offset) nothing.
+RasterAllowance tiff_allowance(const std::string& tiff, std::size_t offset) {
+    const auto ifd = le_at<std::uint32_t>(tiff, 4);
+    const auto entries = le_at<std::uint16_t>(tiff, ifd);
+    if (offset < 8 || (offset >= ifd && offset < ifd + 2)) {
+        return allow_anything();
+    }
+    for (std::size_t e = 0; e < entries; ++e) {
+        const std::size_t at = ifd + 2 + 12 * e;
+        const auto tag = le_at<std::uint16_t>(tiff, at);
+        const auto type = le_at<std::uint16_t>(tiff, at + 2);
+        const std::size_t size = le_at<std::uint32_t>(tiff, at + 4) * std::size_t{type == 12  ? 8u
+                                                                                  : type == 4 ? 4u
+                                                                                  : type == 3 ? 2u
+                                                                                              : 1u};
+        const std::size_t data = size <= 4 ? at + 8 : le_at<std::uint32_t>(tiff, at + 8);
+        if (offset >= at && offset < at + 2) {
+            return allow_anything();
+        }
+        if ((offset >= at && offset < at + 12) || (offset >= data && offset < data + size)) {
+            return tiff_tag_allowance(tag);
+        }
+        if (tag == 273) {  // StripOffsets: the samples, 2 bytes each
+            const std::size_t strip = le_at<std::uint32_t>(tiff, at + 8);
+            if (offset >= strip && offset < strip + 12) {
+                return allow_cells({(offset - strip) / 2});
+            }
+        }
+    }
+    return {};
+}
+
+TEST_F(RasterTerrainTest, TruncatedTiffsAreRefused) {
     const std::string tiff = small_int16_tiff();
     const auto path = dir_ / "cut.tif";
-    test::load_every_truncation(tiff, [&](const std::string& bytes) {
-        static_cast<void>(load_geotiff(test::write_file(path, bytes)));
+    // Every byte of the fixture is header, samples, IFD or tag data: no cut may load.
+    test::check_every_truncation(
+        tiff, [&](const std::string& bytes) { return load_geotiff(test::write_file(path, bytes)); },
+        [](const Raster&, std::size_t) { ADD_FAILURE() << "a truncated TIFF loaded"; });
+    // Cut in the GDAL_NODATA text, the last tag data: libtiff drops the tag with only a warning.
+    test::expect_input_error(load_geotiff, test::write_file(path, tiff.substr(0, tiff.size() - 1)),
+                             "a tag's data runs past the end of the file");
+}
+
+TEST_F(RasterTerrainTest, TiffByteFlipsAreRefusedOrChangeOnlyWhatTheyHit) {
+    const std::string tiff = small_int16_tiff();
+    const auto path = dir_ / "flip.tif";
+    const auto load = [&](const std::string& bytes) {
+        return load_geotiff(test::write_file(path, bytes));
+    };
+    const Raster want = load(tiff);
+    std::mt19937 rng(11);
+    test::check_random_byte_flips(tiff, rng, 400, load,
+                                  [&](const Raster& got, const test::ByteFlip& flip) {
+                                      expect_within(got, want, tiff_allowance(tiff, flip.offset));
+                                  });
+}
+
+constexpr std::string_view kSmallGrid =
+    "ncols 3\nnrows 2\nxllcorner 100\nyllcorner 200\ncellsize 10\nNODATA_value -9999\n"
+    "1.5 2 -3\n4 -9999 16.25\n";
+
+TEST_F(RasterTerrainTest, TruncatedAsciiGridsAreRefusedButForAShortenedLastValue) {
+    const std::string grid(kSmallGrid);
+    const auto path = dir_ / "cut.asc";
+    const auto load = [&](const std::string& bytes) {
+        return load_esri_ascii_grid(test::write_file(path, bytes));
+    };
+    const Raster want = load(grid);
+    // The format has no length: a cut inside the last value leaves a shorter number, which no
+    // reader can tell from a real one ("16.25" cut to "16.2"). Any other cut loses values.
+    const std::size_t last = grid.rfind(' ') + 1, end = grid.size() - 1;
+    test::check_every_truncation(grid, load, [&](const Raster& got, std::size_t n) {
+        ASSERT_GT(n, last) << "a grid missing values loaded";
+        RasterAllowance may;
+        if (n < end) {
+            may.cells = {5};
+            ASSERT_EQ(got.z.size(), 6u);
+            EXPECT_EQ(got.z[5], std::stof(grid.substr(last, n - last)));
+        }
+        expect_within(got, want, may);
     });
+}
+
+/// What a flip at `offset` of kSmallGrid can reach: a header key anything; the rest of a
+/// header line that key's part; a value its cell, the blank after it also the next cell.
+RasterAllowance grid_allowance(std::size_t offset) {
+    const std::string_view g = kSmallGrid;
+    const std::size_t data = g.find("1.5");
+    if (offset < data) {
+        const std::size_t line = g.rfind('\n', offset - (g[offset] == '\n' ? 1 : 0));
+        const std::size_t begin = line == std::string_view::npos ? 0 : line + 1;
+        const std::string_view key = g.substr(begin, g.find(' ', begin) - begin);
+        if (offset < begin + key.size() || key == "ncols" || key == "nrows") {
+            return allow_anything();
+        }
+        RasterAllowance may;
+        (key == "NODATA_value" ? may.nodata : may.georeferencing) = true;
+        return may;
+    }
+    std::size_t cell = 0;
+    for (std::size_t i = data; i < offset; ++i) {
+        cell += (g[i] == ' ' || g[i] == '\n') ? 1 : 0;
+    }
+    const bool blank = g[offset] == ' ' || g[offset] == '\n';
+    return blank ? allow_cells({cell, cell + 1}) : allow_cells({cell});
+}
+
+TEST_F(RasterTerrainTest, AsciiGridByteFlipsAreRefusedOrChangeOnlyWhatTheyHit) {
+    const std::string grid(kSmallGrid);
+    const auto path = dir_ / "flip.asc";
+    const auto load = [&](const std::string& bytes) {
+        return load_esri_ascii_grid(test::write_file(path, bytes));
+    };
+    const Raster want = load(grid);
+    std::mt19937 rng(13);
+    test::check_every_byte_flip(grid, rng, 4, load,
+                                [&](const Raster& got, const test::ByteFlip& flip) {
+                                    expect_within(got, want, grid_allowance(flip.offset));
+                                });
 }
 
 }  // namespace

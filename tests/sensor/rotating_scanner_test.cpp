@@ -8,6 +8,7 @@
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
+#include <vector>
 
 #include "beamtrace/core/error.hpp"
 
@@ -33,18 +34,50 @@ double angle_diff(double a, double b) {
     return wrap(a - b);
 }
 
-TEST(RotatingScanner, DirectionsHaveExactlyTheBeamElevationsAndUnitLength) {
-    const RotatingScanner scanner(hdl32());
+/// `n` elevations from `lo` to `hi` in equal steps, written out here rather than taken from the
+/// library, so that a wrong preset table fails.
+std::vector<double> steps(double lo, double hi, int n) {
+    std::vector<double> v;
+    for (int b = 0; b < n; ++b) {
+        v.push_back(lo + (hi - lo) * b / (n - 1));
+    }
+    return v;
+}
+
+/// Every pulse's direction has unit length and the elevation configured for its channel, to
+/// double rounding: sin, cos, atan2 and the degree conversion each round once, a few 1e-15
+/// degrees at most, so 1e-13 degrees is ~30 ulps of 30 degrees and 1e-3 of a 0.1 degree error.
+void expect_beam_elevations(const RotatingScannerConfig& config,
+                            const std::vector<double>& elevations_deg) {
+    const RotatingScanner scanner(config);
     const PulseBatch p = all_pulses(scanner);
-    ASSERT_EQ(p.size(), 32u * 2250u);
-    const auto& elevations = scanner.config().beam_elevations_deg;
+    const std::size_t beams = elevations_deg.size();
+    ASSERT_EQ(config.beam_elevations_deg.size(), beams);
+    ASSERT_EQ(p.size() % beams, 0u);
     for (std::size_t i = 0; i < p.size(); ++i) {
         const Vec3d d = p.direction[i];
-        ASSERT_EQ(p.channel[i], i % 32);
-        EXPECT_NEAR(length(d), 1.0, 1e-15);
+        ASSERT_EQ(p.channel[i], i % beams);
+        ASSERT_NEAR(length(d), 1.0, 1e-15);
         const double elevation = std::atan2(d.z, std::hypot(d.x, d.y)) * kRadToDeg;
-        ASSERT_NEAR(elevation, elevations[p.channel[i]], 1e-12) << "pulse " << i;
+        ASSERT_NEAR(elevation, elevations_deg[i % beams], 1e-13)
+            << "pulse " << i << ", beam " << i % beams;
     }
+}
+
+TEST(RotatingScanner, DirectionsHaveExactlyTheBeamElevationsAndUnitLength) {
+    // VLP-16 user manual, laser IDs 0-15 in firing order.
+    expect_beam_elevations(vlp16(), {-15, 1, -13, 3, -11, 5, -9, 7, -7, 9, -5, 11, -3, 13, -1, 15});
+    expect_beam_elevations(hdl32(), steps(-30.67, 10.67, 32));
+    expect_beam_elevations(hdl64(), steps(-24.9, 2.0, 64));
+    expect_beam_elevations(os128(), steps(-22.5, 22.5, 128));
+    // Uneven beams up to the poles, with offsets and a clockwise spin.
+    RotatingScannerConfig c;
+    c.beam_elevations_deg = {-89.9, 0.1, -0.05, 33.3, 90.0 - 1e-6, -7.125};
+    c.beam_azimuth_offsets_deg = {0, 1, -2, 3, -4, 5};
+    c.spin_clockwise = true;
+    c.azimuth_resolution_deg = 0.37;
+    c.duration_s = 0.1;
+    expect_beam_elevations(c, c.beam_elevations_deg);
 }
 
 TEST(RotatingScanner, OneRevolutionCoversTheCircleWithBeamsTimes360OverResolutionPulses) {
