@@ -40,7 +40,7 @@ output: {trajectory_rate_hz: 0}
                                      dir);
     // VLP-16: 16 beams, 0.2 degree steps, 10 Hz: 16 x 1800 pulses per revolution, 2 revolutions.
     ASSERT_EQ(points.size(), 2u * 16u * 1800u) << "a closed room returns every pulse";
-    std::map<int, std::size_t> per_revolution;
+    std::map<int, std::size_t> per_revolution, per_beam;
     for (const auto& p : points) {
         const bool on_wall =
             std::abs(std::abs(p.x) - 10.0) < 2e-3 || std::abs(std::abs(p.y) - 10.0) < 2e-3;
@@ -48,12 +48,21 @@ output: {trajectory_rate_hz: 0}
                              << p.z;  // +/-15 degree beams never reach floor or ceiling
         ASSERT_EQ(p.classification, 6);
         ++per_revolution[static_cast<int>(std::floor(p.gps_time * 10.0))];
-        // The beam's elevation is what the point's height says.
+        // The point's height says its beam's elevation: the VLP-16 datasheet's for the beam in
+        // user data (within 0.01 degrees: 1 mm quantisation at 8-16 m).
+        constexpr double kVlp16ElevationDeg[16] = {-15, 1, -13, 3,  -11, 5,  -9, 7,
+                                                   -7,  9, -5,  11, -3,  13, -1, 15};
+        ASSERT_LT(p.user_data, 16);
+        ++per_beam[p.user_data];
         const double horizontal = std::hypot(p.x - 1.0, p.y - 2.0);
         const double elevation_deg = std::atan2(p.z, horizontal) * 180.0 / std::numbers::pi;
-        ASSERT_NEAR(elevation_deg, std::round(elevation_deg), 0.01);  // 1 mm quantisation at 8-16 m
-        ASSERT_LE(std::abs(elevation_deg), 15.01);
+        ASSERT_NEAR(elevation_deg, kVlp16ElevationDeg[p.user_data], 0.01)
+            << "beam " << int{p.user_data};
     }
+    for (const auto& [beam, n] : per_beam) {
+        EXPECT_EQ(n, 2u * 1800u) << "beam " << beam;
+    }
+    EXPECT_EQ(per_beam.size(), 16u);
     ASSERT_EQ(per_revolution.size(), 2u);
     for (const auto& [rev, n] : per_revolution) {
         EXPECT_EQ(n, 16u * 1800u) << "revolution " << rev;
