@@ -147,9 +147,10 @@ TEST(DirectSink, TakesTheDirectPathWhereTheFileSystemAcceptsIt) {
         EXPECT_LE(r.cached_pages, 2u)
             << dir << ": " << r.cached_pages << " of " << r.file_pages << " pages cached";
         std::printf(
-            "[ o_direct ] %s: direct path, %llu of %llu bytes direct, %zu of %zu pages "
+            "[ o_direct ] %s: %s path, %llu of %llu bytes direct, %zu of %zu pages "
             "cached\n",
-            dir.c_str(), static_cast<unsigned long long>(r.direct_bytes),
+            dir.c_str(), r.direct ? "direct" : "buffered",
+            static_cast<unsigned long long>(r.direct_bytes),
             static_cast<unsigned long long>(r.data_bytes), r.cached_pages, r.file_pages);
         ++checked;
     }
