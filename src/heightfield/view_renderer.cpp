@@ -257,6 +257,8 @@ void render(const SectionGrid& grid, const ViewCamera& camera, const RenderOptio
     const int tile = std::max(1, options.tile_pixels);
     const int tiles_x = (camera.width + tile - 1) / tile;
     const int tiles_y = (camera.height + tile - 1) / tile;
+    // The kernel each tile actually ran (every tile runs the same one): reported, not assumed.
+    std::atomic<int> ran{1};
     // Four tiles a chunk: each chunk sets up its buffers once (about 2000 chunks a 1920x1080
     // frame, still plenty to balance two to a few dozen threads).
     pool.parallel_for(
@@ -301,8 +303,10 @@ void render(const SectionGrid& grid, const ViewCamera& camera, const RenderOptio
                 });
                 buffers.hits.resize(buffers.rays.size());
                 buffers.found.resize(buffers.rays.size());
-                detail::trace_rays_lanes(lanes, table, buffers.rays.data(), buffers.rays.size(),
-                                         buffers.hits.data(), buffers.found.data());
+                ran.store(
+                    detail::trace_rays_lanes(lanes, table, buffers.rays.data(), buffers.rays.size(),
+                                             buffers.hits.data(), buffers.found.data()),
+                    std::memory_order_relaxed);
                 for (std::size_t j = 0; j < buffers.rays.size(); ++j) {
                     if (buffers.found[j] != 0) {
                         sink.hit(buffers.pixels[j], buffers.rays[j], buffers.hits[j]);
@@ -312,6 +316,7 @@ void render(const SectionGrid& grid, const ViewCamera& camera, const RenderOptio
                 }
             }
         });
+    image.kernel_lanes = ran.load();
 }
 
 }  // namespace

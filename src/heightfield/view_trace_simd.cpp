@@ -59,19 +59,21 @@ int widest_lanes() {
     return lanes;
 }
 
-void trace_rays_lanes(int lanes, const LevelTable& table, const GridRay* rays, std::size_t count,
-                      GridHit* hits, std::uint8_t* found) {
+int trace_rays_lanes(int lanes, const LevelTable& table, const GridRay* rays, std::size_t count,
+                     GridHit* hits, std::uint8_t* found) {
     if (table.stacks() != 0) {
         throw std::logic_error("trace_rays_lanes: height stacks are traced one ray at a time");
     }
     if (lanes == 8 && widest_lanes() >= 8) {
         avx512::trace(table, rays, count, hits, found);
-    } else if (lanes == 4 && widest_lanes() >= 4) {
-        avx2::trace(table, rays, count, hits, found);
-    } else {
-        throw std::logic_error("trace_rays_lanes: " + std::to_string(lanes) +
-                               " lanes are not available on this CPU");
+        return 8;
     }
+    if (lanes == 4 && widest_lanes() >= 4) {
+        avx2::trace(table, rays, count, hits, found);
+        return 4;
+    }
+    throw std::logic_error("trace_rays_lanes: " + std::to_string(lanes) +
+                           " lanes are not available on this CPU");
 }
 
 #else
@@ -80,8 +82,8 @@ int widest_lanes() {
     return 1;
 }
 
-void trace_rays_lanes(int lanes, const LevelTable&, const GridRay*, std::size_t, GridHit*,
-                      std::uint8_t*) {
+int trace_rays_lanes(int lanes, const LevelTable&, const GridRay*, std::size_t, GridHit*,
+                     std::uint8_t*) {
     throw std::logic_error("trace_rays_lanes: " + std::to_string(lanes) +
                            " lanes are not built for this CPU");
 }

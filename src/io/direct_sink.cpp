@@ -25,13 +25,15 @@ void DirectSink::Free::operator()(char* p) const {
 DirectSink::DirectSink(const std::filesystem::path& path, std::filesystem::path display)
     : path_(path), display_(std::move(display)) {
     fd_ = ::open(path.c_str(), O_WRONLY | O_CLOEXEC | O_DIRECT);
-    direct_ = fd_ >= 0;
     if (fd_ < 0) {  // EINVAL: the file system has no direct I/O
         fd_ = ::open(path.c_str(), O_WRONLY | O_CLOEXEC);
     }
     if (fd_ < 0) {
         fail("cannot open for writing", errno);
     }
+    // What the kernel says the descriptor does, not what was asked of it.
+    const int flags = ::fcntl(fd_, F_GETFL);
+    direct_ = flags >= 0 && (flags & O_DIRECT) != 0;
     stage_.reset(static_cast<char*>(std::aligned_alloc(kAlign, kStageBytes)));
     if (!stage_) {
         ::close(fd_);
@@ -72,6 +74,7 @@ void DirectSink::write_aligned(std::size_t bytes) {
             fail("write failed", n < 0 ? errno : EIO);
         }
         done += static_cast<std::size_t>(n);
+        direct_bytes_ += direct_ ? static_cast<std::uint64_t>(n) : 0;
     }
     // Keep the unaligned rest at the front of the stage.
     std::memmove(stage_.get(), stage_.get() + bytes, used_ - bytes);

@@ -2,13 +2,18 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <regex>
+#include <string>
+#include <vector>
 
 #include "beamtrace/core/error.hpp"
 #include "beamtrace/core/thread_pool.hpp"
 #include "beamtrace/heightfield/view_session.hpp"
 #include "beamtrace/io/las_writer.hpp"
+#include "heightfield/child_peak_rss.hpp"
 #include "test_support.hpp"
 
 namespace beamtrace {
@@ -197,6 +202,90 @@ TEST_F(ViewIngest, MemoryBudgetKeepsOnlyTheNearestSectionsResident) {
     EXPECT_LE(session.budgeted_bytes(), config.field.memory_budget_bytes);
     EXPECT_NE(g.height(0, 20, 20), kEmptyHeight);
 }
+
+#ifndef BEAMTRACE_SANITIZED  // AddressSanitizer's shadow memory and quarantine swamp the RSS
+/// One `beamtrace view` run as a child: its peak RSS and the sections it reports loaded.
+struct ViewRun {
+    std::size_t peak_rss_bytes = 0;
+    int sections = -1;
+};
+
+ViewRun run_view_cli(const std::filesystem::path& las, const std::filesystem::path& dir,
+                     const std::string& budget, int levels, int section_cells) {
+    const std::filesystem::path log = dir / "view.log";
+    const test::ChildPeak peak = test::run_measuring_peak_rss({BEAMTRACE_CLI_PATH,
+                                                               "view",
+                                                               las.string(),
+                                                               "--cell-size",
+                                                               "1",
+                                                               "--levels",
+                                                               std::to_string(levels),
+                                                               "--section-cells",
+                                                               std::to_string(section_cells),
+                                                               "--sections",
+                                                               "4x4",
+                                                               "--memory-budget",
+                                                               budget,
+                                                               "--camera",
+                                                               "2048,2048,600,0,-90",
+                                                               "--size",
+                                                               "64x36",
+                                                               "--threads",
+                                                               "2",
+                                                               "--output",
+                                                               (dir / "view.png").string()},
+                                                              log);
+    const std::string out = test::read_file(log);
+    EXPECT_EQ(peak.exit_code, 0) << out;
+    EXPECT_TRUE(peak.error.empty()) << peak.error;
+    ViewRun run;
+    run.peak_rss_bytes = peak.peak_rss_bytes;
+    std::smatch m;
+    if (std::regex_search(out, m, std::regex("loaded ([0-9]+) sections"))) {
+        run.sections = std::stoi(m[1]);
+    }
+    return run;
+}
+
+TEST_F(ViewIngest, MeasuredPeakRssOfTheCliStaysWithinTheMemoryBudget) {
+    // The accounting above (budgeted_bytes) is the code's own; here the kernel measures the
+    // CLI. One point every 16 m over 4 x 4 km: every section of a 4 x 4 window of 1 km
+    // sections (1024^2 cells of 1 m, 6 levels: 5.6 MB each, 89 MB for all 16) has data, so the
+    // budget alone decides how many are resident.
+    std::vector<LasPoint> points;
+    for (int y = 0; y < 256; ++y) {
+        for (int x = 0; x < 256; ++x) {
+            points.push_back(point(16.0 * x + 8.0, 16.0 * y + 8.0, 1.0 + 0.01 * ((x + y) % 50)));
+        }
+    }
+    const auto las = write_las(dir_ / "wide.las", points);
+    // The fixed cost of the process (the program and its libraries, the thread pool, the read
+    // buffer, the image): the same file and image with sections of one cell.
+    const ViewRun fixed = run_view_cli(las, dir_.path(), "64MB", 1, 1);
+    const ViewRun small = run_view_cli(las, dir_.path(), "24MB", 6, 32);
+    const ViewRun large = run_view_cli(las, dir_.path(), "120MB", 6, 32);
+    const std::size_t each = HeightSection::bytes_for(SectionLayout{32, 6}, false);
+    std::printf(
+        "[ rss      ] fixed %.1f MB; budget 24 MB: %d sections, peak %.1f MB; budget "
+        "120 MB: %d sections, peak %.1f MB (%.2f MB a section)\n",
+        static_cast<double>(fixed.peak_rss_bytes) / 1e6, small.sections,
+        static_cast<double>(small.peak_rss_bytes) / 1e6, large.sections,
+        static_cast<double>(large.peak_rss_bytes) / 1e6, static_cast<double>(each) / 1e6);
+    ASSERT_GT(fixed.peak_rss_bytes, 0u);
+    EXPECT_LT(fixed.peak_rss_bytes, std::size_t{64} << 20) << "the fixed cost alone";
+    // Under budget + the fixed cost + 4 MB of slack (allocator pages, the section pyramid
+    // above the sections' levels, stacks of the loader thread).
+    const std::size_t slack = std::size_t{4} << 20;
+    EXPECT_LE(small.peak_rss_bytes, fixed.peak_rss_bytes + 24'000'000 + slack);
+    EXPECT_LE(large.peak_rss_bytes, fixed.peak_rss_bytes + 120'000'000 + slack);
+    // And the budget is what limits it: the larger one holds all 16 sections, and the memory
+    // they take is there, at least 90 % of their size more than with the small budget.
+    EXPECT_EQ(large.sections, 16);
+    EXPECT_LT(small.sections, 5);
+    EXPECT_GE(large.peak_rss_bytes,
+              small.peak_rss_bytes + static_cast<std::size_t>(16 - small.sections) * each * 9 / 10);
+}
+#endif
 
 TEST_F(ViewIngest, BudgetTooSmallForOneSectionIsAConfigError) {
     const auto path = write_las(dir_ / "one.las", {point(1, 1, 1)});

@@ -2,8 +2,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <random>
+#include <string>
 #include <vector>
 
 #include "beamtrace/core/thread_pool.hpp"
@@ -85,11 +88,31 @@ TEST(ViewRenderer, EmptyCellsAreSeeThroughNotZeroHeight) {
     EXPECT_NEAR(side.depth[0], 3.5 * std::sqrt(2.0), 1e-6);  // the wall at x = 20, z = 8.5
 }
 
+/// True when this CPU runs the kernel of `lanes` rays: asked of the CPU directly, not of the
+/// renderer, so that a renderer that wrongly thinks the CPU lacks AVX-512 fails rather than skips.
+bool cpu_has_kernel(int lanes) {
+#if defined(__x86_64__) && defined(__GNUC__)
+    __builtin_cpu_init();
+    if (lanes == 8) {
+        return __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512dq") &&
+               __builtin_cpu_supports("avx512cd");
+    }
+    if (lanes == 4) {
+        return __builtin_cpu_supports("avx2");
+    }
+#endif
+    return lanes == 1;
+}
+
+const char* kernel_name(int lanes) {
+    return lanes == 8 ? "AVX-512 (8 lanes)" : lanes == 4 ? "AVX2 (4 lanes)" : "scalar (1 ray)";
+}
+
 /// Random terrain with holes (15 % empty cells) over the grid of `config`, seen from cameras in
 /// every octant, up and down and nearly level, inside and outside the window: the hierarchical
-/// renderer equals the brute-force reference with one ray at a time and with 4 and 8 rays in
-/// SIMD lanes (where the CPU has them; otherwise the widest kernel it has).
-void expect_random_terrain_matches_reference(const HeightFieldConfig& config) {
+/// renderer with the kernel of `lanes` rays equals the brute-force reference, and that kernel
+/// is the one that ran (not a narrower fallback).
+void expect_random_terrain_matches_reference(const HeightFieldConfig& config, int lanes) {
     SectionGrid grid(config, {0, 0, 0});
     std::mt19937 rng(7);
     std::uniform_real_distribution<double> u(0.0, 1.0);
@@ -105,11 +128,8 @@ void expect_random_terrain_matches_reference(const HeightFieldConfig& config) {
     ThreadPool pool(2);
     RenderOptions options;
     options.fog_distance = 30.0;
-    std::vector<RenderOptions> lane_options;
-    for (const int lanes : {1, 4, 8}) {
-        lane_options.push_back(options);
-        lane_options.back().simd_lanes = lanes;
-    }
+    RenderOptions lane_options = options;
+    lane_options.simd_lanes = lanes;
     const double w = static_cast<double>(grid.window_cells());
     for (const double yaw : {20.0, 110.0, 200.0, 290.0, 0.0, 90.0}) {
         for (const double pitch : {-60.0, -15.0, -2.0, 20.0}) {
@@ -117,30 +137,72 @@ void expect_random_terrain_matches_reference(const HeightFieldConfig& config) {
                                   Vec3d{1.25 * w, 1.1 * w, 2.0}}) {
                 const ViewCamera cam = camera_at(p, yaw, pitch);
                 const ViewImage slow = render_view_reference(grid, cam, options, pool);
+                const ViewImage fast = render_view(grid, cam, lane_options, pool);
+                ASSERT_EQ(fast.kernel_lanes, lanes) << "asked for " << kernel_name(lanes)
+                                                    << ", ran " << kernel_name(fast.kernel_lanes);
                 std::string first;
-                for (const RenderOptions& o : lane_options) {
-                    EXPECT_EQ(test::count_mismatches(render_view(grid, cam, o, pool), slow, first),
-                              0u)
-                        << "up to " << o.simd_lanes << " lanes, yaw " << yaw << " pitch " << pitch
-                        << " at " << p.x << "," << p.y << ": " << first;
-                }
+                EXPECT_EQ(test::count_mismatches(fast, slow, first), 0u)
+                    << kernel_name(lanes) << ", yaw " << yaw << " pitch " << pitch << " at " << p.x
+                    << "," << p.y << ": " << first;
             }
         }
     }
+    std::printf("[ kernel   ] %s ran\n", kernel_name(lanes));
 }
 
-TEST(ViewRenderer, MatchesTheBruteForceReferenceOnRandomTerrainInEveryOctant) {
-    expect_random_terrain_matches_reference(small_config());
+/// One test per kernel (1, 4 and 8 rays), so a CPU without AVX-512 skips the 8-lane test by
+/// name instead of passing it on the AVX2 fallback.
+class ViewRendererKernel : public ::testing::TestWithParam<int> {
+  protected:
+    void SetUp() override {
+        if (!cpu_has_kernel(GetParam())) {
+            BEAMTRACE_SKIP_HARDWARE("no " << (GetParam() == 8 ? "AVX-512" : "AVX2")
+                                          << " on this CPU");
+        }
+    }
+};
+
+TEST_P(ViewRendererKernel, MatchesTheBruteForceReferenceOnRandomTerrainInEveryOctant) {
+    expect_random_terrain_matches_reference(small_config(), GetParam());
 }
 
-TEST(ViewRenderer, MatchesTheReferenceOnAnOddWindowWithAPaddedPyramid) {
+TEST_P(ViewRendererKernel, MatchesTheReferenceOnAnOddWindowWithAPaddedPyramid) {
     // 3 x 3 sections of 8 x 8 cells: 24, 12 and 6 cells per side at the sections' levels,
     // then a pyramid of 3 (rows padded to 4), 2 and 1.
     HeightFieldConfig c = small_config();
     c.sections = 3;
     c.section_cells = 2;
     c.levels = 3;
-    ASSERT_NO_THROW(expect_random_terrain_matches_reference(c));
+    expect_random_terrain_matches_reference(c, GetParam());
+}
+
+/// Test names by instruction set: ViewRenderer/ViewRendererKernel.*/Avx512 and so on.
+std::string kernel_test_name(const ::testing::TestParamInfo<int>& param) {
+    return param.param == 8 ? "Avx512" : param.param == 4 ? "Avx2" : "Scalar";
+}
+
+INSTANTIATE_TEST_SUITE_P(ViewRenderer, ViewRendererKernel, ::testing::Values(1, 4, 8),
+                         kernel_test_name);
+
+TEST(ViewRenderer, DefaultLanesRunTheWidestKernelOfThisCpuAndStacksRunOneRayAtATime) {
+    const int widest = cpu_has_kernel(8) ? 8 : cpu_has_kernel(4) ? 4 : 1;
+    SectionGrid grid(small_config(), {0, 0, 0});
+    test::fill_grid(grid, [](std::int64_t x, std::int64_t y) {
+        return static_cast<double>((x * 7 + y * 3) % 5);
+    });
+    ThreadPool pool(2);
+    const ViewCamera cam = camera_at({16.0, 16.0, 20.0}, 30.0, -40.0, 32, 24);
+    EXPECT_EQ(render_view(grid, cam, {}, pool).kernel_lanes, widest);
+    RenderOptions four;
+    four.simd_lanes = 4;
+    EXPECT_EQ(render_view(grid, cam, four, pool).kernel_lanes, std::min(widest, 4));
+    EXPECT_EQ(render_view_reference(grid, cam, {}, pool).kernel_lanes, 1);
+    HeightFieldConfig stacked = small_config();
+    stacked.height_stacks = 2;
+    SectionGrid stacks(stacked, {0, 0, 0});
+    test::fill_grid(stacks, [](std::int64_t, std::int64_t) { return 1.0; });
+    EXPECT_EQ(render_view(stacks, cam, {}, pool).kernel_lanes, 1);
+    std::printf("[ kernel   ] default: %s\n", kernel_name(widest));
 }
 
 class ViewAutzen : public ::testing::Test {

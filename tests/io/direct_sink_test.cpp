@@ -1,11 +1,27 @@
 // DirectSink: large aligned writes (O_DIRECT where the file system has it, the page cache
-// elsewhere) give exactly the bytes appended, whatever the sizes of the appends.
+// elsewhere) give exactly the bytes appended, whatever the sizes of the appends; and the path
+// that ran is the one the file system allows. Which file systems take O_DIRECT is asked of the
+// kernel here (a probe file opened with O_DIRECT), not assumed: tmpfs takes it since Linux 6.6,
+// ramfs never does, so the fallback is checked on a ramfs mounted in a private mount namespace.
 #include "io/detail/direct_sink.hpp"
+
+#include <fcntl.h>
+#include <sched.h>
+#include <sys/mman.h>
+#include <sys/mount.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <gtest/gtest.h>
 
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <iterator>
 #include <random>
 #include <string>
+#include <vector>
 
 #include "beamtrace/io/atomic_file.hpp"
 #include "test_support.hpp"
@@ -13,14 +29,71 @@
 namespace beamtrace {
 namespace {
 
-void expect_round_trip(const std::filesystem::path& dir) {
+constexpr std::size_t kPage = 4096;
+
+/// True when the file system of `dir` accepts O_DIRECT: a file there opens with it and takes an
+/// aligned 4 KiB write. Independent of DirectSink, so the sink's report can be checked against it.
+bool accepts_o_direct(const std::filesystem::path& dir) {
+    const auto probe = dir / ("o-direct-probe-" + std::to_string(::getpid()));
+    const int fd = ::open(probe.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC | O_DIRECT, 0600);
+    bool ok = false;
+    if (fd >= 0) {
+        void* block = std::aligned_alloc(kPage, kPage);
+        std::memset(block, 7, kPage);
+        ok = ::pwrite(fd, block, kPage, 0) == static_cast<ssize_t>(kPage);
+        std::free(block);
+        ::close(fd);
+    }
+    std::error_code ec;
+    std::filesystem::remove(probe, ec);
+    return ok;
+}
+
+/// Pages of `path` in the page cache (mincore of a mapping, which faults nothing in): writes
+/// that bypassed the cache leave none behind, buffered writes leave them all.
+std::size_t cached_pages(const std::filesystem::path& path) {
+    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+    const auto size = static_cast<std::size_t>(std::filesystem::file_size(path));
+    void* map = ::mmap(nullptr, size, PROT_READ, MAP_SHARED, fd, 0);
+    ::close(fd);
+    if (map == MAP_FAILED) {
+        ADD_FAILURE() << "cannot map " << path;
+        return 0;
+    }
+    std::vector<unsigned char> resident((size + kPage - 1) / kPage);
+    std::size_t count = 0;
+    if (::mincore(map, size, resident.data()) == 0) {
+        for (const unsigned char r : resident) {
+            count += r & 1u;
+        }
+    } else {
+        ADD_FAILURE() << "mincore failed on " << path;
+    }
+    ::munmap(map, size);
+    return count;
+}
+
+struct WriteReport {
+    bool bytes_ok = false;  ///< the file holds exactly the bytes appended, then "end"
+    bool direct = false;    ///< DirectSink::direct() after the writes
+    std::uint64_t direct_bytes = 0;
+    std::uint64_t data_bytes = 0;  ///< bytes appended to the sink
+    std::size_t cached_pages = 0;  ///< pages of the file in the page cache before it is read
+    std::size_t file_pages = 0;
+};
+
+/// About 21 MB in pieces from 1 byte to 3 MB (several full 8 MiB stages and an unaligned tail)
+/// through a DirectSink into `dir`/out.bin, then "end" through the stream. No gtest assertions:
+/// it also runs in a forked child.
+WriteReport write_through_sink(const std::filesystem::path& dir) {
     std::mt19937 rng(5);
     std::string want;
     const auto path = dir / "out.bin";
+    WriteReport report;
+    bool sizes_ok = true;
     {
         AtomicFile file(path);
         detail::DirectSink sink(file.temp_path(), path);
-        // About 21 MB in pieces from 1 byte to 3 MB: several full 8 MiB stages and a tail.
         std::uniform_int_distribution<std::size_t> size(1, 3 << 20);
         while (want.size() < (std::size_t{21} << 20)) {
             std::string piece(size(rng), '\0');
@@ -29,31 +102,158 @@ void expect_round_trip(const std::filesystem::path& dir) {
             }
             sink.append(piece.data(), piece.size());
             want += piece;
-            EXPECT_EQ(sink.size(), want.size());
+            sizes_ok = sizes_ok && sink.size() == want.size();
         }
         sink.finish(file.stream());
+        report.direct = sink.direct();
+        report.direct_bytes = sink.direct_bytes();
+        report.data_bytes = want.size();
         file.write("end", 3);  // the stream continues after the data
         want += "end";
         file.commit();
     }
-    EXPECT_EQ(test::read_file(path), want);
+    report.cached_pages = cached_pages(path);
+    report.file_pages = (want.size() + kPage - 1) / kPage;
+    std::ifstream in(path, std::ios::binary);
+    const std::string got{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+    report.bytes_ok = sizes_ok && got == want;
+    return report;
 }
 
-TEST(DirectSink, WritesExactlyTheBytesAppended) {
-    test::TempDir dir;
-    expect_round_trip(dir.path());
+/// The aligned part of the data: what goes through the O_DIRECT descriptor when it is used
+/// (the unaligned tail goes through the stream).
+std::uint64_t aligned(std::uint64_t bytes) {
+    return bytes / kPage * kPage;
 }
 
-TEST(DirectSink, FallsBackWhereDirectIoIsRefused) {
-    // tmpfs has no O_DIRECT: the same writes go through the page cache.
+TEST(DirectSink, TakesTheDirectPathWhereTheFileSystemAcceptsIt) {
+    // /tmp (the temporary folders) and the build tree: ext4 here, which takes O_DIRECT.
+    const test::TempDir tmp;
+    const std::filesystem::path build = std::filesystem::path(BEAMTRACE_CLI_PATH).parent_path();
+    const auto in_build = build / ("direct-sink-test-" + std::to_string(::getpid()));
+    std::filesystem::create_directories(in_build);
+    int checked = 0;
+    for (const std::filesystem::path& dir : {tmp.path(), in_build}) {
+        if (!accepts_o_direct(dir)) {
+            std::printf("[ o_direct ] %s refuses O_DIRECT\n", dir.c_str());
+            continue;
+        }
+        const WriteReport r = write_through_sink(dir);
+        EXPECT_TRUE(r.bytes_ok) << dir;
+        EXPECT_TRUE(r.direct) << dir << " takes O_DIRECT but the sink went through the cache";
+        EXPECT_EQ(r.direct_bytes, aligned(r.data_bytes)) << dir;
+        // Measured, not reported: the data bypassed the page cache (the buffered tail and "end"
+        // are at most two pages).
+        EXPECT_LE(r.cached_pages, 2u)
+            << dir << ": " << r.cached_pages << " of " << r.file_pages << " pages cached";
+        std::printf(
+            "[ o_direct ] %s: %s path, %llu of %llu bytes direct, %zu of %zu pages "
+            "cached\n",
+            dir.c_str(), r.direct ? "direct" : "buffered",
+            static_cast<unsigned long long>(r.direct_bytes),
+            static_cast<unsigned long long>(r.data_bytes), r.cached_pages, r.file_pages);
+        ++checked;
+    }
+    std::filesystem::remove_all(in_build);
+    if (checked == 0) {
+        BEAMTRACE_SKIP_OR_FAIL("neither /tmp nor the build tree takes O_DIRECT");
+    }
+}
+
+TEST(DirectSink, FollowsTheKernelOnTmpfs) {
+    // tmpfs took no O_DIRECT before Linux 6.6 and takes it since: the sink must do what the
+    // kernel allows either way, with the same bytes.
     if (!std::filesystem::is_directory("/dev/shm")) {
         BEAMTRACE_SKIP_OR_FAIL("no /dev/shm");
     }
     const auto dir =
         std::filesystem::path("/dev/shm") / ("beamtrace-direct-sink-" + std::to_string(::getpid()));
     std::filesystem::create_directories(dir);
-    expect_round_trip(dir);
+    const bool accepts = accepts_o_direct(dir);
+    const WriteReport r = write_through_sink(dir);
     std::filesystem::remove_all(dir);
+    EXPECT_TRUE(r.bytes_ok);
+    EXPECT_EQ(r.direct, accepts);
+    EXPECT_EQ(r.direct_bytes, accepts ? aligned(r.data_bytes) : 0u);
+    std::printf("[ o_direct ] /dev/shm (tmpfs) %s O_DIRECT: %s path\n",
+                accepts ? "takes" : "refuses", r.direct ? "direct" : "buffered");
+}
+
+/// Makes this (single-threaded, forked) process the root of a new mount namespace: as root with
+/// CLONE_NEWNS alone, otherwise in a new user namespace too. Mounts made there vanish with it.
+bool enter_private_mount_namespace() {
+    if (::unshare(CLONE_NEWNS) != 0) {
+        const std::string uid = "0 " + std::to_string(::getuid()) + " 1";
+        const std::string gid = "0 " + std::to_string(::getgid()) + " 1";
+        if (::unshare(CLONE_NEWUSER | CLONE_NEWNS) != 0) {
+            return false;
+        }
+        const auto put = [](const char* file, const std::string& text) {
+            std::FILE* f = std::fopen(file, "w");
+            const bool ok = f != nullptr && std::fputs(text.c_str(), f) >= 0;
+            return f != nullptr && std::fclose(f) == 0 && ok;
+        };
+        if (!put("/proc/self/setgroups", "deny") || !put("/proc/self/uid_map", uid) ||
+            !put("/proc/self/gid_map", gid)) {
+            return false;
+        }
+    }
+    // Private: the ramfs must not propagate to the parent's namespace.
+    return ::mount(nullptr, "/", nullptr, MS_REC | MS_PRIVATE, nullptr) == 0;
+}
+
+enum ChildResult : int {
+    kFellBack = 0,
+    kNoNamespace = 10,
+    kNoRamfs = 11,
+    kRamfsTookODirect = 12,
+    kWentDirect = 20,
+    kWrongBytes = 21,
+    kThrew = 22,
+};
+
+TEST(DirectSink, FallsBackWhereDirectIoIsRefused) {
+    // ramfs has no direct I/O at all (open with O_DIRECT fails with EINVAL): mounted in a
+    // private mount namespace of a forked child, which writes there and reports by exit code.
+    test::TempDir dir;
+    std::fflush(nullptr);
+    const pid_t pid = ::fork();
+    ASSERT_GE(pid, 0);
+    if (pid == 0) {
+        int result = kFellBack;
+        try {
+            if (!enter_private_mount_namespace()) {
+                result = kNoNamespace;
+            } else if (::mount("none", dir.path().c_str(), "ramfs", 0, nullptr) != 0) {
+                result = kNoRamfs;
+            } else if (accepts_o_direct(dir.path())) {
+                result = kRamfsTookODirect;
+            } else {
+                const WriteReport r = write_through_sink(dir.path());
+                result = !r.bytes_ok                       ? kWrongBytes
+                         : r.direct || r.direct_bytes != 0 ? kWentDirect
+                                                           : kFellBack;
+            }
+        } catch (...) {
+            result = kThrew;
+        }
+        ::_exit(result);
+    }
+    int status = 0;
+    ASSERT_EQ(::waitpid(pid, &status, 0), pid);
+    ASSERT_TRUE(WIFEXITED(status)) << "child killed by signal " << WTERMSIG(status);
+    const int result = WEXITSTATUS(status);
+    if (result == kNoNamespace || result == kNoRamfs) {
+        BEAMTRACE_SKIP_OR_FAIL(
+            "cannot mount a ramfs in a private mount namespace (needs root or "
+            "unprivileged user namespaces)");
+    }
+    EXPECT_NE(result, kRamfsTookODirect) << "ramfs took O_DIRECT: no refusing file system here";
+    EXPECT_NE(result, kWentDirect) << "the sink claims the direct path on ramfs";
+    EXPECT_NE(result, kWrongBytes) << "the buffered fallback wrote other bytes";
+    EXPECT_NE(result, kThrew) << "the write through the fallback threw";
+    EXPECT_EQ(result, kFellBack);
+    std::printf("[ o_direct ] ramfs refuses O_DIRECT: buffered path, same bytes\n");
 }
 
 }  // namespace

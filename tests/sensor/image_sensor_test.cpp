@@ -1,5 +1,8 @@
-// The pinhole and scan patterns against the report's Matlab code (Appendix A.3, A.4),
-// transcribed here step by step: meshgrid, column-major (:), normalisation, D * (Rx*Ry*Rz).
+// The report's sensor code against beamtrace, transcribed here step by step: the pinhole and
+// scan models (Appendix A.3 castRaysPinhole, A.4 castRaysScan: meshgrid, column-major (:),
+// normalisation, D * (Rx*Ry*Rz)) and the push-broom scan of MovingScanExample.m (B.1), the
+// only other sensor in the report's code (the rest of Appendix A is the model, the k-d tree,
+// its traversal and raysToImg; B.2 OcclusionExample.m uses castRaysPinhole).
 #include "beamtrace/sensor/image_sensor.hpp"
 
 #include <gtest/gtest.h>
@@ -8,6 +11,8 @@
 #include <numbers>
 
 #include "beamtrace/core/error.hpp"
+#include "beamtrace/sensor/rays_file.hpp"
+#include "test_support.hpp"
 
 namespace beamtrace {
 namespace {
@@ -34,7 +39,12 @@ void matlab_R(double roll, double pitch, double yaw, M3 out) {
         }
 }
 
-std::vector<double> matlab_linspace(double a, double b, int n) {
+/// Matlab's linspace: for n = 1 it returns b. With `centre_single`, beamtrace's one deliberate
+/// deviation (linspace_at): a single sample at the centre (a + b) / 2.
+std::vector<double> matlab_linspace(double a, double b, int n, bool centre_single = false) {
+    if (n == 1) {
+        return {centre_single ? 0.5 * (a + b) : b};
+    }
     std::vector<double> v(static_cast<std::size_t>(n));
     for (int i = 0; i < n; ++i)
         v[static_cast<std::size_t>(i)] = a + (b - a) * i / (n - 1);
@@ -42,15 +52,17 @@ std::vector<double> matlab_linspace(double a, double b, int n) {
 }
 
 /// castRaysPinhole / castRaysScan as in the report, returning D (n x 3) in Matlab's order.
-std::vector<Vec3d> matlab_cast(bool scan, const ImageSensorConfig& c) {
+std::vector<Vec3d> matlab_cast(bool scan, const ImageSensorConfig& c, bool centre_single = false) {
     const int w = c.width, h = c.height;
     std::vector<double> xs, ys;
     if (scan) {
-        xs = matlab_linspace(0.5 * c.hfov_rad, -0.5 * c.hfov_rad, w);
-        ys = matlab_linspace(0.5 * c.vfov_rad, -0.5 * c.vfov_rad, h);
+        xs = matlab_linspace(0.5 * c.hfov_rad, -0.5 * c.hfov_rad, w, centre_single);
+        ys = matlab_linspace(0.5 * c.vfov_rad, -0.5 * c.vfov_rad, h, centre_single);
     } else {
-        xs = matlab_linspace(std::tan(0.5 * c.hfov_rad), -std::tan(0.5 * c.hfov_rad), w);
-        ys = matlab_linspace(std::tan(0.5 * c.vfov_rad), -std::tan(0.5 * c.vfov_rad), h);
+        xs = matlab_linspace(std::tan(0.5 * c.hfov_rad), -std::tan(0.5 * c.hfov_rad), w,
+                             centre_single);
+        ys = matlab_linspace(std::tan(0.5 * c.vfov_rad), -std::tan(0.5 * c.vfov_rad), h,
+                             centre_single);
     }
     // [x, y] = meshgrid(xs, ys): x(r, k) = xs(k), y(r, k) = ys(r); x(:) runs down columns.
     std::vector<Vec3d> d;
@@ -117,6 +129,81 @@ TEST(ImageSensor, ScanMatchesReportFormulasIncluding360Panorama) {
     expect_matches_matlab(true, c);
     c.orientation = {-0.2, 0.4, 1.3};
     expect_matches_matlab(true, c);
+}
+
+struct MatlabRays {
+    std::vector<Vec3d> origins, directions;
+};
+
+/// MovingScanExample.m (Appendix B.1), the ray loop line by line: a push-broom line of h
+/// pixels cast with castRaysPinhole at each of h steps from pStart to pEnd, the platform
+/// pitching by a degree, all aggregated in order into one ray list.
+MatlabRays matlab_moving_scan(int h, double z, bool centre_single) {
+    const double pi = std::numbers::pi;
+    const int w = 1;                                         // w = 1;
+    const double roll = 0;                                   // roll = 0;
+    const double yaw = pi / 4;                               // yaw = pi/4;
+    const std::vector<double> t = matlab_linspace(0, 1, h);  // t = linspace(0,1,h);
+    const Vec3d p_start{-50, -50, z}, p_end{50, 50, z};      // pStart, pEnd
+    MatlabRays rays;
+    for (int i = 0; i < h; ++i) {  // for i=1:h
+        const double ti = t[static_cast<std::size_t>(i)];
+        // pos = repmat(pStart,h,1) + t'*(pEnd-pStart);
+        const Vec3d pos{p_start.x + ti * (p_end.x - p_start.x),
+                        p_start.y + ti * (p_end.y - p_start.y),
+                        p_start.z + ti * (p_end.z - p_start.z)};
+        const double pitch = -pi / 2 + (pi / 180) * std::sin(ti * 4 * pi);
+        // tmp = castRaysPinhole(pos(i,:), [roll pitch(i) yaw], w, h, (pi/9)/h, pi/9);
+        ImageSensorConfig c;
+        c.position_m = pos;
+        c.orientation = {roll, pitch, yaw};
+        c.width = w;
+        c.height = h;
+        c.hfov_rad = (pi / 9) / h;
+        c.vfov_rad = pi / 9;
+        // rays.O((i-1)*h+1:i*h,:) = tmp.O; rays.D((i-1)*h+1:i*h,:) = tmp.D;
+        for (const Vec3d& d : matlab_cast(false, c, centre_single)) {
+            rays.origins.push_back(pos);
+            rays.directions.push_back(d);
+        }
+    }
+    return rays;
+}
+
+TEST(ImageSensor, PushBroomExampleMatchesTheReportsMovingScanExample) {
+    // examples/pushbroom_rays.cpp (what docs/scan.md and examples/pushbroom.sh run) against
+    // the transcription, with beamtrace's single documented deviation: Matlab's
+    // linspace(x0, -x0, 1) is -x0, which points the report's one-pixel-wide line half a pixel
+    // (hfov / 2) to the right; beamtrace centres it.
+    const int h = 40;
+    const double z = 370.0;  // the report's flying height
+    test::TempDir dir;
+    const auto csv = dir / "pushbroom.csv";
+    const auto r = test::run_command(std::string(BEAMTRACE_PUSHBROOM_PATH) + " '" + csv.string() +
+                                     "' " + std::to_string(h) + " 370");
+    ASSERT_EQ(r.exit_code, 0) << r.out;
+    const RayBatch rays = read_rays_csv(csv);
+    const MatlabRays centred = matlab_moving_scan(h, z, true);
+    const MatlabRays literal = matlab_moving_scan(h, z, false);
+    ASSERT_EQ(rays.size(), static_cast<std::size_t>(h * h));
+    ASSERT_EQ(centred.directions.size(), rays.size());
+    const double x0 = std::tan(0.5 * (std::numbers::pi / 9) / h);
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+        const Vec3d o = rays.origin(i), d = rays.direction(i);
+        ASSERT_NEAR(o.x, centred.origins[i].x, 1e-12) << i;
+        ASSERT_NEAR(o.y, centred.origins[i].y, 1e-12) << i;
+        ASSERT_NEAR(o.z, centred.origins[i].z, 1e-12) << i;
+        ASSERT_NEAR(d.x, centred.directions[i].x, 1e-12) << i;
+        ASSERT_NEAR(d.y, centred.directions[i].y, 1e-12) << i;
+        ASSERT_NEAR(d.z, centred.directions[i].z, 1e-12) << i;
+        // The literal Matlab ray of row v: normalize([1, -x0, z_v]) against normalize([1, 0,
+        // z_v]), an angle of atan(x0 / sqrt(1 + z_v^2)), and nothing else.
+        const double zv =
+            std::tan(std::numbers::pi / 18) * (1.0 - 2.0 * static_cast<double>(i % h) / (h - 1));
+        const Vec3d m = literal.directions[i];
+        const double angle = std::acos(std::min(1.0, d.x * m.x + d.y * m.y + d.z * m.z));
+        ASSERT_NEAR(angle, std::atan(x0 / std::sqrt(1.0 + zv * zv)), 1e-7) << i;
+    }
 }
 
 TEST(ImageSensor, OrderAndAxesConventions) {

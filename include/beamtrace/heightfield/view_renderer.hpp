@@ -34,6 +34,10 @@ struct ViewImage {
     int height = 0;
     std::vector<std::uint8_t> rgb;  ///< width * height * 3, row-major, top row first
     std::vector<float> depth;       ///< width * height
+    /// Rays per kernel call of the traversal that rendered the image: 1 (one ray at a time), 4
+    /// (AVX2) or 8 (AVX-512). RenderOptions::simd_lanes is only an upper bound (height stacks
+    /// and CPUs without the instruction set get fewer), so tests and benchmarks read what ran.
+    int kernel_lanes = 0;
     [[nodiscard]] std::size_t hits() const;
 };
 

@@ -19,8 +19,9 @@ namespace beamtrace::detail {
 /// potential hit, step and climb otherwise, into the pyramid only over empty cells), `lanes`
 /// rays (4 or 8, at most widest_lanes()) in the lanes of SIMD registers, a lane taking the next
 /// ray as soon as its ray ends. Sets found[i] (1: hit) and, for hits, hits[i]: the same cell,
-/// distances and height as the scalar traversal, bit for bit.
-void trace_rays_lanes(int lanes, const LevelTable& table, const GridRay* rays, std::size_t count,
-                      GridHit* hits, std::uint8_t* found);
+/// distances and height as the scalar traversal, bit for bit. Returns the lanes of the kernel
+/// that ran (8: AVX-512, 4: AVX2), which the renderer reports in ViewImage::kernel_lanes.
+[[nodiscard]] int trace_rays_lanes(int lanes, const LevelTable& table, const GridRay* rays,
+                                   std::size_t count, GridHit* hits, std::uint8_t* found);
 
 }  // namespace beamtrace::detail

@@ -25,8 +25,12 @@ class DirectSink {
     void finish(std::FILE* stream);
     /// Bytes appended so far.
     [[nodiscard]] std::uint64_t size() const { return offset_ + used_; }
-    /// True when writes bypass the page cache.
+    /// True when writes bypass the page cache: the descriptor's flags, as the kernel reports
+    /// them (fcntl F_GETFL), have O_DIRECT.
     [[nodiscard]] bool direct() const { return direct_; }
+    /// Bytes written so far through the O_DIRECT descriptor (the rest went through the page
+    /// cache): which write path ran, for tests and reports.
+    [[nodiscard]] std::uint64_t direct_bytes() const { return direct_bytes_; }
 
   private:
     void write_aligned(std::size_t bytes);
@@ -41,6 +45,7 @@ class DirectSink {
     std::unique_ptr<char, Free> stage_;
     std::size_t used_ = 0;      ///< bytes staged
     std::uint64_t offset_ = 0;  ///< file offset of stage_[0] (a multiple of kAlign)
+    std::uint64_t direct_bytes_ = 0;
 };
 
 }  // namespace beamtrace::detail
