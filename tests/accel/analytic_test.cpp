@@ -1,8 +1,10 @@
 // Ranges to planes and boxes at known distances, for every backend.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <vector>
 
 #include "beamtrace/accel/backend.hpp"
 #include "beamtrace/core/error.hpp"
@@ -99,17 +101,42 @@ TEST_P(Analytic, EmptySceneMissesEverything) {
     EXPECT_FALSE(backend->intersect(rays, pool).hit(0));
 }
 
-INSTANTIATE_TEST_SUITE_P(AllBackends, Analytic,
-                         ::testing::Values(BackendKind::brute, BackendKind::kdtree,
-                                           BackendKind::bvh),
+/// Every backend this build has: Embree, the default backend, too where it is built.
+std::vector<BackendKind> built_backends() {
+    std::vector<BackendKind> kinds{BackendKind::brute, BackendKind::kdtree, BackendKind::bvh};
+    if (embree_available()) {
+        kinds.push_back(BackendKind::embree);
+    }
+    return kinds;
+}
+
+INSTANTIATE_TEST_SUITE_P(AllBackends, Analytic, ::testing::ValuesIn(built_backends()),
                          [](const ::testing::TestParamInfo<BackendKind>& p) {
                              return std::string(to_string(p.param));
                          });
+
+// The analytic tests above cover the default backend: a build without Embree runs them on our
+// own backends only, which fails under BEAMTRACE_REQUIRE_ALL=1 (CI builds with Embree).
+TEST(AnalyticBackends, IncludeTheDefaultBackend) {
+    const auto kinds = built_backends();
+    EXPECT_NE(std::find(kinds.begin(), kinds.end(), default_backend_kind()), kinds.end());
+    if (!embree_available()) {
+        BEAMTRACE_SKIP_OR_FAIL(
+            "built without Embree, the default backend: the analytic tests did not check it "
+            "(install libembree-dev and reconfigure)");
+    }
+    EXPECT_NE(std::find(kinds.begin(), kinds.end(), BackendKind::embree), kinds.end());
+}
 
 TEST(BackendKind, ParsesNamesAndRejectsOthers) {
     EXPECT_EQ(parse_backend_kind("bvh"), BackendKind::bvh);
     EXPECT_EQ(parse_backend_kind("kdtree"), BackendKind::kdtree);
     EXPECT_EQ(parse_backend_kind("brute"), BackendKind::brute);
+    if (embree_available()) {
+        EXPECT_EQ(parse_backend_kind("embree"), BackendKind::embree);
+    } else {
+        EXPECT_THROW((void)parse_backend_kind("embree"), ConfigError);
+    }
     EXPECT_THROW((void)parse_backend_kind("embree2"), ConfigError);
 }
 
