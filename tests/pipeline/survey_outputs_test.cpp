@@ -445,14 +445,28 @@ output: {trajectory_rate_hz: 0}
 )";
 
 /// Checks one hit pulse's record: its echo peaks at the sample nearest the round trip 2R/c to
-/// the floor along its axis, and the echo lies wholly inside the record.
-void expect_echo_at_floor_range(const test::WaveRecord& r, double bin_ns) {
+/// the floor along its axis, and every sample k is the Gaussian of the pulse's FWHM centred
+/// there, sampled at (first bin + k) x bin size (docs/physics.md), so the echo lies wholly
+/// inside the record.
+void expect_echo_at_floor_range(const test::WaveRecord& r, double bin_ns, double fwhm_ns) {
     const double range = 10.0 / -r.axis[2];
     const double t_ns = 2.0 * range / kLightMps * 1e9;
     ASSERT_FALSE(r.samples.empty()) << "pulse " << r.pulse;
     const auto peak = std::max_element(r.samples.begin(), r.samples.end());
-    const double peak_ns = static_cast<double>(r.first_bin + (peak - r.samples.begin())) * bin_ns;
+    const auto at_ns = [&](std::size_t k) {
+        return static_cast<double>(r.first_bin + static_cast<std::int64_t>(k)) * bin_ns;
+    };
+    const double peak_ns = at_ns(static_cast<std::size_t>(peak - r.samples.begin()));
     EXPECT_LE(std::abs(peak_ns - t_ns), bin_ns / 2 + 1e-6) << "pulse " << r.pulse;
+    const double sigma_ns = fwhm_ns / (2.0 * std::sqrt(2.0 * std::log(2.0)));
+    const auto gauss = [&](double t) {
+        return std::exp(-(t - t_ns) * (t - t_ns) / (2.0 * sigma_ns * sigma_ns));
+    };
+    const double amplitude = *peak / gauss(peak_ns);
+    for (std::size_t k = 0; k < r.samples.size(); ++k) {
+        ASSERT_NEAR(r.samples[k], amplitude * gauss(at_ns(k)), 0.01 * amplitude)
+            << "pulse " << r.pulse << " sample " << k;
+    }
     EXPECT_LT(r.samples.front(), 0.01f * *peak) << "pulse " << r.pulse;
     EXPECT_LT(r.samples.back(), 0.01f * *peak) << "pulse " << r.pulse;
 }
@@ -490,7 +504,7 @@ TEST(SurveyOutputs, WaveformsHoldEveryPulseWithItsEchoAtTheRoundTripTime) {
             continue;
         }
         ++hits;
-        expect_echo_at_floor_range(r, w.bin_ns);
+        expect_echo_at_floor_range(r, w.bin_ns, w.fwhm_ns);
         // The LAS point of a hit pulse (pulse order) lies on the record's axis at that range.
         const auto p = std::find_if(las.points.begin(), las.points.end(),
                                     [&](const auto& q) { return q.gps_time == r.gps_time; });
