@@ -212,7 +212,9 @@ inline WaveFile parse_waveforms(const std::string& b) {
             break;
         }
         r.samples.resize(n);
-        std::memcpy(r.samples.data(), b.data() + at, 4u * n);
+        if (n > 0) {  // a miss: no samples, and data() may be null
+            std::memcpy(r.samples.data(), b.data() + at, 4u * n);
+        }
         at += 4u * n;
         w.records.push_back(std::move(r));
     }
