@@ -102,7 +102,11 @@ void PulseSimulator::simulate(std::uint64_t seed, std::uint64_t pulse_index,
     out.echoes.clear();
     out.contributions.clear();
     out.sub_ray_power_w.clear();
+    // The whole waveform, first bin included: `out` is reused from pulse to pulse (a survey
+    // block's PulseResponse), and a miss or a dropped pulse returns before build_waveform sets
+    // it, so it would keep the bin of whichever pulse the response last held.
     out.waveform.samples_w.clear();
+    out.waveform.first_bin = 0;
     if (pulse_dropped(config_.noise, seed, pulse_index)) {
         out.dropped = true;
         return;

@@ -96,5 +96,52 @@ TEST(SceneSpec, RejectsBrokenYamlAndWrongShapes) {
     EXPECT_THROW((void)load_scene_spec("/nonexistent/scene.yaml"), InputError);
 }
 
+/// The message of the ConfigError that loading `yaml` (written as dir/scene.yaml) throws.
+std::string scene_error(const test::TempDir& dir, const std::string& yaml) {
+    const auto path = test::write_file(dir / "scene.yaml", yaml);
+    try {
+        (void)load_scene_spec(path);
+    } catch (const ConfigError& e) {
+        return e.what();
+    }
+    ADD_FAILURE() << "expected a ConfigError for\n" << yaml;
+    return {};
+}
+
+TEST(SceneSpec, SyntaxErrorsAndBadKeysNameTheExactLine) {
+    test::TempDir dir;
+    const std::string file = (dir / "scene.yaml").string();
+    // Comments and blank lines count: the lines are those of the file as an editor shows them.
+    const std::string head = R"(# a scene
+materials:
+  - {name: paint, reflectance: 0.6}
+
+parts:
+  - plane: {point_m: [0, 0, 0], normal: [0, 0, 1], size_m: 10}
+)";
+    // Line 7: a flow sequence closed twice.
+    const std::string flow =
+        scene_error(dir, head + "  - sphere: {center_m: [0, 0, 1]], radius_m: 1}\n");
+    EXPECT_EQ(flow.rfind(file + ":7: not valid YAML", 0), 0u) << flow;
+    // Line 8: a key indented deeper than its map.
+    const std::string mis = scene_error(dir, head + "  - mesh: a.obj\n      label: 2\n");
+    EXPECT_EQ(mis.rfind(file + ":8: not valid YAML", 0), 0u) << mis;
+    // Line 9: an unknown key in a part's block map, the only problem: the whole message.
+    const std::string key = scene_error(
+        dir, head +
+                 "  - sphere: {center_m: [0, 0, 1], radius_m: 1}\n    label: 4\n    colour: "
+                 "red\n");
+    EXPECT_EQ(key.rfind(file + ":9: parts[1].colour: unknown key", 0), 0u) << key;
+    // Line 11: a bad value after a multi-line flow map.
+    const std::string value = scene_error(dir, head + R"(  - sphere:
+      {center_m: [0, 0, 1],
+       radius_m: 1}
+    label: 4
+    material: chrome
+)");
+    EXPECT_EQ(value.rfind(file + ":11: parts[1].material: unknown material 'chrome'", 0), 0u)
+        << value;
+}
+
 }  // namespace
 }  // namespace beamtrace

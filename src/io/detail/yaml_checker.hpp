@@ -109,10 +109,15 @@ class YamlChecker {
         return true;
     }
 
-    /// Throws ConfigError listing every problem, if there are any.
+    /// Throws ConfigError listing every problem, if there are any: a single problem as its own
+    /// line (`file:line: key: what`), so the CLI's one-line message names the file; several
+    /// under a count, one line each.
     void throw_if_any(const std::string& what) const {
         if (errors_.empty()) {
             return;
+        }
+        if (errors_.size() == 1) {
+            throw ConfigError(errors_.front());
         }
         std::string msg = std::to_string(errors_.size()) + " problem(s) in the " + what + ":";
         for (const auto& e : errors_) {
