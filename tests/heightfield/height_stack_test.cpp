@@ -50,30 +50,7 @@ TEST(HeightStack, IntervalsJoinWithinTheGapAndTheClosestMergeWhenFull) {
 /// [14.5, 18.5), written to a LAS file and read by a session.
 class HeightStackBridge : public test::TempDirTest {
   protected:
-    void SetUp() override {
-        std::vector<LasPoint> points;
-        for (int y = 0; y < 32; ++y) {
-            for (int x = 0; x < 32; ++x) {
-                LasPoint p;
-                p.x = x + 0.5;
-                p.y = y + 0.5;
-                p.z = 0.0;
-                p.return_number = p.number_of_returns = 1;
-                points.push_back(p);
-                if (x >= 14 && x < 18) {
-                    p.z = 10.0;
-                    points.push_back(p);
-                }
-            }
-        }
-        LasWriterConfig config;
-        config.point_format = 6;
-        config.scale = {0.01, 0.01, 0.01};
-        las_ = dir_ / "bridge.las";
-        LasWriter writer(las_, config);
-        writer.write(points);
-        writer.close();
-    }
+    void SetUp() override { las_ = test::write_bridge_las(dir_ / "bridge.las"); }
 
     [[nodiscard]] ViewImage render(int stacks, const Vec3d& position, double pitch_deg) const {
         ViewSessionConfig c;

@@ -5,13 +5,43 @@
 
 #include <cmath>
 #include <cstdint>
+#include <filesystem>
 #include <functional>
 #include <string>
+#include <vector>
 
 #include "beamtrace/heightfield/section_grid.hpp"
 #include "beamtrace/heightfield/view_renderer.hpp"
+#include "beamtrace/io/las_writer.hpp"
 
 namespace beamtrace::test {
+
+/// Writes a LAS file of ground at z = 0 in every 1 m cell of [0.5, 32.5)^2 and a 10 m high bridge
+/// deck over x in [14.5, 18.5) (a second point in those cells), and returns its path.
+inline std::filesystem::path write_bridge_las(const std::filesystem::path& path) {
+    std::vector<LasPoint> points;
+    for (int y = 0; y < 32; ++y) {
+        for (int x = 0; x < 32; ++x) {
+            LasPoint p;
+            p.x = x + 0.5;
+            p.y = y + 0.5;
+            p.z = 0.0;
+            p.return_number = p.number_of_returns = 1;
+            points.push_back(p);
+            if (x >= 14 && x < 18) {
+                p.z = 10.0;
+                points.push_back(p);
+            }
+        }
+    }
+    LasWriterConfig config;
+    config.point_format = 6;
+    config.scale = {0.01, 0.01, 0.01};
+    LasWriter writer(path, config);
+    writer.write(points);
+    writer.close();
+    return path;
+}
 
 /// A grid whose sections are all resident and filled by `height(x, y)` over window cells (NaN
 /// for an empty cell), attribute = x + y * 65536.

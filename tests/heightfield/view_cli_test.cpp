@@ -8,6 +8,7 @@
 #include "beamtrace/heightfield/view_session.hpp"
 #include "beamtrace/io/las_writer.hpp"
 #include "beamtrace/io/png_reader.hpp"
+#include "heightfield/heightfield_test_support.hpp"
 #include "test_support.hpp"
 
 namespace beamtrace {
@@ -118,30 +119,7 @@ TEST_F(ViewCli, ErrorsAreOneLineNamingTheFile) {
 /// same stacks, and differs from the image without stacks where the rays pass under the deck.
 class ViewCliStacks : public test::TempDirTest {
   protected:
-    void SetUp() override {
-        std::vector<LasPoint> points;
-        for (int y = 0; y < 32; ++y) {
-            for (int x = 0; x < 32; ++x) {
-                LasPoint p;
-                p.x = x + 0.5;
-                p.y = y + 0.5;
-                p.z = 0.0;
-                p.return_number = p.number_of_returns = 1;
-                points.push_back(p);
-                if (x >= 14 && x < 18) {
-                    p.z = 10.0;
-                    points.push_back(p);
-                }
-            }
-        }
-        LasWriterConfig config;
-        config.point_format = 6;
-        config.scale = {0.01, 0.01, 0.01};
-        las_ = dir_ / "bridge.las";
-        LasWriter writer(las_, config);
-        writer.write(points);
-        writer.close();
-    }
+    void SetUp() override { las_ = test::write_bridge_las(dir_ / "bridge.las"); }
 
     /// The CLI's PNG with `stacks` height stacks (0: none).
     [[nodiscard]] RgbImage cli_image(int stacks) const {

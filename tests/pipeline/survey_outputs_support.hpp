@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "beamtrace/pipeline/survey.hpp"
+#include "pipeline/survey_test_support.hpp"
 #include "test_support.hpp"
 
 namespace beamtrace::test {
@@ -161,14 +162,7 @@ inline RawLas parse_las(const std::string& b) {
 /// Writes `yaml` as survey.yaml in `dir`, runs it into dir/out and parses dir/out/points.las.
 inline RawLas run_survey_raw(const std::string& yaml, const TempDir& dir, std::uint64_t seed = 1,
                              unsigned threads = 2, std::size_t chunk = std::size_t{1} << 16) {
-    write_file(dir / "survey.yaml", yaml);
-    const SurveySpec spec = load_survey_spec(dir / "survey.yaml");
-    SurveyRunConfig run;
-    run.output_dir = dir / "out";
-    run.seed = seed;
-    run.threads = threads;
-    run.chunk_pulses = chunk;
-    (void)run_survey(spec, run);
+    run_survey_in(yaml, dir, threads, chunk, seed);
     return parse_las(read_file(dir / "out" / "points.las"));
 }
 

@@ -10,9 +10,9 @@
 
 namespace beamtrace::test {
 
-inline std::vector<LasPoint> run_and_read(const std::string& yaml, const TempDir& dir,
-                                          unsigned threads = 2, std::size_t chunk = 1 << 16,
-                                          std::uint64_t seed = SurveyRunConfig{}.seed) {
+/// Writes `yaml` as survey.yaml in `dir` and runs it into dir/out.
+inline void run_survey_in(const std::string& yaml, const TempDir& dir, unsigned threads,
+                          std::size_t chunk, std::uint64_t seed) {
     write_file(dir / "survey.yaml", yaml);
     const SurveySpec spec = load_survey_spec(dir / "survey.yaml");
     SurveyRunConfig run;
@@ -21,6 +21,13 @@ inline std::vector<LasPoint> run_and_read(const std::string& yaml, const TempDir
     run.chunk_pulses = chunk;
     run.seed = seed;
     (void)run_survey(spec, run);
+}
+
+/// run_survey_in, then dir/out/points.las read back by our reader.
+inline std::vector<LasPoint> run_and_read(const std::string& yaml, const TempDir& dir,
+                                          unsigned threads = 2, std::size_t chunk = 1 << 16,
+                                          std::uint64_t seed = SurveyRunConfig{}.seed) {
+    run_survey_in(yaml, dir, threads, chunk, seed);
     return read_las_points(dir / "out" / "points.las");
 }
 
