@@ -278,7 +278,8 @@ Verdict classify(const TriangleMesh& mesh, const RayBatch& rays, std::size_t i,
         return same_hit(oracle, got, i, kind, e) ? Verdict::agree : Verdict::off;
     }
     // Both faces hold the point where the ray meets their shared edge or vertex, at one range:
-    // either is a right nearest hit (the contract says the lower face ID: see own_tie_limit).
+    // either is a right nearest hit (the Backend contract gives it to the lower face ID, which our
+    // backends must do exactly).
     if (oh && gh && same_range(oracle.t[i], got.t[i]) &&
         on_shared_feature(mesh, oracle, i, got.face[i]) &&
         on_shared_feature(mesh, got, i, oracle.face[i])) {
@@ -330,17 +331,6 @@ Tally tally(const TriangleMesh& mesh, const RayBatch& rays, const HitBatch& orac
     return t;
 }
 
-/// Ties that our backends resolve otherwise than brute force, though the Backend contract (and
-/// the README) give every tie to the lowest face ID. NearestVisitor checks the range as the
-/// watertight test does (on T before its division by det), so a hit at the same float range can
-/// be dropped, or one an ulp farther kept for its lower ID, by visit order; and the BVH's slab
-/// test clips the unpadded entry to the best range, so a node whose box the tie point touches
-/// can be culled. Seen on up to 2.4 % of the rays aimed at vertices and edges (terrain, bvh),
-/// never on random rays. Should be 0 once both are fixed.
-std::size_t own_tie_limit(std::size_t n, bool edge_rays) {
-    return edge_rays ? n / 20 : 0;
-}
-
 /// The limits on a tally. Our backends: every ray agrees but for a few ties (above). Embree: on
 /// random rays, only a very few ties; on rays aimed at vertices and edges, any number of ties (its
 /// test need not give a shared edge to the lower face), a few grazing or slipping rays, and a
@@ -356,7 +346,9 @@ void expect_within_limits(const Tally& t, std::size_t n, BackendKind kind, bool 
         t[Verdict::slipped], t[Verdict::off], t[Verdict::wrong], t.max.dt, t.max.dp);
     if (shares_watertight_test(kind)) {
         EXPECT_EQ(bad + allowances, 0u) << label;
-        EXPECT_LE(t[Verdict::tie], own_tie_limit(n, edge_rays)) << label;
+        // Not even a tie: our traversals pick the nearest divided range, then the lowest face,
+        // whatever order they visit faces in (NearestVisitor, slab_interval), as brute force.
+        EXPECT_EQ(t[Verdict::tie], 0u) << label;
         return;
     }
     if (!edge_rays) {

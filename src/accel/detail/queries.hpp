@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <numeric>
 #include <utility>
@@ -65,13 +66,20 @@ class VisitorBase {
 };
 
 class NearestVisitor : public VisitorBase {
+    static constexpr float kRoom = 1.0f + 8.0f * std::numeric_limits<float>::epsilon();
+
   public:
     explicit NearestVisitor(const TraceRay& ray) : best_t_(ray.tmax) {}
     [[nodiscard]] float limit() const { return best_t_; }
     bool visit(std::uint32_t local_face) {
         TriangleHit h;
         const std::uint32_t face = offset_ + local_face;
-        if (test(local_face, best_t_, Facing::both, h) && (h.t < best_t_ || face < face_)) {
+        // The triangle test clips on T before its division by det, so with the limit best_t_
+        // it may drop a hit whose divided range is below best_t_; with a few ulps of room, and
+        // the choice made on the divided range (then the lower face ID), the nearest hit no
+        // longer depends on the order faces are visited in.
+        if (test(local_face, best_t_ * kRoom, Facing::both, h) &&
+            (h.t < best_t_ || (h.t == best_t_ && face < face_))) {
             best_t_ = h.t;
             face_ = face;
             u_ = h.u;
