@@ -65,25 +65,23 @@ class VisitorBase {
     bool mirrored_ = false;
 };
 
+/// The nearest hit: the least range as the triangle test divides it out, then the lowest face
+/// ID, whatever order the faces come in. The triangle test clips on T before its division by
+/// det, and traversers clip boxes at an entry computed to an ulp or two: with the best range
+/// itself as their limit, either could drop a hit at that very range (a point on an edge two
+/// triangles share), so the limit they get is a few ulps past it and the choice is made here.
 class NearestVisitor : public VisitorBase {
     static constexpr float kRoom = 1.0f + 8.0f * std::numeric_limits<float>::epsilon();
 
   public:
-    explicit NearestVisitor(const TraceRay& ray) : best_t_(ray.tmax) {}
-    [[nodiscard]] float limit() const { return best_t_; }
+    explicit NearestVisitor(const TraceRay& ray) : best_t_(ray.tmax), limit_(ray.tmax * kRoom) {}
+    [[nodiscard]] float limit() const { return limit_; }
     bool visit(std::uint32_t local_face) {
         TriangleHit h;
         const std::uint32_t face = offset_ + local_face;
-        // The triangle test clips on T before its division by det, so with the limit best_t_
-        // it may drop a hit whose divided range is below best_t_; with a few ulps of room, and
-        // the choice made on the divided range (then the lower face ID), the nearest hit no
-        // longer depends on the order faces are visited in.
-        if (test(local_face, best_t_ * kRoom, Facing::both, h) &&
+        if (test(local_face, limit_, Facing::both, h) &&
             (h.t < best_t_ || (h.t == best_t_ && face < face_))) {
-            best_t_ = h.t;
-            face_ = face;
-            u_ = h.u;
-            v_ = h.v;
+            keep(h.t, face, h.u, h.v);
         }
         return false;
     }
@@ -94,9 +92,7 @@ class NearestVisitor : public VisitorBase {
         }
         const float t = t0 >= world.tmin ? t0 : t1;
         if (t >= world.tmin && t <= best_t_ && (t < best_t_ || s.face < face_)) {
-            best_t_ = t;
-            face_ = s.face;
-            u_ = v_ = 0.0f;
+            keep(t, s.face, 0.0f, 0.0f);
         }
         return false;
     }
@@ -114,7 +110,15 @@ class NearestVisitor : public VisitorBase {
     }
 
   private:
+    void keep(float t, std::uint32_t face, float u, float v) {
+        best_t_ = t;
+        limit_ = t * kRoom;
+        face_ = face;
+        u_ = u;
+        v_ = v;
+    }
     float best_t_;
+    float limit_;  ///< best_t_ and a few ulps: what the triangle test and the traverser clip at
     std::uint32_t face_ = kNoFace;
     float u_ = 0, v_ = 0;
 };

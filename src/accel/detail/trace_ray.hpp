@@ -36,9 +36,7 @@ struct TraceRay {
 [[nodiscard]] inline bool slab_interval(const TraceRay& r, const float lo[3], const float hi[3],
                                         float tmin, float tmax, float& entry, float& exit) {
     constexpr float kPad = 2.0f * 3.0f * std::numeric_limits<float>::epsilon();
-    // The limit is padded too: a box whose computed entry is an ulp past the best hit so far
-    // may still hold a hit at that same range (a point on an edge its triangles share).
-    float tnear = tmin, tfar = tmax >= 0.0f ? tmax * (1.0f + kPad) : tmax;
+    float tnear = tmin, tfar = tmax;
     for (int a = 0; a < 3; ++a) {
         const float o = r.org[static_cast<std::size_t>(a)];
         const float inv = r.inv_dir[static_cast<std::size_t>(a)];
