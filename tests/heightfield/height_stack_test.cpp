@@ -53,14 +53,7 @@ class HeightStackBridge : public test::TempDirTest {
     void SetUp() override { las_ = test::write_bridge_las(dir_ / "bridge.las"); }
 
     [[nodiscard]] ViewImage render(int stacks, const Vec3d& position, double pitch_deg) const {
-        ViewSessionConfig c;
-        c.field.cell_size = 1.0;
-        c.field.levels = 3;
-        c.field.section_cells = 8;
-        c.field.sections = 2;
-        c.field.height_stacks = stacks;
-        c.field.stack_gap = 1.0;
-        c.threads = 2;
+        const ViewSessionConfig c = test::bridge_view_config(stacks);
         ViewSession session(std::span(&las_, 1), c);
         static_cast<void>(session.move_to(position));
         ViewCamera cam;

@@ -12,6 +12,7 @@
 
 #include "beamtrace/heightfield/section_grid.hpp"
 #include "beamtrace/heightfield/view_renderer.hpp"
+#include "beamtrace/heightfield/view_session.hpp"
 #include "beamtrace/io/las_writer.hpp"
 
 namespace beamtrace::test {
@@ -41,6 +42,20 @@ inline std::filesystem::path write_bridge_las(const std::filesystem::path& path)
     writer.write(points);
     writer.close();
     return path;
+}
+
+/// The view of write_bridge_las's file the stack tests use: 1 m cells, 2 x 2 sections of 8
+/// cells, `stacks` height stacks 1 m apart at most.
+inline ViewSessionConfig bridge_view_config(int stacks) {
+    ViewSessionConfig c;
+    c.field.cell_size = 1.0;
+    c.field.levels = 3;
+    c.field.section_cells = 8;
+    c.field.sections = 2;
+    c.field.height_stacks = stacks;
+    c.field.stack_gap = 1.0;
+    c.threads = 2;
+    return c;
 }
 
 /// A grid whose sections are all resident and filled by `height(x, y)` over window cells (NaN

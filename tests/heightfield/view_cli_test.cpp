@@ -135,14 +135,7 @@ class ViewCliStacks : public test::TempDirTest {
 
     /// The same view rendered by the library.
     [[nodiscard]] ViewImage library_image(int stacks) const {
-        ViewSessionConfig c;
-        c.field.cell_size = 1.0;
-        c.field.levels = 3;
-        c.field.section_cells = 8;
-        c.field.sections = 2;
-        c.field.height_stacks = stacks;
-        c.field.stack_gap = 1.0;
-        c.threads = 2;
+        const ViewSessionConfig c = test::bridge_view_config(stacks);
         ViewSession session(std::span(&las_, 1), c);
         static_cast<void>(session.move_to({2.0, 16.3, 4.0}));
         ViewCamera cam;
