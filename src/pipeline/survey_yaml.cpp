@@ -23,17 +23,41 @@ void positive(YamlChecker& c, const YAML::Node& n, const std::string& key, doubl
     }
 }
 
+/// Each scanner type accepts its own keys only (a rotating scanner's scan_rate_hz is an error,
+/// not silently ignored); an unknown type's keys are checked against all types'.
+void check_scanner_keys(YamlChecker& c, const YAML::Node& n, const std::string& type) {
+    if (type == "rotating") {
+        c.only_keys(
+            n, "scanner",
+            {"type", "preset", "beam_elevations_deg", "rotation_rate_hz", "azimuth_resolution_deg",
+             "spin_clockwise", "duration_s", "range_min_m", "range_max_m"},
+            "a rotating scanner");
+    } else if (type == "line") {
+        c.only_keys(n, "scanner",
+                    {"type", "pulse_rate_hz", "scan_rate_hz", "scan_angle_max_deg", "waveform",
+                     "duration_s", "range_min_m", "range_max_m"},
+                    "a line scanner");
+    } else if (type == "pinhole" || type == "scan") {
+        c.only_keys(n, "scanner",
+                    {"type", "width", "height", "hfov_deg", "vfov_deg", "frames", "pulse_rate_hz",
+                     "range_min_m", "range_max_m"},
+                    "a " + type + " scanner");
+    } else {
+        c.only_keys(n, "scanner",
+                    {"type", "preset", "beam_elevations_deg", "rotation_rate_hz",
+                     "azimuth_resolution_deg", "spin_clockwise", "pulse_rate_hz", "scan_rate_hz",
+                     "scan_angle_max_deg", "waveform", "width", "height", "hfov_deg", "vfov_deg",
+                     "frames", "duration_s", "range_min_m", "range_max_m"});
+    }
+}
+
 void parse_scanner(YamlChecker& c, const YAML::Node& n, SurveySpec& s) {
     if (!n || !n.IsMap()) {
         c.error(n ? n : YAML::Node(), "scanner", "expected a map with at least 'type'");
         return;
     }
-    c.only_keys(n, "scanner",
-                {"type", "preset", "beam_elevations_deg", "rotation_rate_hz",
-                 "azimuth_resolution_deg", "spin_clockwise", "pulse_rate_hz", "scan_rate_hz",
-                 "scan_angle_max_deg", "waveform", "width", "height", "hfov_deg", "vfov_deg",
-                 "frames", "duration_s", "range_min_m", "range_max_m"});
     const std::string type = n["type"] && n["type"].IsScalar() ? n["type"].Scalar() : "";
+    check_scanner_keys(c, n, type);
     double duration = 0.0;
     const bool has_duration =
         n["duration_s"] && c.number(n["duration_s"], "scanner.duration_s", duration);

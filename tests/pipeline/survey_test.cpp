@@ -222,6 +222,32 @@ output: {point_format: 9, color: red}
     }
 }
 
+TEST(Survey, EachScannerTypeAcceptsOnlyItsOwnKeys) {
+    // Keys of another type were silently ignored: a rotating scanner with a line scanner's
+    // scan_rate_hz, a pinhole with a duration (an image scanner fires frames).
+    test::TempDir dir;
+    const std::pair<const char*, const char*> cases[] = {
+        {"{type: rotating, preset: vlp16, scan_rate_hz: 50}",
+         "s.yaml:2: scanner.scan_rate_hz: unknown key for a rotating scanner"},
+        {"{type: line, preset: vlp16}", "s.yaml:2: scanner.preset: unknown key for a line scanner"},
+        {"{type: pinhole, width: 4, height: 4, duration_s: 2}",
+         "s.yaml:2: scanner.duration_s: unknown key for a pinhole scanner"},
+        {"{type: scan, width: 4, height: 4, rotation_rate_hz: 10}",
+         "s.yaml:2: scanner.rotation_rate_hz: unknown key for a scan scanner"},
+    };
+    for (const auto& [scanner, expected] : cases) {
+        test::write_file(dir / "s.yaml", std::string("scene: demo\nscanner: ") + scanner +
+                                             "\nplatform: {type: static, position_m: [0, 0, 5]}\n");
+        try {
+            (void)load_survey_spec(dir / "s.yaml");
+            ADD_FAILURE() << scanner << " was accepted";
+        } catch (const ConfigError& e) {
+            EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << scanner << "\n"
+                                                                               << e.what();
+        }
+    }
+}
+
 TEST(Survey, TrajectoryShorterThanTheScanIsRefused) {
     test::TempDir dir;
     test::write_file(dir / "s.yaml", R"(scene: demo

@@ -30,8 +30,10 @@ class YamlChecker {
     [[nodiscard]] const std::vector<std::string>& errors() const { return errors_; }
 
     /// Complains about keys of `map` that are not in `known`.
+    /// Reports every key of `map` not in `known`; `owner` (e.g. "a rotating scanner"), when
+    /// given, says whose keys these are.
     void only_keys(const YAML::Node& map, const std::string& key,
-                   std::initializer_list<const char*> known) {
+                   std::initializer_list<const char*> known, const std::string& owner = {}) {
         for (const auto& kv : map) {
             const auto name = kv.first.as<std::string>();
             bool ok = false;
@@ -44,7 +46,8 @@ class YamlChecker {
                     list += (list.empty() ? "" : ", ") + std::string(k);
                 }
                 error(kv.first, key.empty() ? name : key + "." + name,
-                      "unknown key (expected one of: " + list + ")");
+                      "unknown key" + (owner.empty() ? "" : " for " + owner) +
+                          " (expected one of: " + list + ")");
             }
         }
     }
