@@ -127,30 +127,14 @@ struct NamedBackend {
     const char* name;
 };
 
-/// True when this build has Embree, the default backend. Without it a cross-check covers our own
-/// backends only: a failure under BEAMTRACE_REQUIRE_ALL=1 (CI builds with Embree), else a note.
-bool embree_checked(const char* what) {
-    if (embree_available()) {
-        return true;
-    }
-    if (test::require_all()) {
-        ADD_FAILURE() << what << ": built without Embree, the default backend, so Embree is not "
-                      << "cross-checked (BEAMTRACE_REQUIRE_ALL=1; install libembree-dev and "
-                      << "reconfigure)";
-    } else {
-        std::printf("  NOTE %s: built without Embree: the default backend was NOT checked\n", what);
-    }
-    return false;
-}
-
 /// Every accelerated backend and build rule set.
-std::vector<NamedBackend> accelerated_backends(const char* what) {
+std::vector<NamedBackend> accelerated_backends() {
     BackendConfig report;
     report.kdtree = KdTreeBuildConfig::report();
     std::vector<NamedBackend> all{{BackendKind::kdtree, {}, "kdtree"},
                                   {BackendKind::kdtree, report, "kdtree-report-rules"},
                                   {BackendKind::bvh, {}, "bvh"}};
-    if (embree_checked(what)) {
+    if (test::with_embree()) {
         all.push_back({BackendKind::embree, {}, "embree"});
     }
     return all;
@@ -372,7 +356,7 @@ HitBatch expect_agreement(const TriangleMesh& mesh, const RayBatch& rays, const 
         hits += oracle.hit(i) ? 1 : 0;
     }
     EXPECT_GT(hits, rays.size() / 10) << what << ": the test rays should hit something";
-    for (const auto& [kind, config, name] : accelerated_backends(what)) {
+    for (const auto& [kind, config, name] : accelerated_backends()) {
         const auto backend = make_backend(kind, mesh, pool, config);
         const HitBatch got = backend->intersect(rays, pool);
         const std::string label = std::string(what) + " " + name;
@@ -439,7 +423,7 @@ void expect_no_leaks(const TriangleMesh& mesh, const Vec3d& inside, const char* 
         }
     }
     ThreadPool pool(0);
-    auto backends = accelerated_backends(what);
+    auto backends = accelerated_backends();
     backends.push_back({BackendKind::brute, {}, "brute"});
     for (const auto& [kind, config, name] : backends) {
         const auto backend = make_backend(kind, mesh, pool, config);
@@ -490,7 +474,7 @@ TEST(CrossCheck, AxisAlignedRaysThroughGridVerticesAndEdges) {
         }
     }
     ThreadPool pool(2);
-    auto backends = accelerated_backends("grid");
+    auto backends = accelerated_backends();
     backends.push_back({BackendKind::brute, {}, "brute"});
     for (const auto& [kind, config, name] : backends) {
         const auto backend = make_backend(kind, grid, pool, config);
@@ -530,7 +514,7 @@ TEST(CrossCheck, AllHitsMatchBruteForceAndMollerTrumbore) {
     AllHits ref;
     make_backend(BackendKind::brute, sphere, pool)->intersect_all(rays, Facing::both, ref, pool);
     std::vector<BackendKind> kinds{BackendKind::kdtree, BackendKind::bvh};
-    if (embree_checked("all hits")) {
+    if (test::with_embree()) {
         kinds.push_back(BackendKind::embree);
     }
     for (BackendKind kind : kinds) {
@@ -570,7 +554,7 @@ TEST(CrossCheck, ResultsDoNotDependOnThreadCount) {
     }
     ThreadPool one(1), four(4);
     std::vector<BackendKind> kinds{BackendKind::kdtree, BackendKind::bvh};
-    if (embree_checked("thread count")) {
+    if (test::with_embree()) {
         kinds.push_back(BackendKind::embree);
     }
     for (BackendKind kind : kinds) {

@@ -17,6 +17,18 @@
 
 namespace beamtrace::test {
 
+/// Writes `points` to a LAS file at centimetre resolution around the origin; returns `path`.
+inline std::filesystem::path write_test_las(const std::filesystem::path& path,
+                                            const std::vector<LasPoint>& points, int point_format) {
+    LasWriterConfig config;
+    config.point_format = point_format;
+    config.scale = {0.01, 0.01, 0.01};
+    LasWriter writer(path, config);
+    writer.write(points);
+    writer.close();
+    return path;
+}
+
 /// Writes a LAS file of ground at z = 0 in every 1 m cell of [0.5, 32.5)^2 and a 10 m high bridge
 /// deck over x in [14.5, 18.5) (a second point in those cells), and returns its path.
 inline std::filesystem::path write_bridge_las(const std::filesystem::path& path) {
@@ -35,13 +47,7 @@ inline std::filesystem::path write_bridge_las(const std::filesystem::path& path)
             }
         }
     }
-    LasWriterConfig config;
-    config.point_format = 6;
-    config.scale = {0.01, 0.01, 0.01};
-    LasWriter writer(path, config);
-    writer.write(points);
-    writer.close();
-    return path;
+    return write_test_las(path, points, 6);
 }
 
 /// The view of write_bridge_las's file the stack tests use: 1 m cells, 2 x 2 sections of 8

@@ -14,6 +14,7 @@
 #include "beamtrace/heightfield/view_session.hpp"
 #include "beamtrace/io/las_writer.hpp"
 #include "heightfield/child_peak_rss.hpp"
+#include "heightfield/heightfield_test_support.hpp"
 #include "test_support.hpp"
 
 namespace beamtrace {
@@ -37,13 +38,7 @@ LasPoint point(double x, double y, double z, std::uint16_t r = 0, std::uint16_t 
 
 std::filesystem::path write_las(const std::filesystem::path& path,
                                 const std::vector<LasPoint>& points) {
-    LasWriterConfig config;
-    config.point_format = 7;
-    config.scale = {0.01, 0.01, 0.01};
-    LasWriter writer(path, config);
-    writer.write(points);
-    writer.close();
-    return path;
+    return test::write_test_las(path, points, 7);
 }
 
 ViewSessionConfig small_session(ColorMode color = ColorMode::height) {

@@ -86,22 +86,17 @@ struct ExpectedLasHeader {
     std::optional<Vec3d> offset;  ///< unset: any offset (but X, Y, Z must still match)
 };
 
-/// Which fields `expected` carries (a survey's CSV has no intensity without physics).
-struct ExpectedFields {
-    bool intensity_and_returns = true;
-    bool flags = true;  ///< synthetic, key point, withheld, overlap, channel, scan direction, edge
-};
-
 namespace detail {
+using Field = double (*)(const LasPoint&);
+
 /// Checks that the decoded dimension `name` equals `want(p)` for every point (within `tol`);
 /// reports the first few differences.
-template <typename Want>
-void expect_dimension(const IndependentLas& d, std::span<const LasPoint> expected, const char* name,
-                      Want want, double tol, const std::string& what) {
+inline void expect_dimension(const IndependentLas& d, std::span<const LasPoint> expected,
+                             const char* name, Field want, double tol, const std::string& what) {
     const int k = d.dim(name);
     ASSERT_GE(k, 0) << what << ": copc.js has no dimension " << name;
     std::size_t bad = 0;
-    for (std::size_t i = 0; i < std::min(expected.size(), d.count); ++i) {
+    for (std::size_t i = 0; i < expected.size(); ++i) {
         const double got = d.at(i, static_cast<std::size_t>(k));
         const double w = want(expected[i]);
         if (!(std::abs(got - w) <= tol) && ++bad <= 3) {
@@ -111,6 +106,36 @@ void expect_dimension(const IndependentLas& d, std::span<const LasPoint> expecte
     }
     EXPECT_EQ(bad, 0u) << what << ": " << name << " differs on " << bad << " points";
 }
+
+/// X, Y, Z from both readers within half a scale step of what we wrote (a one-step shift
+/// fails), and the header's bounds equal to the decoded points' (to rounding of offset + s k).
+inline void expect_coordinates(const IndependentLas& d, std::span<const LasPoint> expected,
+                               const std::string& what) {
+    const Vec3d scale = d.header_vec("scale");
+    const Vec3d hmin = d.header_vec("min"), hmax = d.header_vec("max");
+    const std::array<Field, 3> coord = {[](const LasPoint& p) { return p.x; },
+                                        [](const LasPoint& p) { return p.y; },
+                                        [](const LasPoint& p) { return p.z; }};
+    const char* names[3] = {"X", "Y", "Z"};
+    for (std::size_t a = 0; a < 3; ++a) {
+        const double tol = 0.5 * scale[a] * (1.0 + 1e-6);
+        expect_dimension(d, expected, names[a], coord[a], tol, what);
+        const auto k = static_cast<std::size_t>(d.dim(names[a]));
+        double lo = 1e300, hi = -1e300;
+        std::size_t bad = 0;
+        for (std::size_t i = 0; i < expected.size(); ++i) {
+            bad += std::abs(d.loadersgl[5 * i + a] - coord[a](expected[i])) <= tol ? 0 : 1;
+            lo = std::min(lo, d.at(i, k));
+            hi = std::max(hi, d.at(i, k));
+        }
+        EXPECT_EQ(bad, 0u) << what << ": loaders.gl's " << names[a] << " differs on " << bad
+                           << " points";
+        if (!expected.empty()) {
+            EXPECT_NEAR(hmin[a], lo, 1e-6 * scale[a]) << what << ": header min " << names[a];
+            EXPECT_NEAR(hmax[a], hi, 1e-6 * scale[a]) << what << ": header max " << names[a];
+        }
+    }
+}
 }  // namespace detail
 
 /// Compares every point field and the header that the independent readers decode with the
@@ -118,113 +143,64 @@ void expect_dimension(const IndependentLas& d, std::span<const LasPoint> expecte
 /// exactly (the scan angle to half a 0.006-degree step), header bounds equal to the decoded
 /// points' and counts by return equal to the written points'.
 inline void expect_decodes_as(const IndependentLas& d, std::span<const LasPoint> expected,
-                              const ExpectedLasHeader& header, const ExpectedFields& fields,
-                              const std::string& what) {
+                              const ExpectedLasHeader& header, const std::string& what) {
     ASSERT_EQ(d.count, expected.size()) << what;
     ASSERT_EQ(d.facts.at("pointCount").get<std::size_t>(), expected.size()) << what;
     ASSERT_EQ(d.loadersgl.size(), expected.size() * 5) << what << ": loaders.gl's point count";
     EXPECT_EQ(d.facts.at("version"), nlohmann::json::array({1, 4})) << what;
     EXPECT_EQ(d.facts.at("pointFormat").get<int>(), header.point_format) << what;
-    const Vec3d scale = d.header_vec("scale"), offset = d.header_vec("offset");
-    EXPECT_EQ(scale, header.scale) << what;
+    EXPECT_EQ(d.header_vec("scale"), header.scale) << what;
     if (header.offset) {
-        EXPECT_EQ(offset, *header.offset) << what;
+        EXPECT_EQ(d.header_vec("offset"), *header.offset) << what;
     }
-    // Coordinates: both readers, within half a step of what we wrote (a 1-step shift fails).
-    const std::array<double (*)(const LasPoint&), 3> coord = {
-        [](const LasPoint& p) { return p.x; }, [](const LasPoint& p) { return p.y; },
-        [](const LasPoint& p) { return p.z; }};
-    const char* names[3] = {"X", "Y", "Z"};
-    Vec3d lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
-    for (int a = 0; a < 3; ++a) {
-        const double tol = 0.5 * scale[a] * (1.0 + 1e-6);
-        detail::expect_dimension(d, expected, names[a], coord[static_cast<std::size_t>(a)], tol,
-                                 what);
-        std::size_t bad = 0;
-        for (std::size_t i = 0; i < expected.size(); ++i) {
-            const double v = d.loadersgl[5 * i + static_cast<std::size_t>(a)];
-            bad += std::abs(v - coord[static_cast<std::size_t>(a)](expected[i])) <= tol ? 0 : 1;
-            lo[a] = std::min(lo[a], d.at(i, static_cast<std::size_t>(d.dim(names[a]))));
-            hi[a] = std::max(hi[a], d.at(i, static_cast<std::size_t>(d.dim(names[a]))));
-        }
-        EXPECT_EQ(bad, 0u) << what << ": loaders.gl's " << names[a] << " differs on " << bad
-                           << " points";
-    }
-    // The header's bounds are the decoded points' bounds (to rounding of offset + scale * k).
-    if (!expected.empty()) {
-        const Vec3d hmin = d.header_vec("min"), hmax = d.header_vec("max");
-        for (int a = 0; a < 3; ++a) {
-            EXPECT_NEAR(hmin[a], lo[a], 1e-6 * scale[a]) << what << ": header min " << names[a];
-            EXPECT_NEAR(hmax[a], hi[a], 1e-6 * scale[a]) << what << ": header max " << names[a];
-        }
-    }
-    const auto& ex = expected;
+    detail::expect_coordinates(d, expected, what);
     using P = const LasPoint&;
+    const std::pair<const char*, detail::Field> exact[] = {
+        {"GpsTime", [](P p) { return p.gps_time; }},
+        {"Intensity", [](P p) { return double(p.intensity); }},
+        {"ReturnNumber", [](P p) { return double(p.return_number); }},
+        {"NumberOfReturns", [](P p) { return double(p.number_of_returns); }},
+        {"Classification", [](P p) { return double(p.classification); }},
+        {"UserData", [](P p) { return double(p.user_data); }},
+        {"PointSourceId", [](P p) { return double(p.point_source_id); }},
+        {"Synthetic", [](P p) { return double(p.synthetic); }},
+        {"KeyPoint", [](P p) { return double(p.key_point); }},
+        {"Withheld", [](P p) { return double(p.withheld); }},
+        {"Overlap", [](P p) { return double(p.overlap); }},
+        {"ScannerChannel", [](P p) { return double(p.scanner_channel); }},
+        {"ScanDirectionFlag", [](P p) { return double(p.scan_direction); }},
+        {"EdgeOfFlightLine", [](P p) { return double(p.edge_of_flight_line); }}};
+    for (const auto& [name, field] : exact) {
+        detail::expect_dimension(d, expected, name, field, 0.0, what);
+    }
     detail::expect_dimension(
-        d, ex, "GpsTime", [](P p) { return p.gps_time; }, 0.0, what);
-    detail::expect_dimension(
-        d, ex, "Classification", [](P p) { return p.classification; }, 0.0, what);
-    detail::expect_dimension(
-        d, ex, "UserData", [](P p) { return p.user_data; }, 0.0, what);
-    detail::expect_dimension(
-        d, ex, "PointSourceId", [](P p) { return p.point_source_id; }, 0.0, what);
-    detail::expect_dimension(
-        d, ex, "ScanAngle", [](P p) { return double(p.scan_angle_deg); }, 0.003 + 1e-9, what);
+        d, expected, "ScanAngle", [](P p) { return double(p.scan_angle_deg); }, 0.003 + 1e-9, what);
     std::size_t lg_bad = 0;
-    for (std::size_t i = 0; i < ex.size(); ++i) {
-        lg_bad += d.loadersgl[5 * i + 4] == ex[i].classification ? 0 : 1;
-        if (fields.intensity_and_returns) {
-            lg_bad += d.loadersgl[5 * i + 3] == ex[i].intensity ? 0 : 1;
+    std::vector<std::uint64_t> by_return(15, 0);
+    for (std::size_t i = 0; i < expected.size(); ++i) {
+        const LasPoint& p = expected[i];
+        lg_bad += d.loadersgl[5 * i + 3] == p.intensity ? 0 : 1;
+        lg_bad += d.loadersgl[5 * i + 4] == p.classification ? 0 : 1;
+        if (p.return_number >= 1 && p.return_number <= 15) {
+            ++by_return[p.return_number - 1u];
         }
     }
     EXPECT_EQ(lg_bad, 0u) << what << ": loaders.gl's intensity or classification differs";
-    if (fields.intensity_and_returns) {
-        detail::expect_dimension(
-            d, ex, "Intensity", [](P p) { return p.intensity; }, 0.0, what);
-        detail::expect_dimension(
-            d, ex, "ReturnNumber", [](P p) { return p.return_number; }, 0.0, what);
-        detail::expect_dimension(
-            d, ex, "NumberOfReturns", [](P p) { return p.number_of_returns; }, 0.0, what);
-        std::vector<std::uint64_t> by_return(15, 0);
-        for (const auto& p : ex) {
-            if (p.return_number >= 1 && p.return_number <= 15) {
-                ++by_return[p.return_number - 1u];
-            }
+    EXPECT_EQ(d.facts.at("pointCountByReturn").get<std::vector<std::uint64_t>>(), by_return)
+        << what;
+    const std::pair<const char*, detail::Field> colours[] = {
+        {"Red", [](P p) { return double(p.red); }},
+        {"Green", [](P p) { return double(p.green); }},
+        {"Blue", [](P p) { return double(p.blue); }},
+        {"Infrared", [](P p) { return double(p.nir); }}};
+    for (std::size_t c = 0; c < 4; ++c) {
+        const bool in_format = c < 3 ? header.point_format >= 7 : header.point_format == 8;
+        if (in_format) {
+            detail::expect_dimension(d, expected, colours[c].first, colours[c].second, 0.0, what);
+        } else {
+            EXPECT_LT(d.dim(colours[c].first), 0)
+                << what << ": format " << header.point_format << " has " << colours[c].first;
         }
-        EXPECT_EQ(d.facts.at("pointCountByReturn").get<std::vector<std::uint64_t>>(), by_return)
-            << what;
-    }
-    if (fields.flags) {
-        detail::expect_dimension(
-            d, ex, "Synthetic", [](P p) { return p.synthetic; }, 0.0, what);
-        detail::expect_dimension(
-            d, ex, "KeyPoint", [](P p) { return p.key_point; }, 0.0, what);
-        detail::expect_dimension(
-            d, ex, "Withheld", [](P p) { return p.withheld; }, 0.0, what);
-        detail::expect_dimension(
-            d, ex, "Overlap", [](P p) { return p.overlap; }, 0.0, what);
-        detail::expect_dimension(
-            d, ex, "ScannerChannel", [](P p) { return p.scanner_channel; }, 0.0, what);
-        detail::expect_dimension(
-            d, ex, "ScanDirectionFlag", [](P p) { return p.scan_direction; }, 0.0, what);
-        detail::expect_dimension(
-            d, ex, "EdgeOfFlightLine", [](P p) { return p.edge_of_flight_line; }, 0.0, what);
-    }
-    if (header.point_format >= 7) {
-        detail::expect_dimension(
-            d, ex, "Red", [](P p) { return p.red; }, 0.0, what);
-        detail::expect_dimension(
-            d, ex, "Green", [](P p) { return p.green; }, 0.0, what);
-        detail::expect_dimension(
-            d, ex, "Blue", [](P p) { return p.blue; }, 0.0, what);
-    } else {
-        EXPECT_LT(d.dim("Red"), 0) << what << ": format " << header.point_format << " has RGB";
-    }
-    if (header.point_format == 8) {
-        detail::expect_dimension(
-            d, ex, "Infrared", [](P p) { return p.nir; }, 0.0, what);
-    } else {
-        EXPECT_LT(d.dim("Infrared"), 0) << what;
     }
 }
 

@@ -426,7 +426,7 @@ TEST(LasWriterValidator, IndependentReadersDecodeEveryFieldWeWrote) {
         const auto decoded = test::decode_independently(lasval, path, dir.path());
         ASSERT_TRUE(decoded) << format;
         const std::string what = "format " + std::to_string(format);
-        test::expect_decodes_as(*decoded, points, {format, config.scale, config.offset}, {}, what);
+        test::expect_decodes_as(*decoded, points, {format, config.scale, config.offset}, what);
         const auto& vlrs = decoded->facts.at("vlrs");
         ASSERT_EQ(vlrs.size(), 1u) << what;
         EXPECT_EQ(vlrs[0].at("userId"), "beamtrace") << what;

@@ -125,8 +125,7 @@ TEST(SurveyExamples, IndependentReadersDecodeExactlyThePointsOfEveryExample) {
             test::decode_independently(lasval, dir / "out" / "points.las", dir.path());
         ASSERT_TRUE(decoded);
         // Surveys write point format 6 at 1 mm, no flags (docs/survey.md).
-        test::expect_decodes_as(*decoded, written, {6, {0.001, 0.001, 0.001}, std::nullopt}, {},
-                                name);
+        test::expect_decodes_as(*decoded, written, {6, {0.001, 0.001, 0.001}, std::nullopt}, name);
         const Vec3d offset = decoded->header_vec("offset");
         for (int a = 0; a < 3; ++a) {
             EXPECT_EQ(offset[a], std::round(offset[a])) << "offset is the scene's rounded centre";
