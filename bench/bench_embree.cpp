@@ -18,7 +18,7 @@
 #include <thread>
 
 #include "beamtrace/accel/backend.hpp"
-#include "beamtrace/accel/embree_limit.hpp"
+#include "harness/embree_limit.hpp"
 #include "beamtrace/scene/demo_scene.hpp"
 #include "beamtrace/scene/mesh_loader.hpp"
 #include "beamtrace/sensor/image_sensor.hpp"

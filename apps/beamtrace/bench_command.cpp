@@ -5,8 +5,8 @@
 #include <vector>
 
 #include "beamtrace/core/error.hpp"
-#include "beamtrace/io/atomic_file.hpp"
-#include "beamtrace/pipeline/throughput_bench.hpp"
+#include "beamtrace/core/atomic_file.hpp"
+#include "harness/throughput_bench.hpp"
 #include "commands.hpp"
 
 namespace beamtrace::cli {

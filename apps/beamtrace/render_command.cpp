@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "beamtrace/core/error.hpp"
+#include "beamtrace/pipeline/demo_sensor.hpp"
 #include "beamtrace/render/render_options.hpp"
 #include "beamtrace/render/renderer.hpp"
 #include "beamtrace/scene/demo_scene.hpp"

@@ -6,7 +6,7 @@
 
 #include "beamtrace/core/error.hpp"
 #include "beamtrace/pipeline/scan_job.hpp"
-#include "beamtrace/scene/demo_scene.hpp"
+#include "beamtrace/pipeline/demo_sensor.hpp"
 #include "commands.hpp"
 #include "progress_bar.hpp"
 

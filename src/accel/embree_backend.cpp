@@ -38,7 +38,7 @@
 #include "beamtrace/accel/backend.hpp"
 #include "beamtrace/core/error.hpp"
 #include "detail/embree.hpp"
-#include "detail/embree_rays.hpp"
+#include "accel/embree_rays.hpp"
 #include "detail/queries.hpp"
 
 namespace beamtrace::detail {

@@ -8,8 +8,8 @@
 #include <system_error>
 
 #include "beamtrace/core/error.hpp"
-#include "io/detail/file_bytes.hpp"
-#include "io/detail/row_writer.hpp"
+#include "text/file_bytes.hpp"
+#include "text/row_writer.hpp"
 
 namespace beamtrace {
 

@@ -10,7 +10,7 @@
 #include <string_view>
 
 #include "beamtrace/core/error.hpp"
-#include "beamtrace/io/atomic_file.hpp"
+#include "beamtrace/core/atomic_file.hpp"
 #include "io/detail/direct_sink.hpp"
 
 namespace beamtrace {

@@ -11,8 +11,8 @@
 #include <system_error>
 
 #include "beamtrace/core/error.hpp"
-#include "beamtrace/io/atomic_file.hpp"
-#include "io/detail/file_bytes.hpp"
+#include "beamtrace/core/atomic_file.hpp"
+#include "text/file_bytes.hpp"
 
 namespace beamtrace {
 

@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "beamtrace/core/error.hpp"
-#include "beamtrace/io/atomic_file.hpp"
+#include "beamtrace/core/atomic_file.hpp"
 
 #ifndef BEAMTRACE_VERSION
 #define BEAMTRACE_VERSION "unknown"

@@ -11,7 +11,7 @@
 #include <system_error>
 
 #include "beamtrace/core/error.hpp"
-#include "beamtrace/io/atomic_file.hpp"
+#include "beamtrace/core/atomic_file.hpp"
 
 #ifndef BEAMTRACE_VERSION
 #define BEAMTRACE_VERSION "unknown"

@@ -10,7 +10,7 @@
 #include <system_error>
 
 #include "beamtrace/core/error.hpp"
-#include "beamtrace/io/atomic_file.hpp"
+#include "beamtrace/core/atomic_file.hpp"
 #include "beamtrace/io/colormap.hpp"
 #include "beamtrace/io/las_writer.hpp"
 #include "beamtrace/io/npy.hpp"

@@ -4,7 +4,7 @@
 #include <sstream>
 
 #include "beamtrace/pipeline/survey.hpp"
-#include "io/detail/yaml_checker.hpp"
+#include "text/yaml_checker.hpp"
 #include "pipeline/detail/physics_yaml.hpp"
 
 namespace beamtrace {

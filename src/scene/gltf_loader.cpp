@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "beamtrace/core/error.hpp"
-#include "io/detail/text_scan.hpp"
+#include "text/text_scan.hpp"
 #include "scene/detail/gltf_document.hpp"
 
 namespace beamtrace {

@@ -9,8 +9,8 @@
 
 #include "beamtrace/core/error.hpp"
 #include "beamtrace/scene/mesh_loader.hpp"
-#include "io/detail/file_bytes.hpp"
-#include "io/detail/text_scan.hpp"
+#include "text/file_bytes.hpp"
+#include "text/text_scan.hpp"
 #include "scene/detail/ply_header.hpp"
 #include "scene/detail/ply_source.hpp"
 

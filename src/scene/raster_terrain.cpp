@@ -13,8 +13,8 @@
 #include <system_error>
 
 #include "beamtrace/core/error.hpp"
-#include "io/detail/file_bytes.hpp"
-#include "io/detail/text_scan.hpp"
+#include "text/file_bytes.hpp"
+#include "text/text_scan.hpp"
 
 namespace beamtrace {
 namespace {

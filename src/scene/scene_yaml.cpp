@@ -9,7 +9,7 @@
 
 #include "beamtrace/core/error.hpp"
 #include "beamtrace/scene/scene_spec.hpp"
-#include "io/detail/yaml_checker.hpp"
+#include "text/yaml_checker.hpp"
 
 namespace beamtrace {
 namespace {

@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "beamtrace/core/error.hpp"
-#include "io/detail/row_writer.hpp"
+#include "text/row_writer.hpp"
 
 namespace beamtrace {
 

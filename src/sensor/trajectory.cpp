@@ -9,9 +9,9 @@
 
 #include "beamtrace/core/error.hpp"
 #include "beamtrace/sensor/scan_pattern.hpp"
-#include "io/detail/file_bytes.hpp"
-#include "io/detail/row_writer.hpp"
-#include "io/detail/text_scan.hpp"
+#include "text/file_bytes.hpp"
+#include "text/row_writer.hpp"
+#include "text/text_scan.hpp"
 
 namespace beamtrace {
 namespace {

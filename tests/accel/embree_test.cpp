@@ -5,7 +5,7 @@
 #include <random>
 
 #include "beamtrace/accel/backend.hpp"
-#include "beamtrace/accel/embree_limit.hpp"
+#include "harness/embree_limit.hpp"
 #include "beamtrace/pipeline/survey.hpp"
 #include "test_support.hpp"
 

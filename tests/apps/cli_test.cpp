@@ -8,6 +8,7 @@
 #include <string>
 
 #include "beamtrace/accel/backend.hpp"
+#include "beamtrace/pipeline/demo_sensor.hpp"
 #include "beamtrace/io/hits_csv.hpp"
 #include "beamtrace/io/npy.hpp"
 #include "beamtrace/io/point_cloud_ply.hpp"

@@ -23,7 +23,7 @@
 #include <string>
 #include <vector>
 
-#include "beamtrace/io/atomic_file.hpp"
+#include "beamtrace/core/atomic_file.hpp"
 #include "test_support.hpp"
 
 namespace beamtrace {

@@ -11,7 +11,7 @@
 #include <string_view>
 #include <vector>
 
-#include "beamtrace/accel/hit_batch.hpp"
+#include "beamtrace/core/hit_batch.hpp"
 #include "beamtrace/core/error.hpp"
 #include "test_support.hpp"
 

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "beamtrace/accel/backend.hpp"
+#include "beamtrace/pipeline/demo_sensor.hpp"
 
 namespace beamtrace {
 namespace {

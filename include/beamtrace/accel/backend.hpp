@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "beamtrace/accel/bvh.hpp"
-#include "beamtrace/accel/hit_batch.hpp"
+#include "beamtrace/core/hit_batch.hpp"
 #include "beamtrace/accel/kdtree.hpp"
 #include "beamtrace/core/ray_batch.hpp"
 #include "beamtrace/core/thread_pool.hpp"

@@ -5,7 +5,7 @@
 #include <filesystem>
 #include <vector>
 
-#include "beamtrace/accel/hit_batch.hpp"
+#include "beamtrace/core/hit_batch.hpp"
 
 namespace beamtrace {
 

@@ -3,7 +3,6 @@
 #pragma once
 
 #include "beamtrace/scene/scene.hpp"
-#include "beamtrace/sensor/image_sensor.hpp"
 
 namespace beamtrace {
 
@@ -19,9 +18,5 @@ struct DemoSceneConfig {
 
 /// Terrain height of the demo scene at (x, y), metres.
 [[nodiscard]] double demo_terrain_height(double x_m, double y_m);
-
-/// The demo's default view: a 640 x 320 pinhole 5 m above the ground, 47 m from vehicle 1,
-/// looking at it past the occluder.
-[[nodiscard]] ImageSensorConfig demo_sensor();
 
 }  // namespace beamtrace

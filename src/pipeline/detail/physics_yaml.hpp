@@ -4,7 +4,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include "beamtrace/physics/pulse.hpp"
-#include "io/detail/yaml_checker.hpp"
+#include "text/yaml_checker.hpp"
 
 namespace beamtrace::detail {
 

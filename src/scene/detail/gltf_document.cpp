@@ -11,7 +11,7 @@
 #include <utility>
 
 #include "beamtrace/core/error.hpp"
-#include "io/detail/file_bytes.hpp"
+#include "text/file_bytes.hpp"
 
 namespace beamtrace::detail {
 namespace {

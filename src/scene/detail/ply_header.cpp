@@ -6,7 +6,7 @@
 #include <utility>
 
 #include "beamtrace/core/error.hpp"
-#include "io/detail/text_scan.hpp"
+#include "text/text_scan.hpp"
 
 namespace beamtrace::detail {
 namespace {

@@ -11,7 +11,7 @@
 #include <string_view>
 
 #include "beamtrace/core/error.hpp"
-#include "io/detail/text_scan.hpp"
+#include "text/text_scan.hpp"
 #include "scene/detail/ply_header.hpp"
 
 namespace beamtrace::detail {

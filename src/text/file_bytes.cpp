@@ -1,4 +1,4 @@
-#include "io/detail/file_bytes.hpp"
+#include "text/file_bytes.hpp"
 
 #include <cerrno>
 #include <cstring>

@@ -7,7 +7,7 @@
 #include <string>
 #include <string_view>
 
-#include "beamtrace/io/atomic_file.hpp"
+#include "beamtrace/core/atomic_file.hpp"
 
 namespace beamtrace::detail {
 

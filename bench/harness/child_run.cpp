@@ -1,4 +1,4 @@
-#include "pipeline/detail/child_run.hpp"
+#include "harness/child_run.hpp"
 
 #include <sys/resource.h>
 #include <sys/types.h>

@@ -1,5 +1,5 @@
 // Work in a forked child: its result and peak RSS come back, its errors are rethrown here.
-#include "pipeline/detail/child_run.hpp"
+#include "harness/child_run.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-#include "beamtrace/pipeline/throughput_bench.hpp"
+#include "harness/throughput_bench.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -12,7 +12,7 @@
 
 #include <unistd.h>
 
-#include "beamtrace/accel/embree_limit.hpp"
+#include "harness/embree_limit.hpp"
 #include "beamtrace/core/error.hpp"
 #include "beamtrace/core/memory_usage.hpp"
 #include "beamtrace/io/las_reader.hpp"
@@ -20,7 +20,7 @@
 #include "beamtrace/scene/demo_scene.hpp"
 #include "beamtrace/scene/scene_builder.hpp"
 #include "beamtrace/sensor/scan_pattern.hpp"
-#include "pipeline/detail/child_run.hpp"
+#include "harness/child_run.hpp"
 
 namespace beamtrace {
 namespace {

@@ -1,4 +1,4 @@
-#include "io/detail/text_scan.hpp"
+#include "text/text_scan.hpp"
 
 #include <cmath>
 #include <limits>

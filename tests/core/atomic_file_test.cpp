@@ -1,4 +1,4 @@
-#include "beamtrace/io/atomic_file.hpp"
+#include "beamtrace/core/atomic_file.hpp"
 
 #include <gtest/gtest.h>
 #include <unistd.h>

@@ -1,4 +1,4 @@
-#include "beamtrace/accel/embree_limit.hpp"
+#include "harness/embree_limit.hpp"
 
 #include <embree3/rtcore.h>
 
@@ -6,9 +6,9 @@
 #include <cstring>
 #include <string>
 
-#include "beamtrace/accel/hit_batch.hpp"
+#include "beamtrace/core/hit_batch.hpp"
 #include "beamtrace/core/error.hpp"
-#include "detail/embree_rays.hpp"
+#include "accel/embree_rays.hpp"
 
 namespace beamtrace {
 
