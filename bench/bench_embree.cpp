@@ -18,11 +18,11 @@
 #include <thread>
 
 #include "beamtrace/accel/backend.hpp"
-#include "harness/embree_limit.hpp"
 #include "beamtrace/scene/demo_scene.hpp"
 #include "beamtrace/scene/mesh_loader.hpp"
 #include "beamtrace/sensor/image_sensor.hpp"
 #include "bench_scenes.hpp"
+#include "harness/embree_limit.hpp"
 
 namespace bt = beamtrace;
 

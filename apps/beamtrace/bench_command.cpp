@@ -4,10 +4,10 @@
 #include <string>
 #include <vector>
 
-#include "beamtrace/core/error.hpp"
 #include "beamtrace/core/atomic_file.hpp"
-#include "harness/throughput_bench.hpp"
+#include "beamtrace/core/error.hpp"
 #include "commands.hpp"
+#include "harness/throughput_bench.hpp"
 
 namespace beamtrace::cli {
 namespace {

@@ -5,8 +5,8 @@
 #include <vector>
 
 #include "beamtrace/core/error.hpp"
-#include "beamtrace/pipeline/scan_job.hpp"
 #include "beamtrace/pipeline/demo_sensor.hpp"
+#include "beamtrace/pipeline/scan_job.hpp"
 #include "commands.hpp"
 #include "progress_bar.hpp"
 

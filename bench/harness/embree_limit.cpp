@@ -6,9 +6,9 @@
 #include <cstring>
 #include <string>
 
-#include "beamtrace/core/hit_batch.hpp"
-#include "beamtrace/core/error.hpp"
 #include "accel/embree_rays.hpp"
+#include "beamtrace/core/error.hpp"
+#include "beamtrace/core/hit_batch.hpp"
 
 namespace beamtrace {
 

@@ -12,7 +12,6 @@
 
 #include <unistd.h>
 
-#include "harness/embree_limit.hpp"
 #include "beamtrace/core/error.hpp"
 #include "beamtrace/core/memory_usage.hpp"
 #include "beamtrace/io/las_reader.hpp"
@@ -21,6 +20,7 @@
 #include "beamtrace/scene/scene_builder.hpp"
 #include "beamtrace/sensor/scan_pattern.hpp"
 #include "harness/child_run.hpp"
+#include "harness/embree_limit.hpp"
 
 namespace beamtrace {
 namespace {

@@ -35,10 +35,10 @@
 #include <string>
 #include <vector>
 
+#include "accel/embree_rays.hpp"
 #include "beamtrace/accel/backend.hpp"
 #include "beamtrace/core/error.hpp"
 #include "detail/embree.hpp"
-#include "accel/embree_rays.hpp"
 #include "detail/queries.hpp"
 
 namespace beamtrace::detail {

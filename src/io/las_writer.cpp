@@ -9,8 +9,8 @@
 #include <limits>
 #include <string_view>
 
-#include "beamtrace/core/error.hpp"
 #include "beamtrace/core/atomic_file.hpp"
+#include "beamtrace/core/error.hpp"
 #include "io/detail/direct_sink.hpp"
 
 namespace beamtrace {

@@ -10,8 +10,8 @@
 #include <string_view>
 #include <system_error>
 
-#include "beamtrace/core/error.hpp"
 #include "beamtrace/core/atomic_file.hpp"
+#include "beamtrace/core/error.hpp"
 #include "text/file_bytes.hpp"
 
 namespace beamtrace {

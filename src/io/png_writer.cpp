@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
-#include "beamtrace/core/error.hpp"
 #include "beamtrace/core/atomic_file.hpp"
+#include "beamtrace/core/error.hpp"
 
 #ifndef BEAMTRACE_VERSION
 #define BEAMTRACE_VERSION "unknown"

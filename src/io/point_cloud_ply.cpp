@@ -10,8 +10,8 @@
 #include <string>
 #include <system_error>
 
-#include "beamtrace/core/error.hpp"
 #include "beamtrace/core/atomic_file.hpp"
+#include "beamtrace/core/error.hpp"
 
 #ifndef BEAMTRACE_VERSION
 #define BEAMTRACE_VERSION "unknown"

@@ -9,8 +9,8 @@
 #include <optional>
 #include <system_error>
 
-#include "beamtrace/core/error.hpp"
 #include "beamtrace/core/atomic_file.hpp"
+#include "beamtrace/core/error.hpp"
 #include "beamtrace/io/colormap.hpp"
 #include "beamtrace/io/las_writer.hpp"
 #include "beamtrace/io/npy.hpp"

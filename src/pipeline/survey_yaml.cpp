@@ -4,8 +4,8 @@
 #include <sstream>
 
 #include "beamtrace/pipeline/survey.hpp"
-#include "text/yaml_checker.hpp"
 #include "pipeline/detail/physics_yaml.hpp"
+#include "text/yaml_checker.hpp"
 
 namespace beamtrace {
 namespace {

@@ -10,8 +10,8 @@
 #include <vector>
 
 #include "beamtrace/core/error.hpp"
-#include "text/text_scan.hpp"
 #include "scene/detail/gltf_document.hpp"
+#include "text/text_scan.hpp"
 
 namespace beamtrace {
 namespace {

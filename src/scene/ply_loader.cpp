@@ -9,10 +9,10 @@
 
 #include "beamtrace/core/error.hpp"
 #include "beamtrace/scene/mesh_loader.hpp"
-#include "text/file_bytes.hpp"
-#include "text/text_scan.hpp"
 #include "scene/detail/ply_header.hpp"
 #include "scene/detail/ply_source.hpp"
+#include "text/file_bytes.hpp"
+#include "text/text_scan.hpp"
 
 namespace beamtrace {
 namespace {

@@ -5,8 +5,8 @@
 #include <random>
 
 #include "beamtrace/accel/backend.hpp"
-#include "harness/embree_limit.hpp"
 #include "beamtrace/pipeline/survey.hpp"
+#include "harness/embree_limit.hpp"
 #include "test_support.hpp"
 
 namespace beamtrace {

@@ -8,10 +8,10 @@
 #include <string>
 
 #include "beamtrace/accel/backend.hpp"
-#include "beamtrace/pipeline/demo_sensor.hpp"
 #include "beamtrace/io/hits_csv.hpp"
 #include "beamtrace/io/npy.hpp"
 #include "beamtrace/io/point_cloud_ply.hpp"
+#include "beamtrace/pipeline/demo_sensor.hpp"
 #include "beamtrace/scene/demo_scene.hpp"
 #include "beamtrace/sensor/image_sensor.hpp"
 #include "test_support.hpp"

@@ -11,8 +11,8 @@
 #include <string_view>
 #include <vector>
 
-#include "beamtrace/core/hit_batch.hpp"
 #include "beamtrace/core/error.hpp"
+#include "beamtrace/core/hit_batch.hpp"
 #include "test_support.hpp"
 
 namespace beamtrace {

@@ -10,8 +10,8 @@
 #include <vector>
 
 #include "beamtrace/accel/bvh.hpp"
-#include "beamtrace/core/hit_batch.hpp"
 #include "beamtrace/accel/kdtree.hpp"
+#include "beamtrace/core/hit_batch.hpp"
 #include "beamtrace/core/ray_batch.hpp"
 #include "beamtrace/core/thread_pool.hpp"
 #include "beamtrace/geometry/ray_triangle.hpp"

@@ -11,8 +11,8 @@
 #include <string_view>
 
 #include "beamtrace/core/error.hpp"
-#include "text/text_scan.hpp"
 #include "scene/detail/ply_header.hpp"
+#include "text/text_scan.hpp"
 
 namespace beamtrace::detail {
 
