@@ -3,6 +3,8 @@
 set -euo pipefail
 pkgs=(build-essential cmake libcli11-dev libpng-dev libtiff-dev libyaml-cpp-dev nlohmann-json3-dev
       libgtest-dev libbenchmark-dev libembree-dev
+      # the include check (scripts/check_includes.py, a ctest test)
+      python3
       # view --interactive (GLFW/OpenGL) and its headless test (Xvfb); view --mp4 and its test
       libglfw3-dev xvfb xauth ffmpeg)
 missing=()
