@@ -82,8 +82,7 @@ Scene build_scene(const SceneSpec& spec) {
     scene.origin_m = spec.origin_m;
     scene.materials.clear();
     for (const auto& m : spec.materials) {
-        scene.materials.push_back(
-            {m.name, m.reflectance, m.specular_weight, m.specular_exponent, m.pattern, m.library});
+        scene.materials.push_back(m);
     }
     // A mesh file used by several parts, and any part with array copies, is stored once and
     // instanced; every other part is copied into the scene in scene coordinates.
@@ -95,10 +94,19 @@ Scene build_scene(const SceneSpec& spec) {
     }
     std::map<std::filesystem::path, std::uint32_t> stored;  // file -> SceneGeometry mesh index
     for (const auto& p : spec.parts) {
+        ScenePart meta;
+        const auto spheres_before = static_cast<std::int64_t>(scene.spheres.size());
+        const auto planes_before = static_cast<std::int64_t>(scene.planes.size());
         if (p.array.copies() == 1 && !p.exact_sphere) {
             add_analytic_copy(p, static_cast<std::uint32_t>(scene.parts.size()), scene);
         }
-        ScenePart meta;
+        if (p.kind == PartKind::sphere &&
+            (p.exact_sphere || static_cast<std::int64_t>(scene.spheres.size()) > spheres_before)) {
+            meta.first_sphere = spheres_before;  // add_exact_spheres appends them next
+        }
+        if (static_cast<std::int64_t>(scene.planes.size()) > planes_before) {
+            meta.plane = planes_before;
+        }
         meta.name = p.name;
         meta.label = p.label;
         meta.part_id = p.part_id;
