@@ -45,16 +45,21 @@ std::vector<std::string> PhysicsConfig::validate() const {
     return p;
 }
 
-SubRayHit make_sub_ray_hit(const Material& material, double range_m, const Vec3d& point_m,
-                           const Vec3d& normal, const Vec3d& direction) {
+SubRayHit make_sub_ray_hit(const Material& material, const PatternFrame& frame, double range_m,
+                           const Vec3d& point_m, const Vec3d& normal, const Vec3d& direction) {
     SubRayHit h;
     h.range_m = range_m;
     const double n = length(normal);
     h.cos_incidence = n > 0 ? std::min(1.0, std::abs(dot(normal, direction)) / n) : 0.0;
-    h.albedo = albedo(material, point_m);
+    h.albedo = albedo(material, frame, point_m);
     h.specular_weight = material.specular_weight;
     h.specular_exponent = material.specular_exponent;
     return h;
+}
+
+SubRayHit make_sub_ray_hit(const Material& material, double range_m, const Vec3d& point_m,
+                           const Vec3d& normal, const Vec3d& direction) {
+    return make_sub_ray_hit(material, PatternFrame{}, range_m, point_m, normal, direction);
 }
 
 PulseSimulator::PulseSimulator(PhysicsConfig config) : config_(std::move(config)) {

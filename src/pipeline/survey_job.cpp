@@ -21,6 +21,7 @@
 #include "beamtrace/scene/demo_scene.hpp"
 #include "beamtrace/scene/scene_builder.hpp"
 #include "pipeline/detail/ordered_blocks.hpp"
+#include "pipeline/detail/survey_materials.hpp"
 #include "pipeline/detail/survey_rays.hpp"
 
 namespace beamtrace {
@@ -203,25 +204,7 @@ SurveyResult run_survey(const SurveySpec& spec, const SurveyRunConfig& run,
     std::vector<Material> materials;
     if (spec.physics) {
         sim.emplace(*spec.physics);
-        for (const auto& m : scene.materials) {
-            Material pm;
-            pm.name = m.name;
-            pm.reflectance = m.reflectance;
-            pm.specular_weight = m.specular_weight;
-            pm.specular_exponent = m.specular_exponent;
-            if (!m.library.empty()) {
-                const auto lib =
-                    library_material(m.library, spec.physics->radiometry.wavelength_nm);
-                if (!lib) {
-                    throw ConfigError(spec.scene_file.string() + ": material '" + m.name +
-                                      "': unknown library material '" + m.library +
-                                      "' (known: " + material_library_names() + ")");
-                }
-                pm = *lib;
-                pm.name = m.name;
-            }
-            materials.push_back(pm);
-        }
+        materials = detail::survey_materials(scene, *spec.physics, spec.scene_file);
     }
     const std::size_t sub_rays = sim ? sim->sub_ray_count() : 1;
     const std::size_t max_returns =
@@ -347,7 +330,8 @@ SurveyResult run_survey(const SurveySpec& spec, const SurveyRunConfig& run,
                     const double t = w.hits.t[h];
                     const ScenePart& part = scene.parts[scene.part_of_face(w.hits.face[h])];
                     const Vec3d at = w.origin[k] + d * t;
-                    w.sub[j] = make_sub_ray_hit(materials[part.material], t, at,
+                    w.sub[j] = make_sub_ray_hit(materials[part.material],
+                                                scene.pattern_frame(part, w.hits.face[h]), t, at,
                                                 scene.geometry.normal_at(w.hits.face[h], at), d);
                 }
                 sim->simulate(run.seed, first + k, w.sub, w.response);

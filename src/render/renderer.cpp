@@ -20,6 +20,7 @@ struct Surface {
     Vec3d view;       ///< unit, from the point towards the camera
     double t = kInf;  ///< +inf: the ray saw nothing
     double albedo = 0.0;
+    Vec3d color{1, 1, 1};
     std::uint32_t material = 0;
     std::int32_t part = -1;
 };
@@ -59,6 +60,7 @@ RenderImage Renderer::render(const RenderConfig& config) const {
     img.radiance.assign(n_pixels, static_cast<float>(config.background));
     img.depth_m.assign(n_pixels, std::numeric_limits<float>::infinity());
     img.part.assign(n_pixels, -1);
+    img.color.assign(3 * n_pixels, 1.0F);
     const auto width = static_cast<std::size_t>(img.width);
 
     RayBatch rays;
@@ -114,7 +116,7 @@ RenderImage Renderer::render(const RenderConfig& config) const {
                 Surface& s = surf[i];
                 s.t = best;
                 s.view = -d;
-                SurfacePattern pattern;
+                PatternFrame frame;  // meshes: a solid (the pattern in scene coordinates)
                 if (kind == 0) {
                     const std::uint32_t f = hits.face[i];
                     const Face& face = scene_.mesh.faces[f];
@@ -126,28 +128,26 @@ RenderImage Renderer::render(const RenderConfig& config) const {
                     s.normal = normalize(cross(ab, ac));
                     s.material = scene_.face_material[f];
                     s.part = static_cast<std::int32_t>(scene_.face_part[f]);
-                    const SceneMaterial& m = scene_.materials[s.material];
-                    s.albedo = solid_albedo(m.pattern, m.reflectance, s.position_m);
                 } else if (kind == 1) {
                     const RenderSphere& sp = scene_.spheres[which];
                     s.position_m = o + d * best;
                     s.normal = (s.position_m - sp.sphere.center_m) * (1.0 / sp.sphere.radius_m);
                     s.material = sp.material;
                     s.part = static_cast<std::int32_t>(sp.part);
-                    const SceneMaterial& m = scene_.materials[s.material];
-                    s.albedo = sphere_albedo(m.pattern, m.reflectance,
-                                             sp.attitude.conjugate().rotate(s.normal));
+                    frame =
+                        PatternFrame::sphere(sp.sphere.center_m, sp.sphere.radius_m, sp.attitude);
                 } else {
                     const RenderPlane& pl = scene_.planes[which];
                     s.position_m = o + d * best;
                     s.normal = pl.plane.normal;
                     s.material = pl.material;
                     s.part = static_cast<std::int32_t>(pl.part);
-                    const SceneMaterial& m = scene_.materials[s.material];
-                    const Vec3d r = s.position_m - pl.plane.point_m;
-                    s.albedo = planar_albedo(m.pattern, m.reflectance, dot(r, pl.plane.u_axis),
-                                             dot(r, pl.plane.w_axis()));
+                    frame =
+                        PatternFrame::plane(pl.plane.point_m, pl.plane.u_axis, pl.plane.w_axis());
                 }
+                const Material& m = scene_.materials[s.material];
+                s.albedo = albedo(m, frame, s.position_m);
+                s.color = m.color;
                 if (dot(s.normal, d) > 0.0) {
                     s.normal = -s.normal;  // two-sided: shade the side the camera sees
                 }
@@ -217,7 +217,7 @@ RenderImage Renderer::render(const RenderConfig& config) const {
                     const double irradiance = light.kind == LightKind::directional
                                                   ? light.intensity
                                                   : light.intensity / dot(to_light, to_light);
-                    const SceneMaterial& mat = scene_.materials[s.material];
+                    const Material& mat = scene_.materials[s.material];
                     radiance[i] +=
                         s.albedo * irradiance *
                         phenomenological_reflectance(cos_i, dot(s.normal, s.view), dot(s.view, l),
@@ -229,6 +229,9 @@ RenderImage Renderer::render(const RenderConfig& config) const {
             img.radiance[start + i] = static_cast<float>(radiance[i]);
             img.depth_m[start + i] = static_cast<float>(surf[i].t);
             img.part[start + i] = surf[i].part;
+            img.color[3 * (start + i)] = static_cast<float>(surf[i].color.x);
+            img.color[3 * (start + i) + 1] = static_cast<float>(surf[i].color.y);
+            img.color[3 * (start + i) + 2] = static_cast<float>(surf[i].color.z);
         }
     }
     return img;
@@ -268,14 +271,16 @@ std::vector<std::uint8_t> to_rgb8(const RenderImage& image, double exposure, dou
     if (!(exposure > 0.0) || !(gamma > 0.0)) {
         throw ConfigError("render: exposure and gamma must be positive");
     }
+    const bool tinted = image.color.size() == 3 * image.radiance.size();
     std::vector<std::uint8_t> rgb(image.radiance.size() * 3);
-    for (std::size_t i = 0; i < image.radiance.size(); ++i) {
-        double v = std::clamp(exposure * static_cast<double>(image.radiance[i]), 0.0, 1.0);
+    for (std::size_t i = 0; i < rgb.size(); ++i) {
+        const double tint = tinted ? static_cast<double>(image.color[i]) : 1.0;
+        double v =
+            std::clamp(exposure * static_cast<double>(image.radiance[i / 3]) * tint, 0.0, 1.0);
         if (gamma != 1.0) {
             v = std::pow(v, 1.0 / gamma);
         }
-        const auto byte = static_cast<std::uint8_t>(std::lround(255.0 * v));
-        rgb[3 * i] = rgb[3 * i + 1] = rgb[3 * i + 2] = byte;
+        rgb[i] = static_cast<std::uint8_t>(std::lround(255.0 * v));
     }
     return rgb;
 }

@@ -60,6 +60,26 @@ void add_analytic_copy(const PartSpec& p, std::uint32_t part, Scene& scene) {
     }
 }
 
+/// Keeps the analytic copy of a part with one copy (see add_analytic_copy) and notes in `meta`
+/// where its analytic copies are (what its material's pattern is laid on).
+void add_analytic_copies(const PartSpec& p, ScenePart& meta, Scene& scene) {
+    const auto spheres = static_cast<std::int64_t>(scene.spheres.size());
+    const auto planes = static_cast<std::int64_t>(scene.planes.size());
+    if (p.exact_sphere) {
+        meta.first_sphere = spheres;  // add_exact_spheres appends one per copy
+        return;
+    }
+    if (p.array.copies() == 1) {
+        add_analytic_copy(p, static_cast<std::uint32_t>(scene.parts.size()), scene);
+    }
+    if (static_cast<std::int64_t>(scene.spheres.size()) > spheres) {
+        meta.first_sphere = spheres;
+    }
+    if (static_cast<std::int64_t>(scene.planes.size()) > planes) {
+        meta.plane = planes;
+    }
+}
+
 /// One exact sphere per copy of the part (the spec checked that the scale is uniform), and its
 /// analytic copy for the renderers.
 void add_exact_spheres(const PartSpec& p, ScenePart meta, Scene& scene) {
@@ -80,11 +100,7 @@ void add_exact_spheres(const PartSpec& p, ScenePart meta, Scene& scene) {
 Scene build_scene(const SceneSpec& spec) {
     Scene scene;
     scene.origin_m = spec.origin_m;
-    scene.materials.clear();
-    for (const auto& m : spec.materials) {
-        scene.materials.push_back(
-            {m.name, m.reflectance, m.specular_weight, m.specular_exponent, m.pattern, m.library});
-    }
+    scene.materials = spec.materials;  // physics Materials: the one model
     // A mesh file used by several parts, and any part with array copies, is stored once and
     // instanced; every other part is copied into the scene in scene coordinates.
     std::map<std::filesystem::path, int> uses;
@@ -95,10 +111,8 @@ Scene build_scene(const SceneSpec& spec) {
     }
     std::map<std::filesystem::path, std::uint32_t> stored;  // file -> SceneGeometry mesh index
     for (const auto& p : spec.parts) {
-        if (p.array.copies() == 1 && !p.exact_sphere) {
-            add_analytic_copy(p, static_cast<std::uint32_t>(scene.parts.size()), scene);
-        }
         ScenePart meta;
+        add_analytic_copies(p, meta, scene);
         meta.name = p.name;
         meta.label = p.label;
         meta.part_id = p.part_id;

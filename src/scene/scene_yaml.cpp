@@ -185,8 +185,8 @@ void parse_part(Checker& c, const YAML::Node& n, std::size_t index, SceneSpec& s
     spec.parts.push_back(std::move(p));
 }
 
-/// `pattern: {kind: stripes|checker, count: 8, size_m: 1, reflectance: 0.1}`.
-void parse_pattern(Checker& c, const YAML::Node& n, const std::string& key, SurfacePattern& p) {
+/// `pattern: {kind: stripes|checker|none, count: 8, size_m: 1, reflectance: 0.1}`.
+void parse_pattern(Checker& c, const YAML::Node& n, const std::string& key, AlbedoPattern& p) {
     if (!n.IsMap()) {
         c.error(n, key, "expected a map with kind, count, size_m, reflectance");
         return;
@@ -197,9 +197,9 @@ void parse_pattern(Checker& c, const YAML::Node& n, const std::string& key, Surf
         (kind.Scalar() != "stripes" && kind.Scalar() != "checker" && kind.Scalar() != "none")) {
         c.error(kind ? kind : n, key + ".kind", "expected stripes, checker or none");
     } else {
-        p.kind = kind.Scalar() == "stripes"   ? SurfacePatternKind::stripes
-                 : kind.Scalar() == "checker" ? SurfacePatternKind::checker
-                                              : SurfacePatternKind::none;
+        p.kind = kind.Scalar() == "stripes"   ? AlbedoPatternKind::stripes
+                 : kind.Scalar() == "checker" ? AlbedoPatternKind::checker
+                                              : AlbedoPatternKind::uniform;
     }
     long count = p.count;
     if (n["count"] && c.integer(n["count"], key + ".count", 2, 1000, count)) {
@@ -208,9 +208,18 @@ void parse_pattern(Checker& c, const YAML::Node& n, const std::string& key, Surf
     if (n["size_m"] && c.number(n["size_m"], key + ".size_m", p.size_m) && !(p.size_m > 0)) {
         c.error(n["size_m"], key + ".size_m", "must be positive");
     }
-    if (n["reflectance"] && c.number(n["reflectance"], key + ".reflectance", p.reflectance) &&
-        !(p.reflectance >= 0.0 && p.reflectance <= 1.0)) {
+    double& r = p.alternate_reflectance;
+    if (n["reflectance"] && c.number(n["reflectance"], key + ".reflectance", r) &&
+        !(r >= 0.0 && r <= 1.0)) {
         c.error(n["reflectance"], key + ".reflectance", "must be in [0, 1]");
+    }
+}
+
+/// `color: [r, g, b]`, each in [0, 1].
+void parse_color(Checker& c, const YAML::Node& n, const std::string& key, Vec3d& color) {
+    if (c.vec3(n, key, color) && !(color.x >= 0.0 && color.x <= 1.0 && color.y >= 0.0 &&
+                                   color.y <= 1.0 && color.z >= 0.0 && color.z <= 1.0)) {
+        c.error(n, key, "every channel must be in [0, 1]");
     }
 }
 
@@ -221,10 +230,10 @@ void parse_material(Checker& c, const YAML::Node& n, std::size_t index, SceneSpe
         c.error(n, key, "expected a map");
         return;
     }
-    c.only_keys(
-        n, key,
-        {"name", "reflectance", "specular_weight", "specular_exponent", "pattern", "library"});
-    MaterialSpec m;
+    c.only_keys(n, key,
+                {"name", "reflectance", "specular_weight", "specular_exponent", "pattern",
+                 "library", "color"});
+    Material m;
     if (!n["name"] || !n["name"].IsScalar() || n["name"].Scalar().empty()) {
         c.error(n, key + ".name", "every material needs a name");
     } else {
@@ -247,6 +256,9 @@ void parse_material(Checker& c, const YAML::Node& n, std::size_t index, SceneSpe
     }
     if (const auto pn = n["pattern"]) {
         parse_pattern(c, pn, key + ".pattern", m.pattern);
+    }
+    if (const auto cn = n["color"]) {
+        parse_color(c, cn, key + ".color", m.color);
     }
     if (const auto lib = n["library"]) {
         if (!lib.IsScalar() || lib.Scalar().empty()) {
@@ -277,7 +289,7 @@ Affine3 PartTransform::to_affine() const {
     return a;
 }
 
-const MaterialSpec* SceneSpec::find_material(const std::string& name) const {
+const Material* SceneSpec::find_material(const std::string& name) const {
     for (const auto& m : materials) {
         if (m.name == name) {
             return &m;

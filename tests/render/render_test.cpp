@@ -33,7 +33,7 @@ CameraConfig top_view(double width_m, int pixels) {
 
 RenderScene plane_scene(double reflectance = 1.0, double s = 0.0, double n = 10.0) {
     RenderScene rs;
-    rs.materials = {SceneMaterial{"m", reflectance, s, n, {}, {}}};
+    rs.materials = {Material{"m", reflectance, s, n, {}, {}}};
     rs.planes.push_back(
         {make_plane_patch({0, 0, 0}, {0, 0, 1}, std::numeric_limits<double>::infinity()), 0, 0});
     return rs;
@@ -177,7 +177,7 @@ TEST(RenderShade, SpecularPeakIsAtTheMirrorDirection) {
     // A shiny sphere seen from above, lit from azimuth 0 at 60 degrees elevation: the brightest
     // pixel is where the normal is the half-vector of light and view.
     RenderScene rs;
-    rs.materials = {SceneMaterial{"shiny", 1.0, 1.0, 200.0, {}, {}}};
+    rs.materials = {Material{"shiny", 1.0, 1.0, 200.0, {}, {}}};
     rs.spheres.push_back({{{0, 0, 0}, 1.0}, {}, 0, 0});
     RenderConfig cfg;
     cfg.camera = top_view(2.2, 221);
@@ -310,7 +310,7 @@ parts:
     EXPECT_DOUBLE_EQ(scene.spheres[0].radius_m, 1.0);
     ASSERT_EQ(scene.planes.size(), 1u);
     EXPECT_EQ(scene.planes[0].part, 2u);
-    EXPECT_EQ(scene.materials[1].pattern.kind, SurfacePatternKind::stripes);
+    EXPECT_EQ(scene.materials[1].pattern.kind, AlbedoPatternKind::stripes);
     EXPECT_EQ(scene.materials[1].pattern.count, 6);
     const RenderScene rs = build_render_scene(scene);
     EXPECT_EQ(rs.mesh.faces.size(), scene.parts[1].face_count);
@@ -328,15 +328,6 @@ parts:
         static_cast<void>(parse_scene_spec(
             "materials: [{name: a, pattern: {kind: spots}}]\nparts: [{sphere: {}}]\n", "bad.yaml")),
         ConfigError);
-    // Pattern albedos.
-    SurfacePattern stripes{SurfacePatternKind::stripes, 4, 1.0, 0.2};
-    // Segments start at longitude -180 degrees: [-180, -90) base, [-90, 0) alternate, ...
-    EXPECT_EQ(sphere_albedo(stripes, 0.9, {-1, -0.1, 0}), 0.9);
-    EXPECT_EQ(sphere_albedo(stripes, 0.9, {0.1, -1, 0}), 0.2);
-    EXPECT_EQ(sphere_albedo(stripes, 0.9, {1, 0.1, 0}), 0.9);
-    EXPECT_EQ(sphere_albedo(stripes, 0.9, {-1, 0.1, 0}), 0.2);
-    EXPECT_EQ(planar_albedo({SurfacePatternKind::checker, 2, 1.0, 0.2}, 0.9, 0.5, 1.5), 0.2);
-    EXPECT_EQ(planar_albedo({SurfacePatternKind::checker, 2, 1.0, 0.2}, 0.9, 1.5, 1.5), 0.9);
 }
 
 TEST(RenderOptions, ParsesAndRejects) {

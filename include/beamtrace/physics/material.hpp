@@ -12,33 +12,25 @@
 #include <vector>
 
 #include "beamtrace/core/vec3.hpp"
+#include "beamtrace/physics/albedo_pattern.hpp"
 
 namespace beamtrace {
 
-/// Procedural albedo patterns (the beach ball's stripes, a checkerboard).
-enum class AlbedoPatternKind : std::uint8_t {
-    uniform,  ///< the material's reflectance everywhere
-    stripes,  ///< slabs of width period_m / 2 across `axis`, alternating reflectance/alternate
-    checker,  ///< cubes of side period_m / 2 (a 3-D checkerboard: a checker on any plane)
-    sectors,  ///< `sectors` wedges around `axis` through `center_m` (beach-ball gores)
-};
-
-struct AlbedoPattern {
-    AlbedoPatternKind kind = AlbedoPatternKind::uniform;
-    double alternate_reflectance = 0.1;  ///< albedo of the odd stripes/cells/wedges, [0, 1]
-    double period_m = 1.0;               ///< stripes/checker: one even + one odd cell, > 0
-    Vec3d axis{0, 0, 1};                 ///< stripes: across this; sectors: around it
-    Vec3d center_m{0, 0, 0};             ///< sectors: a point on the axis
-    int sectors = 6;                     ///< sectors: number of wedges (even, >= 2)
-};
-
-/// Optical properties of one material. Reflectances are albedos at the laser wavelength.
+/// Optical properties of one material: the one material model of scene files, `render` and
+/// surveys (docs/scene-file.md). Reflectances are albedos at the laser wavelength.
 struct Material {
     std::string name = "default";
     double reflectance = 0.5;         ///< Lambertian albedo a, [0, 1]
     double specular_weight = 0.0;     ///< s, [0, 1]
     double specular_exponent = 10.0;  ///< n, > 0
     AlbedoPattern pattern;            ///< optional albedo pattern (default uniform)
+    /// A named material of the physics library (material_library.hpp) whose reflectance and
+    /// specular term replace the three numbers above once resolved at a wavelength
+    /// (resolve_library_material); empty: none.
+    std::string library;
+    /// Linear RGB tint of `render`'s images (each channel times the shaded brightness), [0, 1];
+    /// no effect on LiDAR intensities.
+    Vec3d color{1, 1, 1};
 
     /// Every problem with these settings ("reflectance must be in [0, 1]", ...); empty if valid.
     [[nodiscard]] std::vector<std::string> validate() const;
@@ -57,11 +49,11 @@ struct Material {
 [[nodiscard]] double phenomenological_reflectance(const Material& m, const Vec3d& normal,
                                                   const Vec3d& to_light, const Vec3d& to_viewer);
 
-/// The albedo of `m` at world point `point_m` (its pattern evaluated there).
-[[nodiscard]] double albedo(const Material& m, const Vec3d& point_m);
+/// The albedo of `m` at `point_m` on the surface `frame`: its reflectance, or the pattern's
+/// alternate reflectance in the pattern's odd cells.
+[[nodiscard]] double albedo(const Material& m, const PatternFrame& frame, const Vec3d& point_m);
 
-/// The albedo of `m` at surface coordinates (u, v): stripes across u, checker on (u, v),
-/// sectors over u in [0, 1) (u = longitude / 2 pi); the pattern's period is in units of u, v.
-[[nodiscard]] double albedo_uv(const Material& m, double u, double v);
+/// The same on a solid (the pattern in scene coordinates).
+[[nodiscard]] double albedo(const Material& m, const Vec3d& point_m);
 
 }  // namespace beamtrace

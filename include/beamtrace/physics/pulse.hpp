@@ -69,13 +69,19 @@ struct PhysicsConfig {
 struct SubRayHit {
     double range_m = std::numeric_limits<double>::infinity();  ///< one-way; not finite: miss
     double cos_incidence = 1.0;       ///< |n . d| of the surface normal and the sub-ray
-    double albedo = 0.5;              ///< reflectance at the hit (albedo(material, point))
+    double albedo = 0.5;              ///< reflectance at the hit (albedo(material, frame, point))
     double specular_weight = 0.0;     ///< s of the material
     double specular_exponent = 10.0;  ///< n of the material
 };
 
 /// The SubRayHit of a sub-ray along unit `direction` hitting `material` at `point_m`, `range_m`
-/// away, where the surface normal is `normal` (either orientation; need not be unit).
+/// away, where the surface normal is `normal` (either orientation; need not be unit). The
+/// material's pattern is evaluated at `point_m` on the surface `frame` (the hit part's).
+[[nodiscard]] SubRayHit make_sub_ray_hit(const Material& material, const PatternFrame& frame,
+                                         double range_m, const Vec3d& point_m, const Vec3d& normal,
+                                         const Vec3d& direction);
+
+/// The same on a solid (the pattern in scene coordinates).
 [[nodiscard]] SubRayHit make_sub_ray_hit(const Material& material, double range_m,
                                          const Vec3d& point_m, const Vec3d& normal,
                                          const Vec3d& direction);

@@ -33,7 +33,7 @@ struct RenderScene {
     std::vector<std::uint32_t> face_part;      ///< per face of `mesh`
     std::vector<RenderSphere> spheres;
     std::vector<RenderPlane> planes;
-    std::vector<SceneMaterial> materials{SceneMaterial{}};
+    std::vector<Material> materials{Material{}};  ///< the scene's (their patterns, colours)
 
     /// Appends triangles with one material and part tag.
     void add_mesh(const TriangleMesh& part_mesh, std::uint32_t material, std::uint32_t part);

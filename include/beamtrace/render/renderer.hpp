@@ -35,6 +35,9 @@ struct RenderImage {
     std::vector<float> radiance;     ///< albedo * (ambient + sum of E * L); background on a miss
     std::vector<float> depth_m;      ///< distance along the pixel ray; +inf on a miss
     std::vector<std::int32_t> part;  ///< the scene part seen, -1 on a miss
+    /// The colour (Material::color) of the surface seen, RGB, 3 per pixel; 1 on a miss. Empty:
+    /// grey (to_rgb8).
+    std::vector<float> color;
 
     [[nodiscard]] std::size_t index(int column, int row) const {
         return static_cast<std::size_t>(row) * static_cast<std::size_t>(width) +
@@ -66,7 +69,8 @@ class Renderer {
     std::unique_ptr<Backend> backend_;
 };
 
-/// Grey 8-bit RGB pixels of the radiance: 255 * clamp(exposure * L, 0, 1)^(1 / gamma).
+/// 8-bit RGB pixels of the radiance tinted by the colour: per channel c,
+/// 255 * clamp(exposure * L * color_c, 0, 1)^(1 / gamma) (grey for white materials).
 [[nodiscard]] std::vector<std::uint8_t> to_rgb8(const RenderImage& image, double exposure = 1.0,
                                                 double gamma = 1.0);
 

@@ -1,6 +1,6 @@
 // A scene: its triangles (unique meshes placed by instances, see SceneGeometry), the table of
 // parts they came from (so a face ID leads back to a mesh file, label and material) and the
-// materials.
+// materials (physics Materials: the one model of `render` and surveys).
 #pragma once
 
 #include <cstdint>
@@ -10,7 +10,7 @@
 
 #include "beamtrace/core/quat.hpp"
 #include "beamtrace/geometry/scene_geometry.hpp"
-#include "beamtrace/scene/surface_pattern.hpp"
+#include "beamtrace/physics/material.hpp"
 
 namespace beamtrace {
 
@@ -23,15 +23,11 @@ struct ScenePart {
     std::uint32_t material = 0;  ///< index into Scene::materials
     /// Instances that make up the part (1 for a flat part; for exact spheres, the spheres).
     std::uint32_t instance_count = 0;
-};
-
-struct SceneMaterial {
-    std::string name = "default";
-    double reflectance = 0.5;
-    double specular_weight = 0.0;
-    double specular_exponent = 10.0;
-    SurfacePattern pattern;  ///< optional stripes/checker (used by the renderer)
-    std::string library;     ///< physics library material (see MaterialSpec::library)
+    /// Its first analytic copy in Scene::spheres (-1: none; an exact sphere part's copies follow
+    /// in face order) and its analytic copy in Scene::planes (-1: none). They say what its
+    /// material's pattern is laid on (pattern_frame); build_scene sets them.
+    std::int64_t first_sphere = -1;
+    std::int64_t plane = -1;
 };
 
 /// Exact copy of a sphere part, for renderers that trace spheres analytically: of each copy of an
@@ -56,7 +52,7 @@ struct ScenePlane {
 struct Scene {
     SceneGeometry geometry;
     std::vector<ScenePart> parts;
-    std::vector<SceneMaterial> materials{SceneMaterial{}};
+    std::vector<Material> materials{Material{}};
     /// World position of the local origin: triangles are stored relative to it (float precision
     /// for UTM-sized coordinates) and outputs add it back.
     Vec3d origin_m{0, 0, 0};
@@ -75,6 +71,9 @@ struct Scene {
                             const std::vector<Affine3>& to_world);
     /// Appends a part made of exact spheres (their `face` is ignored: each gets the next ID).
     void add_sphere_part(ScenePart meta, const std::vector<ExactSphere>& balls);
+    /// The surface `part`'s pattern is laid on at its face `face` (albedo_pattern.hpp): its
+    /// analytic sphere or plane, or a solid for every other part.
+    [[nodiscard]] PatternFrame pattern_frame(const ScenePart& part, std::uint32_t face) const;
     /// Index of the part that holds `face` (binary search).
     [[nodiscard]] std::size_t part_of_face(std::uint32_t face) const;
     /// Triangles (instances counted as copies; exact spheres are not triangles).

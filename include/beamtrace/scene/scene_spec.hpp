@@ -12,7 +12,7 @@
 #include "beamtrace/core/affine.hpp"
 #include "beamtrace/core/quat.hpp"
 #include "beamtrace/core/vec3.hpp"
-#include "beamtrace/scene/surface_pattern.hpp"
+#include "beamtrace/physics/material.hpp"
 
 namespace beamtrace {
 
@@ -44,17 +44,6 @@ struct PartArray {
     }
 };
 
-struct MaterialSpec {
-    std::string name;
-    double reflectance = 0.5;         ///< albedo at the laser wavelength, [0, 1]
-    double specular_weight = 0.0;     ///< s of the phenomenological specular term, [0, 1]
-    double specular_exponent = 10.0;  ///< n, > 0
-    SurfacePattern pattern;           ///< optional procedural albedo (stripes, checker)
-    /// A named material of the physics library (docs/physics.md), resolved at the survey's
-    /// wavelength; it replaces the three numbers above. Empty: none.
-    std::string library;
-};
-
 enum class PartKind : std::uint8_t { mesh, raster, sphere, plane };
 
 struct PartSpec {
@@ -80,10 +69,11 @@ struct PartSpec {
 struct SceneSpec {
     std::filesystem::path source;  ///< the scene file (for messages and relative paths)
     Vec3d origin_m{0, 0, 0};       ///< subtracted from raster coordinates (keeps floats precise)
-    std::vector<MaterialSpec> materials;
+    /// The materials (physics Materials, docs/scene-file.md), "default" first.
+    std::vector<Material> materials;
     std::vector<PartSpec> parts;
 
-    [[nodiscard]] const MaterialSpec* find_material(const std::string& name) const;
+    [[nodiscard]] const Material* find_material(const std::string& name) const;
 };
 
 /// Parses a scene file. Throws ConfigError listing every problem as `file:line: key: what`.
