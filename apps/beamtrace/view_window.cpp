@@ -243,9 +243,10 @@ void run_view_window(ViewSession& session, ViewCamera camera, const RenderOption
         const double speed = base_speed * input.speed_factor *
                              (key(GLFW_KEY_LEFT_SHIFT) || key(GLFW_KEY_RIGHT_SHIFT) ? 4.0 : 1.0) *
                              dt;
+        // Camera convention (docs/camera.md): positive yaw turns right, clockwise from above.
         const double yaw = camera.yaw_deg * std::numbers::pi / 180.0;
-        const Vec3d forward(std::cos(yaw), std::sin(yaw), 0.0);
-        const Vec3d right(std::sin(yaw), -std::cos(yaw), 0.0);
+        const Vec3d forward(std::cos(yaw), -std::sin(yaw), 0.0);
+        const Vec3d right(-std::sin(yaw), -std::cos(yaw), 0.0);
         Vec3d move;
         move += forward * ((key(GLFW_KEY_W) ? 1.0 : 0.0) - (key(GLFW_KEY_S) ? 1.0 : 0.0));
         move += right * ((key(GLFW_KEY_D) ? 1.0 : 0.0) - (key(GLFW_KEY_A) ? 1.0 : 0.0));
@@ -253,7 +254,7 @@ void run_view_window(ViewSession& session, ViewCamera camera, const RenderOption
                   (key(GLFW_KEY_Q) || key(GLFW_KEY_PAGE_DOWN) ? 1.0 : 0.0);
         const double turn = 60.0 * dt;
         const double yaw_change =
-            ((key(GLFW_KEY_LEFT) ? 1.0 : 0.0) - (key(GLFW_KEY_RIGHT) ? 1.0 : 0.0)) * turn +
+            ((key(GLFW_KEY_RIGHT) ? 1.0 : 0.0) - (key(GLFW_KEY_LEFT) ? 1.0 : 0.0)) * turn -
             input.drag_yaw_deg;
         const double pitch_change =
             ((key(GLFW_KEY_UP) ? 1.0 : 0.0) - (key(GLFW_KEY_DOWN) ? 1.0 : 0.0)) * turn +

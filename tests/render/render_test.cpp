@@ -9,6 +9,7 @@
 
 #include "beamtrace/core/error.hpp"
 #include "beamtrace/geometry/primitives.hpp"
+#include "beamtrace/render/render_job.hpp"
 #include "beamtrace/render/render_options.hpp"
 #include "beamtrace/render/renderer.hpp"
 #include "beamtrace/scene/scene_builder.hpp"
@@ -353,10 +354,17 @@ TEST(RenderOptions, ParsesAndRejects) {
     for (const char* bad : {"64", "0x5", "64x", "ax5", "64x48x2"}) {
         EXPECT_THROW(static_cast<void>(parse_image_size(bad)), ConfigError) << bad;
     }
-    CameraConfig cam;
-    parse_camera_pose("1,2,3,90,10,30", cam);
-    EXPECT_NEAR(cam.vfov_rad, kPi / 6, 1e-12);
-    EXPECT_THROW(parse_camera_pose("1,2,3", cam), ConfigError);
+    RenderJobConfig job;
+    job.set_camera("1,2,3,90,10,30");
+    EXPECT_NEAR(job.render.camera.vfov_rad, kPi / 6, 1e-12);
+    EXPECT_NEAR(job.render.camera.orientation.yaw_rad, kPi / 2, 1e-12);
+    EXPECT_NEAR(job.render.camera.orientation.pitch_rad, kPi / 18, 1e-12);
+    EXPECT_EQ(*job.camera_position_m, (Vec3d{1, 2, 3}));
+    EXPECT_TRUE(job.camera_angles);
+    EXPECT_THROW(job.set_camera("1,2"), ConfigError);
+    EXPECT_THROW(job.set_camera("1,2,3,4"), ConfigError);
+    EXPECT_THROW(job.set_camera("1,2,3,4,5,200"), ConfigError);
+    CameraConfig cam = job.render.camera;
     // look_at agrees with the camera's forward axis.
     cam.orientation = look_at({1, 2, 3}, {4, -2, 3 + 5});
     const Vec3d f = Camera(cam).forward();

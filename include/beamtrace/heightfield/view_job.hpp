@@ -1,0 +1,56 @@
+// `beamtrace view` as settings: the height field, session, camera and render options the CLI
+// binds its options to (declared once in the library, with their defaults), the text forms of
+// the view's sizes, and the checks of how the modes combine (docs/view.md).
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "beamtrace/core/camera_pose.hpp"
+#include "beamtrace/heightfield/view_camera.hpp"
+#include "beamtrace/heightfield/view_renderer.hpp"
+#include "beamtrace/heightfield/view_session.hpp"
+
+namespace beamtrace {
+
+struct ViewJobConfig {
+    std::vector<std::filesystem::path> inputs;  ///< LAS files or folders of .las files
+    ViewSessionConfig session;                  ///< height field, memory budget, threads
+    ViewCamera camera;                 ///< field of view and image size (the pose comes from below)
+    RenderOptions render;              ///< shading, fog, sky
+    std::optional<CameraPose> pose;    ///< one view from here (docs/camera.md)
+    std::filesystem::path path;        ///< or a fly-through: camera path CSV, one frame per row
+    std::filesystem::path output;      ///< PNG (pose) or folder of frame_NNNNN.png (path)
+    bool interactive = false;          ///< a window instead; starts at `pose` when given
+    std::filesystem::path screenshot;  ///< interactive: write the last frame here and close
+    int frames = 0;                    ///< interactive: close after this many (0: never)
+    std::filesystem::path mp4;         ///< path: also encode the frames into this MP4
+    double fps = 25.0;                 ///< frame rate of the MP4
+    bool prefetch = true;  ///< path: load the next frame's sections while this one renders
+
+    /// Every problem with how the modes combine, in the order the CLI reports them; empty
+    /// when valid (the camera and height field are checked by their own validate()).
+    [[nodiscard]] std::vector<std::string> validate() const;
+    /// The poses to render: `pose`, or the camera path's (read from the file; InputError);
+    /// empty for an interactive view without `pose`.
+    [[nodiscard]] std::vector<CameraPose> poses() const;
+};
+
+/// "256MB", "1.5GiB", "1000000" (bytes): KB/MB/GB (or K/M/G) are powers of 1000, KiB/MiB/GiB
+/// of 1024. Throws ConfigError naming the text.
+[[nodiscard]] std::uint64_t parse_byte_size(std::string_view text);
+
+/// The shortest of "NGB", "NMB", "NKB" or "N" (bytes) that is exactly `bytes`.
+[[nodiscard]] std::string byte_size_text(std::uint64_t bytes);
+
+/// "WxH" with positive integers into (w, h); throws ConfigError naming `what` and the text.
+void parse_size_pair(std::string_view text, std::string_view what, int& w, int& h);
+
+/// "NxN": the side of the square window of sections; throws ConfigError.
+[[nodiscard]] int parse_section_window(std::string_view text);
+
+}  // namespace beamtrace
