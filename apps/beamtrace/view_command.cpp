@@ -21,7 +21,6 @@ namespace {
 
 struct ViewCommand {
     ViewJobConfig job;
-    std::vector<std::string> files;
     bool quiet = false;
     bool progress = false;
 };
@@ -170,8 +169,7 @@ void run_frames(const ViewCommand& c, ViewSession& session, const std::vector<Ca
     loop.report();
 }
 
-int run(ViewCommand& c) {
-    c.job.inputs.assign(c.files.begin(), c.files.end());
+int run(const ViewCommand& c) {
     check_modes(c.job);
     const std::vector<CameraPose> poses = c.job.poses();
     check_cameras(c.job, poses);
@@ -275,7 +273,7 @@ std::function<int()> add_view_command(CLI::App& app) {
     auto c = std::make_shared<ViewCommand>();
     CLI::App* cmd = app.add_subcommand(
         "view", "Ray-trace views of raw LAS files through out-of-core height-field sections");
-    cmd->add_option("files", c->files, "LAS files or directories of .las files")->required();
+    cmd->add_option("files", c->job.inputs, "LAS files or directories of .las files")->required();
     add_camera_options(cmd, c->job);
     add_field_options(cmd, c->job.session);
     add_mode_options(cmd, *c);
