@@ -398,5 +398,24 @@ TEST(RenderCli, WritesPngAndRejectsBadOptions) {
     EXPECT_EQ(test::entry_count(dir.path()), 2u);
 }
 
+TEST(RenderCli, LookAtNeedsOnlyThePosition) {
+    test::TempDir dir;
+    const std::string cli =
+        std::string(BEAMTRACE_CLI_PATH) + " render " +
+        (std::filesystem::path(BEAMTRACE_EXAMPLES_DIR) / "scenes/beach_ball.yaml").string() +
+        " --size 48x32 --quiet --look-at 0,0,0.8 ";
+    auto r = test::run_command(cli + "--camera -6,-4,3 --output " + (dir / "a.png").string());
+    ASSERT_EQ(r.exit_code, 0) << r.out;
+    r = test::run_command(cli + "--camera -6,-4,3,10,20 --output " + (dir / "b.png").string());
+    ASSERT_EQ(r.exit_code, 0) << r.out;
+    EXPECT_EQ(test::read_file(dir / "a.png"), test::read_file(dir / "b.png"));
+    // X,Y,Z alone is a position without a direction: it needs --look-at.
+    r = test::run_command(std::string(BEAMTRACE_CLI_PATH) + " render --demo --camera -6,-4,3 " +
+                          "--output " + (dir / "c.png").string());
+    EXPECT_EQ(r.exit_code, 2) << r.out;
+    EXPECT_NE(r.out.find("needs --look-at"), std::string::npos) << r.out;
+    EXPECT_FALSE(std::filesystem::exists(dir / "c.png"));
+}
+
 }  // namespace
 }  // namespace beamtrace
