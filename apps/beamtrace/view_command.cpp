@@ -1,7 +1,6 @@
 // `beamtrace view`: ray-traced images of raw LAS files through out-of-core height-field sections.
 // The options bind to the fields of ViewJobConfig (heightfield/view_job.hpp), which holds the
 // defaults (those of HeightFieldConfig, ViewCamera and RenderOptions).
-#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -11,7 +10,6 @@
 #include "beamtrace/core/error.hpp"
 #include "beamtrace/heightfield/view_job.hpp"
 #include "beamtrace/io/mp4_writer.hpp"
-#include "beamtrace/io/png_writer.hpp"
 #include "commands.hpp"
 #include "progress_bar.hpp"
 #include "view_window.hpp"
@@ -83,90 +81,47 @@ void run_interactive(const ViewCommand& c, ViewSession& session,
     run_view_window(session, camera, c.job.render, window);
 }
 
-/// The frames of --camera (one) or --path (one per pose), with what they cost.
-struct FrameLoop {
-    const ViewCommand& c;
-    ViewSession& session;
-    const std::vector<CameraPose>& poses;
-    ViewCamera camera;
-    ViewImage image;  // its buffers are reused frame after frame
-    std::unique_ptr<Mp4Writer> video;
-    double render_s = 0;
-    int prefetched = 0;
-
-    /// Loads frame i's sections (prefetching frame i + 1's), renders and writes it.
-    void frame(std::size_t i) {
-        camera.set_pose(poses[i]);
-        ProgressBar bar("loading sections", !c.quiet && (c.progress || stderr_is_terminal()));
-        // Waits for the sections prefetched while the previous frame rendered, then loads
-        // whatever did not fit next to them: frame i is the same as without prefetching.
-        const IngestStats stats =
-            session.move_to(camera.position, [&](std::uint64_t done, std::uint64_t total) {
-                bar.update(static_cast<std::size_t>(done), static_cast<std::size_t>(total));
-            });
-        bar.finish();
-        print_stats(stats, session, c.quiet);
-        prefetched += stats.sections_prefetched;
-        if (i + 1 < poses.size() && c.job.prefetch) {
-            session.prefetch(poses[i + 1].position);  // loads on the loader thread meanwhile
+/// The frames of --camera (one) or --path (one per pose): a progress bar while each frame's
+/// sections load, and the summary.
+void run_frames(const ViewCommand& c, ViewSession& session, const std::vector<CameraPose>& poses) {
+    const bool show = !c.quiet && (c.progress || stderr_is_terminal());
+    std::unique_ptr<ProgressBar> bar;
+    ViewFrameHooks hooks;
+    hooks.loading = [&](std::size_t, std::uint64_t done, std::uint64_t total) {
+        if (!bar) {
+            bar = std::make_unique<ProgressBar>("loading sections", show);
         }
-        const auto start = std::chrono::steady_clock::now();
-        session.render(camera, c.job.render, image);
-        render_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-        std::filesystem::path out = c.job.output;
-        if (!c.job.path.empty()) {
-            char name[32];
-            std::snprintf(name, sizeof name, "frame_%05zu.png", i);
-            out /= name;
+        bar->update(static_cast<std::size_t>(done), static_cast<std::size_t>(total));
+    };
+    hooks.written = [&](const ViewFrame& f) {
+        if (bar) {
+            bar->finish();
+            bar.reset();
         }
-        write_png_rgb8(out, image.width, image.height, image.rgb);
-        if (video) {
-            video->write(image.rgb);
-        }
+        print_stats(f.stats, session, c.quiet);
         if (!c.quiet && c.job.path.empty()) {
             std::printf("rendered %dx%d in %.1f ms (%zu of %zu pixels hit)\nwrote %s\n",
-                        image.width, image.height, render_s * 1e3, image.hits(), image.depth.size(),
-                        out.string().c_str());
+                        f.image->width, f.image->height, f.render_s * 1e3, f.image->hits(),
+                        f.image->depth.size(), f.file.string().c_str());
         }
+    };
+    const ViewFramesResult r = run_view_frames(c.job, session, poses, hooks);
+    if (c.quiet) {
+        return;
     }
-
-    void report() const {
-        if (video && !c.quiet) {
-            std::printf("wrote %s (%d frames, %s, %g frames/s)\n", c.job.mp4.string().c_str(),
-                        video->frames(), video->codec().c_str(), c.job.fps);
-        }
-        if (!c.quiet && !c.job.path.empty()) {
-            std::printf(
-                "rendered %zu frames of %dx%d, %.1f ms per frame; %d sections loaded in the "
-                "background; peak %.1f MB of the budget; wrote %s/frame_*.png\n",
-                poses.size(), camera.width, camera.height,
-                render_s * 1e3 / static_cast<double>(poses.size()), prefetched,
-                static_cast<double>(session.peak_budgeted_bytes()) / 1e6,
-                c.job.output.string().c_str());
-        }
+    if (r.mp4_frames > 0) {
+        std::printf("wrote %s (%d frames, %s, %g frames/s)\n", c.job.mp4.string().c_str(),
+                    r.mp4_frames, r.mp4_codec.c_str(), c.job.fps);
     }
-};
-
-void run_frames(const ViewCommand& c, ViewSession& session, const std::vector<CameraPose>& poses) {
     if (!c.job.path.empty()) {
-        std::error_code ec;
-        std::filesystem::create_directories(c.job.output, ec);
-        if (ec) {
-            throw OutputError(c.job.output.string() + ": cannot create directory: " + ec.message());
-        }
+        std::printf(
+            "rendered %zu frames of %dx%d, %.1f ms per frame; %d sections loaded in the "
+            "background; peak %.1f MB of the budget; wrote %s/frame_*.png\n",
+            r.frames, c.job.camera.width, c.job.camera.height,
+            r.render_s * 1e3 / static_cast<double>(r.frames), r.prefetched,
+            static_cast<double>(session.peak_budgeted_bytes()) / 1e6,
+            c.job.output.string().c_str());
     }
-    FrameLoop loop{c, session, poses, c.job.camera, {}, {}, 0.0, 0};
-    if (!c.job.mp4.empty()) {
-        loop.video = std::make_unique<Mp4Writer>(c.job.mp4, c.job.camera.width, c.job.camera.height,
-                                                 c.job.fps);
-    }
-    for (std::size_t i = 0; i < poses.size(); ++i) {
-        loop.frame(i);
-    }
-    if (loop.video) {
-        loop.video->commit();
-    }
-    loop.report();
 }
 
 int run(const ViewCommand& c) {

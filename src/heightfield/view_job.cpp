@@ -2,11 +2,16 @@
 
 #include <cctype>
 #include <charconv>
+#include <chrono>
 #include <cmath>
+#include <cstdio>
+#include <memory>
 #include <utility>
 
 #include "beamtrace/core/error.hpp"
 #include "beamtrace/heightfield/camera_path.hpp"
+#include "beamtrace/io/mp4_writer.hpp"
+#include "beamtrace/io/png_writer.hpp"
 
 namespace beamtrace {
 namespace {
@@ -86,6 +91,67 @@ std::vector<CameraPose> ViewJobConfig::poses() const {
         return read_camera_path(path);
     }
     return {};
+}
+
+ViewFramesResult run_view_frames(const ViewJobConfig& job, ViewSession& session,
+                                 const std::vector<CameraPose>& poses,
+                                 const ViewFrameHooks& hooks) {
+    if (!job.path.empty()) {
+        std::error_code ec;
+        std::filesystem::create_directories(job.output, ec);
+        if (ec) {
+            throw OutputError(job.output.string() + ": cannot create directory: " + ec.message());
+        }
+    }
+    std::unique_ptr<Mp4Writer> video;
+    if (!job.mp4.empty()) {
+        video = std::make_unique<Mp4Writer>(job.mp4, job.camera.width, job.camera.height, job.fps);
+    }
+    ViewFramesResult result;
+    ViewCamera camera = job.camera;
+    ViewImage image;  // its buffers are reused frame after frame
+    for (std::size_t i = 0; i < poses.size(); ++i) {
+        camera.set_pose(poses[i]);
+        ViewFrame frame;
+        frame.index = i;
+        // Waits for the sections prefetched while the previous frame rendered, then loads
+        // whatever did not fit next to them: frame i is the same as without prefetching.
+        frame.stats = session.move_to(camera.position, [&](std::uint64_t done, std::uint64_t n) {
+            if (hooks.loading) {
+                hooks.loading(i, done, n);
+            }
+        });
+        result.prefetched += frame.stats.sections_prefetched;
+        if (i + 1 < poses.size() && job.prefetch) {
+            session.prefetch(poses[i + 1].position);  // loads on the loader thread meanwhile
+        }
+        const auto start = std::chrono::steady_clock::now();
+        session.render(camera, job.render, image);
+        result.render_s +=
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        frame.file = job.output;
+        if (!job.path.empty()) {
+            char name[32];
+            std::snprintf(name, sizeof name, "frame_%05zu.png", i);
+            frame.file /= name;
+        }
+        write_png_rgb8(frame.file, image.width, image.height, image.rgb);
+        if (video) {
+            video->write(image.rgb);
+        }
+        frame.image = &image;
+        frame.render_s = result.render_s;
+        if (hooks.written) {
+            hooks.written(frame);
+        }
+    }
+    result.frames = poses.size();
+    if (video) {
+        video->commit();
+        result.mp4_frames = video->frames();
+        result.mp4_codec = video->codec();
+    }
+    return result;
 }
 
 std::uint64_t parse_byte_size(std::string_view text) {

@@ -5,6 +5,9 @@
 
 #include "beamtrace/core/error.hpp"
 #include "beamtrace/heightfield/view_job.hpp"
+#include "beamtrace/io/png_reader.hpp"
+#include "heightfield/heightfield_test_support.hpp"
+#include "test_support.hpp"
 
 namespace beamtrace {
 namespace {
@@ -69,6 +72,37 @@ TEST(ViewJob, OverviewCameraLooksDownAlongXFromAboveTheData) {
     EXPECT_EQ(c.pitch_deg, -30.0);
     EXPECT_EQ(c.width, 320);
     EXPECT_GT(CameraRays(c).forward().x, 0.0);
+}
+
+class ViewFrames : public test::TempDirTest {};
+
+TEST_F(ViewFrames, WritesOnePngPerPoseEqualToTheSessionsRender) {
+    const auto las = test::write_bridge_las(dir_ / "bridge.las");
+    ViewJobConfig job;
+    job.inputs = {las};
+    job.session = test::bridge_view_config(0);
+    job.camera.width = 41;
+    job.camera.height = 21;
+    job.path = "unused.csv";  // a fly-through: frames into a folder
+    job.output = dir_ / "frames";
+    const std::vector<CameraPose> poses = {{{2, 16.3, 4}, 0, -10}, {{30, 16.3, 6}, 180, -15}};
+    ViewSession session(job.inputs, job.session);
+    std::vector<std::size_t> written;
+    ViewFrameHooks hooks;
+    hooks.written = [&](const ViewFrame& f) { written.push_back(f.index); };
+    const ViewFramesResult r = run_view_frames(job, session, poses, hooks);
+    EXPECT_EQ(r.frames, 2u);
+    EXPECT_EQ(written, (std::vector<std::size_t>{0, 1}));
+    EXPECT_EQ(r.mp4_frames, 0);
+    for (std::size_t i = 0; i < poses.size(); ++i) {
+        ViewSession fresh(job.inputs, job.session);
+        ViewCamera cam = job.camera;
+        cam.set_pose(poses[i]);
+        static_cast<void>(fresh.move_to(cam.position));
+        const RgbImage png =
+            read_png_rgb8(job.output / ("frame_0000" + std::to_string(i) + ".png"));
+        EXPECT_EQ(png.rgb, fresh.render(cam, job.render).rgb) << "frame " << i;
+    }
 }
 
 }  // namespace

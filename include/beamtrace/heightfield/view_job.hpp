@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -39,6 +40,38 @@ struct ViewJobConfig {
     /// empty for an interactive view without `pose`.
     [[nodiscard]] std::vector<CameraPose> poses() const;
 };
+
+/// One frame of run_view_frames, as it is reported.
+struct ViewFrame {
+    std::size_t index = 0;
+    IngestStats stats;                 ///< what was loaded for it (empty when nothing had to be)
+    const ViewImage* image = nullptr;  ///< valid during the report only
+    std::filesystem::path file;        ///< the PNG written
+    double render_s = 0.0;             ///< rendering time of the frames so far
+};
+
+struct ViewFrameHooks {
+    /// Section loading for frame `index`: points done of total (for a progress bar).
+    std::function<void(std::size_t index, std::uint64_t done, std::uint64_t total)> loading;
+    /// After frame `index` is written.
+    std::function<void(const ViewFrame&)> written;
+};
+
+struct ViewFramesResult {
+    std::size_t frames = 0;
+    int prefetched = 0;     ///< sections loaded in the background while a frame rendered
+    double render_s = 0.0;  ///< rendering time, all frames
+    int mp4_frames = 0;     ///< frames in the MP4 (0: none written)
+    std::string mp4_codec;  ///< the MP4's codec
+};
+
+/// Renders `poses` (job.pose: one PNG at job.output; job.path: frame_NNNNN.png into the folder
+/// job.output, created, and the MP4 job.mp4 when given). Before frame i renders, frame i + 1's
+/// sections start loading in the background (job.prefetch); every frame is the same as without.
+/// Throws OutputError, ConfigError.
+ViewFramesResult run_view_frames(const ViewJobConfig& job, ViewSession& session,
+                                 const std::vector<CameraPose>& poses,
+                                 const ViewFrameHooks& hooks = {});
 
 /// "256MB", "1.5GiB", "1000000" (bytes): KB/MB/GB (or K/M/G) are powers of 1000, KiB/MiB/GiB
 /// of 1024. Throws ConfigError naming the text.
