@@ -110,7 +110,7 @@ bt::ViewCamera frame_camera(const bt::ViewSession& s, int width, int height) {
     bt::ViewCamera cam;
     const bt::Vec3d lo = s.sources().min(), hi = s.sources().max();
     cam.position = {lo.x + 0.2 * (hi.x - lo.x), lo.y + 0.2 * (hi.y - lo.y), hi.z + 150.0};
-    cam.yaw_deg = 25.0;
+    cam.yaw_deg = -25.0;  // towards +x, +y (docs/camera.md)
     cam.pitch_deg = -30.0;
     cam.hfov_deg = 70.0;
     cam.width = width;
@@ -191,7 +191,7 @@ void BM_ViewPath(benchmark::State& state) {
             bt::ViewCamera cam;
             const double f = 0.1 + 0.8 * i / 15.0;
             cam.position = {lo.x + f * (hi.x - lo.x), lo.y + 0.5 * (hi.y - lo.y), hi.z + 150.0};
-            cam.yaw_deg = 10.0;
+            cam.yaw_deg = -10.0;
             cam.pitch_deg = -35.0;
             cam.hfov_deg = 70.0;
             cam.width = 960;

@@ -12,13 +12,10 @@
 namespace beamtrace::cli {
 namespace {
 
-struct BenchOptions {
-    std::vector<std::string> surveys;
-    std::vector<unsigned> threads;
-    std::vector<std::string> backends;
-    std::size_t repeats = 3;
-    double min_time_s = 0.3;
-    std::uint64_t pulses = 0;
+/// The options bind to ThroughputBenchConfig's fields (pipeline/throughput_bench.hpp, which
+/// holds the defaults); the CLI adds the default survey files, the report file and --quiet.
+struct BenchCommand {
+    ThroughputBenchConfig config;
     std::string output;
     bool quiet = false;
 };
@@ -30,9 +27,9 @@ const char* const kDefaultSurveys[] = {"examples/surveys/tripod_panorama.yaml",
                                        "examples/surveys/airborne_srtm.yaml",
                                        "examples/surveys/car_hdl64.yaml"};
 
-int run(const BenchOptions& o) {
-    ThroughputBenchConfig c;
-    if (o.surveys.empty()) {
+int run(BenchCommand& o) {
+    ThroughputBenchConfig& c = o.config;
+    if (c.surveys.empty()) {
         for (const char* s : kDefaultSurveys) {
             if (!std::filesystem::exists(s)) {
                 throw ConfigError(std::string(s) +
@@ -41,16 +38,7 @@ int run(const BenchOptions& o) {
             }
             c.surveys.emplace_back(s);
         }
-    } else {
-        c.surveys.assign(o.surveys.begin(), o.surveys.end());
     }
-    c.threads = o.threads;
-    for (const auto& b : o.backends) {
-        c.backends.push_back(parse_backend_kind(b));
-    }
-    c.repeats = o.repeats;
-    c.min_time_s = o.min_time_s;
-    c.max_pulses = o.pulses;
     const ThroughputReport report = run_throughput_bench(c, [&](const std::string& line) {
         if (!o.quiet) {
             std::fprintf(stderr, "bench: %s\n", line.c_str());
@@ -69,23 +57,30 @@ int run(const BenchOptions& o) {
 }  // namespace
 
 std::function<int()> add_bench_command(CLI::App& app) {
-    auto opts = std::make_shared<BenchOptions>();
+    auto opts = std::make_shared<BenchCommand>();
+    ThroughputBenchConfig& c = opts->config;
     CLI::App* cmd = app.add_subcommand(
         "bench",
         "Throughput against the limit: raw Embree, our backends and whole surveys on the same "
         "rays, with build times and peak memory (see README, Performance)");
-    cmd->add_option("surveys", opts->surveys,
+    cmd->add_option("surveys", c.surveys,
                     "Survey files (default: the terrestrial, airborne and car examples)")
         ->check(CLI::ExistingFile);
-    cmd->add_option("--threads", opts->threads,
+    cmd->add_option("--threads", c.threads,
                     "Thread counts to measure, e.g. --threads 1 2 (default: 1 and all cores)");
-    cmd->add_option("--backend", opts->backends, "Backends to time (default: embree and bvh)");
-    cmd->add_option("--repeats", opts->repeats, "Each figure is the best of this many runs")
+    cmd->add_option_function<std::vector<std::string>>(
+        "--backend",
+        [&c](const std::vector<std::string>& names) {
+            for (const auto& b : names) {
+                c.backends.push_back(parse_backend_kind(b));
+            }
+        },
+        "Backends to time (default: embree and bvh)");
+    cmd->add_option("--repeats", c.repeats, "Each figure is the best of this many runs")
         ->capture_default_str();
-    cmd->add_option("--min-time", opts->min_time_s,
-                    "Seconds each trace measurement repeats its batch")
+    cmd->add_option("--min-time", c.min_time_s, "Seconds each trace measurement repeats its batch")
         ->capture_default_str();
-    cmd->add_option("--pulses", opts->pulses, "Only the first N pulses of each survey (0 = all)")
+    cmd->add_option("--pulses", c.max_pulses, "Only the first N pulses of each survey (0 = all)")
         ->capture_default_str();
     cmd->add_option("--output", opts->output, "Also write the report (Markdown) to this file");
     cmd->add_flag("--quiet", opts->quiet, "No progress lines on stderr");

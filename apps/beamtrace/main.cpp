@@ -29,6 +29,10 @@ int main(int argc, char** argv) {
     } catch (const CLI::ParseError& e) {
         std::fprintf(stderr, "beamtrace: error: %s (see --help)\n", e.what());
         return 2;
+    } catch (const beamtrace::Error& e) {
+        // An option's value rejected by the library parser its option is bound to.
+        std::fprintf(stderr, "beamtrace: error: %s\n", e.what());
+        return 2;
     }
     try {
         if (app.got_subcommand("scan")) {

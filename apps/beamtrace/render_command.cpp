@@ -1,165 +1,114 @@
-// `beamtrace render`: a shaded image of a scene file or the demo scene.
-#include <chrono>
-#include <cmath>
+// `beamtrace render`: a shaded image of a scene file or the demo scene. The options bind to the
+// fields of RenderJobConfig (render/render_job.hpp), which holds the defaults.
 #include <cstdio>
 #include <memory>
 #include <numbers>
-#include <optional>
 #include <string>
+#include <tuple>
 #include <vector>
 
-#include "beamtrace/core/error.hpp"
-#include "beamtrace/pipeline/demo_sensor.hpp"
+#include "beamtrace/render/render_job.hpp"
 #include "beamtrace/render/render_options.hpp"
-#include "beamtrace/render/renderer.hpp"
-#include "beamtrace/scene/demo_scene.hpp"
-#include "beamtrace/scene/scene_builder.hpp"
 #include "commands.hpp"
 
 namespace beamtrace::cli {
 namespace {
 
-struct RenderOptions {
-    std::string scene;
-    bool demo = false;
-    std::string camera, look_at, size = "640x480";
-    std::optional<double> roll_deg, zoom, orthographic_m;
-    std::vector<std::string> lights;
-    double ambient = 0.1, background = 0.0, exposure = 1.0, gamma = 1.0;
-    bool no_shadows = false, triangles = false, quiet = false;
-    std::string backend{to_string(default_backend_kind())};
-    unsigned threads = 0;
-    std::string output;
+constexpr double kDeg = std::numbers::pi / 180.0;
+
+struct RenderCommand {
+    RenderJobConfig job;
+    bool quiet = false;
 };
 
-int run(const RenderOptions& o) {
-    using clock = std::chrono::steady_clock;
-    const auto t0 = clock::now();
-    if (o.demo == !o.scene.empty()) {
-        throw ConfigError("give exactly one of SCENE.yaml or --demo");
-    }
-    RenderConfig config;
-    CameraConfig& cam = config.camera;
-    const auto [w, h] = parse_image_size(o.size);
-    cam.width = w;
-    cam.height = h;
-    if (o.orthographic_m) {
-        cam.projection = Projection::orthographic;
-        cam.view_width_m = *o.orthographic_m;
-    }
-    if (o.zoom) {
-        cam.zoom = *o.zoom;
-    }
-    constexpr double kDeg = std::numbers::pi / 180.0;
-    if (o.roll_deg) {
-        cam.orientation.roll_rad = *o.roll_deg * kDeg;
-    }
-    for (const auto& l : o.lights) {
-        config.lights.push_back(parse_light(l));
-    }
-    if (!o.camera.empty()) {
-        parse_camera_pose(o.camera, cam);
-    }
-    if (!o.look_at.empty()) {
-        if (o.camera.empty()) {
-            throw ConfigError("--look-at needs --camera for the position");
-        }
-        const std::string text = o.look_at + ",0,0";  // reuse the pose parser for X,Y,Z
-        CameraConfig target;
-        try {
-            parse_camera_pose(text, target);
-        } catch (const ConfigError&) {
-            throw ConfigError("--look-at '" + o.look_at + "': expected X,Y,Z in metres");
-        }
-        cam.orientation = look_at(cam.position_m, target.position_m, cam.orientation.roll_rad);
-    }
-    config.ambient = o.ambient;
-    config.background = o.background;
-    config.shadows = !o.no_shadows;
-    if (!(o.ambient >= 0.0) || !(o.background >= 0.0)) {
-        throw ConfigError("--ambient and --background must not be negative");
-    }
-    if (!(o.exposure > 0.0) || !(o.gamma > 0.0)) {
-        throw ConfigError("--exposure and --gamma must be positive");
-    }
-    if (const auto problems = cam.validate(); !problems.empty()) {
-        throw ConfigError("camera: " + problems.front());
-    }
-    const BackendKind backend = parse_backend_kind(o.backend);
-
-    const Scene scene = o.demo ? make_demo_scene() : load_scene_file(o.scene);
-    const RenderScene rs = build_render_scene(scene, !o.triangles);
-    if (o.camera.empty()) {
-        if (o.demo && cam.projection == Projection::pinhole) {
-            const ImageSensorConfig s = demo_sensor();
-            cam.position_m = s.position_m;
-            cam.orientation = s.orientation;
-            cam.vfov_rad = s.vfov_rad;
-        } else {
-            cam = frame_bounds(rs.bounds(), cam);
-        }
-    }
-    if (config.lights.empty()) {
-        // Over the camera's left shoulder: 30 degrees left of the view direction, 50 up.
-        const Vec3d f = Camera(cam).forward();
-        config.lights.push_back(
-            directional_light(std::atan2(-f.y, -f.x) - 30.0 * kDeg, 50.0 * kDeg));
-    }
-    ThreadPool pool(o.threads);
-    const auto t1 = clock::now();
-    const Renderer renderer(rs, pool, backend);
-    const RenderImage image = renderer.render(config);
-    const auto t2 = clock::now();
-    write_render_png(o.output, image, o.exposure, o.gamma);
-    if (!o.quiet) {
-        const auto secs = [](auto a, auto b) {
-            return std::chrono::duration<double>(b - a).count();
-        };
-        std::printf("scene: %zu triangles, %zu exact spheres, %zu exact planes\n",
-                    rs.mesh.faces.size(), rs.spheres.size(), rs.planes.size());
-        std::printf("image: %dx%d, %zu light(s), load %.3f s, render %.3f s\n", image.width,
-                    image.height, config.lights.size(), secs(t0, t1), secs(t1, t2));
-        std::printf("wrote %s\n", o.output.c_str());
+int run(const RenderCommand& c) {
+    const RenderJobResult r = run_render_job(c.job);
+    if (!c.quiet) {
+        std::printf("scene: %zu triangles, %zu exact spheres, %zu exact planes\n", r.triangles,
+                    r.spheres, r.planes);
+        std::printf("image: %dx%d, %zu light(s), load %.3f s, render %.3f s\n", r.width, r.height,
+                    r.lights, r.load_s, r.render_s);
+        std::printf("wrote %s\n", c.job.output.string().c_str());
     }
     return 0;
+}
+
+/// --camera, --look-at, --roll, --zoom, --orthographic, --size: render.camera and the pose.
+void add_camera_options(CLI::App* cmd, RenderJobConfig& job) {
+    CameraConfig& cam = job.render.camera;
+    cmd->add_option_function<std::string>(
+        "--camera", [&job](const std::string& s) { job.set_camera(s); },
+        "Camera X,Y,Z,YAW,PITCH[,VFOV]: metres and degrees (docs/camera.md: yaw 0 looks along "
+        "+x, yaw > 0 pans right, pitch > 0 tilts up; default VFOV 45.8), or X,Y,Z with "
+        "--look-at; default: frame the whole scene");
+    cmd->add_option_function<std::string>(
+        "--look-at", [&job](const std::string& s) { job.set_look_at(s); },
+        "Aim the camera at X,Y,Z (replaces yaw and pitch; --camera X,Y,Z is enough)");
+    cmd->add_option_function<double>(
+        "--roll", [&cam](double deg) { cam.orientation.roll_rad = deg * kDeg; },
+        "Camera roll in degrees");
+    cmd->add_option("--zoom", cam.zoom, "Magnification (divides the field of view or width)")
+        ->capture_default_str();
+    cmd->add_option_function<double>(
+        "--orthographic",
+        [&cam](double width_m) {
+            cam.projection = Projection::orthographic;
+            cam.view_width_m = width_m;
+        },
+        "Orthographic projection with this view width in metres");
+    cmd->add_option_function<std::string>(
+           "--size",
+           [&cam](const std::string& s) { std::tie(cam.width, cam.height) = parse_image_size(s); },
+           "Image size WIDTHxHEIGHT")
+        ->default_str(std::to_string(cam.width) + "x" + std::to_string(cam.height));
+}
+
+/// --light, --ambient, --background, --exposure, --gamma, --no-shadows.
+void add_light_options(CLI::App* cmd, RenderJobConfig& job) {
+    RenderConfig& r = job.render;
+    cmd->add_option_function<std::vector<std::string>>(
+        "--light",
+        [&r](const std::vector<std::string>& texts) {
+            for (const auto& t : texts) {
+                r.lights.push_back(parse_light(t));
+            }
+        },
+        "dir:AZ,EL[,E] (degrees; az counter-clockwise from +x) or point:X,Y,Z[,P] "
+        "(E = P/r^2); repeat for several; default: one directional light");
+    cmd->add_option("--ambient", r.ambient, "Ambient irradiance")->capture_default_str();
+    cmd->add_option("--background", r.background, "Radiance where rays miss")
+        ->capture_default_str();
+    cmd->add_option("--exposure", job.exposure, "Radiance scale before clamping to [0, 1]")
+        ->capture_default_str();
+    cmd->add_option("--gamma", job.gamma, "Output gamma (pixel = value^(1/gamma))")
+        ->capture_default_str();
+    cmd->add_flag_callback(
+        "--no-shadows", [&r] { r.shadows = false; }, "Do not trace shadow rays");
 }
 
 }  // namespace
 
 std::function<int()> add_render_command(CLI::App& app) {
-    auto opts = std::make_shared<RenderOptions>();
+    auto c = std::make_shared<RenderCommand>();
+    RenderJobConfig& job = c->job;
     CLI::App* cmd = app.add_subcommand(
         "render", "Render a shaded image of a scene (lights, shadows, exact spheres and planes)");
-    cmd->add_option("scene", opts->scene, "Scene file (YAML)")->check(CLI::ExistingFile);
-    cmd->add_flag("--demo", opts->demo, "Render the embedded demo scene");
-    cmd->add_option("--camera", opts->camera,
-                    "Camera X,Y,Z,YAW,PITCH[,VFOV]: metres and degrees (yaw > 0 pans right, "
-                    "pitch > 0 tilts up; default VFOV 45.8); default: frame the whole scene");
-    cmd->add_option("--look-at", opts->look_at, "Aim the camera at X,Y,Z (overrides yaw, pitch)");
-    cmd->add_option("--roll", opts->roll_deg, "Camera roll in degrees");
-    cmd->add_option("--zoom", opts->zoom, "Magnification (divides the field of view or width)");
-    cmd->add_option("--orthographic", opts->orthographic_m,
-                    "Orthographic projection with this view width in metres");
-    cmd->add_option("--size", opts->size, "Image size WIDTHxHEIGHT")->capture_default_str();
-    cmd->add_option("--light", opts->lights,
-                    "dir:AZ,EL[,E] (degrees; az counter-clockwise from +x) or point:X,Y,Z[,P] "
-                    "(E = P/r^2); repeat for several; default: one directional light");
-    cmd->add_option("--ambient", opts->ambient, "Ambient irradiance")->capture_default_str();
-    cmd->add_option("--background", opts->background, "Radiance where rays miss")
+    cmd->add_option("scene", job.scene, "Scene file (YAML)")->check(CLI::ExistingFile);
+    cmd->add_flag("--demo", job.demo, "Render the embedded demo scene");
+    add_camera_options(cmd, job);
+    add_light_options(cmd, job);
+    cmd->add_flag_callback(
+        "--triangles", [&job] { job.exact_primitives = false; },
+        "Trace sphere and plane parts as their triangles instead of exactly");
+    cmd->add_option_function<std::string>(
+           "--backend", [&job](const std::string& s) { job.backend = parse_backend_kind(s); },
+           backend_choices())
+        ->default_str(std::string(to_string(job.backend)));
+    cmd->add_option("--threads", job.threads, "Worker threads (0 = all cores)")
         ->capture_default_str();
-    cmd->add_option("--exposure", opts->exposure, "Radiance scale before clamping to [0, 1]")
-        ->capture_default_str();
-    cmd->add_option("--gamma", opts->gamma, "Output gamma (pixel = value^(1/gamma))")
-        ->capture_default_str();
-    cmd->add_flag("--no-shadows", opts->no_shadows, "Do not trace shadow rays");
-    cmd->add_flag("--triangles", opts->triangles,
-                  "Trace sphere and plane parts as their triangles instead of exactly");
-    cmd->add_option("--backend", opts->backend, backend_choices())->capture_default_str();
-    cmd->add_option("--threads", opts->threads, "Worker threads (0 = all cores)")
-        ->capture_default_str();
-    cmd->add_option("--output", opts->output, "Output PNG (written atomically)")->required();
-    cmd->add_flag("--quiet", opts->quiet, "No summary");
-    return [opts] { return run(*opts); };
+    cmd->add_option("--output", job.output, "Output PNG (written atomically)")->required();
+    cmd->add_flag("--quiet", c->quiet, "No summary");
+    return [c] { return run(*c); };
 }
 
 }  // namespace beamtrace::cli

@@ -1,6 +1,7 @@
 #include <charconv>
 #include <cstdio>
 #include <memory>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -134,10 +135,19 @@ std::function<int()> add_scan_command(CLI::App& app) {
     cmd->add_option("--pattern", opts->pattern, "pinhole | scan | rays")->capture_default_str();
     cmd->add_option("--position", opts->position, "Sensor position x,y,z in metres");
     cmd->add_option("--orientation", opts->orientation, "Sensor roll,pitch,yaw in radians");
-    cmd->add_option("--width", opts->width, "Image width in pixels (default 512)");
-    cmd->add_option("--height", opts->height, "Image height in pixels (default 256)");
-    cmd->add_option("--hfov", opts->hfov, "Horizontal field of view in radians (default 1.0)");
-    cmd->add_option("--vfov", opts->vfov, "Vertical field of view in radians (default 0.5)");
+    // The defaults are ImageSensorConfig's (the demo scene brings its own sensor).
+    const ImageSensorConfig sensor;
+    const auto dflt = [](auto v) {
+        std::ostringstream s;
+        s << " (default " << v << ")";
+        return s.str();
+    };
+    cmd->add_option("--width", opts->width, "Image width in pixels" + dflt(sensor.width));
+    cmd->add_option("--height", opts->height, "Image height in pixels" + dflt(sensor.height));
+    cmd->add_option("--hfov", opts->hfov,
+                    "Horizontal field of view in radians" + dflt(sensor.hfov_rad));
+    cmd->add_option("--vfov", opts->vfov,
+                    "Vertical field of view in radians" + dflt(sensor.vfov_rad));
     cmd->add_option("--rays", opts->rays, "Rays file for --pattern rays: CSV ox,oy,oz,dx,dy,dz")
         ->check(CLI::ExistingFile);
     cmd->add_option("--backend", opts->backend, backend_choices())->capture_default_str();

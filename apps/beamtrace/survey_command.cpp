@@ -11,26 +11,19 @@
 namespace beamtrace::cli {
 namespace {
 
-struct SurveyOptions {
+/// The options bind to SurveyRunConfig's fields (pipeline/survey.hpp, which holds the defaults).
+struct SurveyCommand {
     std::string file;
-    std::string output;
-    unsigned threads = 0;
-    std::uint64_t seed = 1;
-    std::string backend{to_string(default_backend_kind())};
+    SurveyRunConfig run;
     bool quiet = false;
     bool progress = false;
 };
 
-int run(const SurveyOptions& o) {
+int run(const SurveyCommand& o) {
     const SurveySpec spec = load_survey_spec(o.file);
-    SurveyRunConfig run;
-    run.output_dir = o.output;
-    run.threads = o.threads;
-    run.seed = o.seed;
-    run.backend = parse_backend_kind(o.backend);
     ProgressBar bar("surveying", !o.quiet && (o.progress || stderr_is_terminal()));
     const SurveyResult r = run_survey(
-        spec, run, [&](std::size_t done, std::size_t total) { bar.update(done, total); });
+        spec, o.run, [&](std::size_t done, std::size_t total) { bar.update(done, total); });
     bar.finish();
     if (!o.quiet) {
         const std::string spheres =
@@ -53,7 +46,8 @@ int run(const SurveyOptions& o) {
 }  // namespace
 
 std::function<int()> add_survey_command(CLI::App& app) {
-    auto opts = std::make_shared<SurveyOptions>();
+    auto opts = std::make_shared<SurveyCommand>();
+    SurveyRunConfig& rc = opts->run;
     CLI::App* cmd = app.add_subcommand(
         "survey",
         "Run a survey file: a scanner on a platform in a scene; writes points.las (LAS "
@@ -61,12 +55,15 @@ std::function<int()> add_survey_command(CLI::App& app) {
     cmd->add_option("file", opts->file, "Survey file (YAML, see docs/survey.md)")
         ->required()
         ->check(CLI::ExistingFile);
-    cmd->add_option("--output", opts->output, "Output directory")->required();
-    cmd->add_option("--threads", opts->threads, "Worker threads (0 = all cores)")
+    cmd->add_option("--output", rc.output_dir, "Output directory")->required();
+    cmd->add_option("--threads", rc.threads, "Worker threads (0 = all cores)")
         ->capture_default_str();
-    cmd->add_option("--seed", opts->seed, "Random seed (recorded in the LAS file)")
+    cmd->add_option("--seed", rc.seed, "Random seed (recorded in the LAS file)")
         ->capture_default_str();
-    cmd->add_option("--backend", opts->backend, backend_choices())->capture_default_str();
+    cmd->add_option_function<std::string>(
+           "--backend", [&rc](const std::string& s) { rc.backend = parse_backend_kind(s); },
+           backend_choices())
+        ->default_str(std::string(to_string(rc.backend)));
     cmd->add_flag("--quiet", opts->quiet, "No progress bar and no summary");
     cmd->add_flag("--progress", opts->progress,
                   "Show the progress bar even when not on a terminal");

@@ -214,6 +214,78 @@ bool view_window_available() {
 
 void require_view_window() {}
 
+namespace {
+
+/// Moves and turns the camera by the keys held and the mouse dragged over `dt` seconds; sets
+/// `ahead` to where the camera will be in a few seconds at this speed (its sections load
+/// ahead). Returns whether the camera changed.
+bool steer(GLFWwindow* w, Input& input, double base_speed, double dt, ViewCamera& camera,
+           Vec3d& ahead) {
+    const auto key = [w](int k) { return glfwGetKey(w, k) == GLFW_PRESS; };
+    const double speed = base_speed * input.speed_factor *
+                         (key(GLFW_KEY_LEFT_SHIFT) || key(GLFW_KEY_RIGHT_SHIFT) ? 4.0 : 1.0) * dt;
+    // Camera convention (docs/camera.md): positive yaw turns right, clockwise from above.
+    const double yaw = camera.yaw_deg * std::numbers::pi / 180.0;
+    const Vec3d forward(std::cos(yaw), -std::sin(yaw), 0.0);
+    const Vec3d right(-std::sin(yaw), -std::cos(yaw), 0.0);
+    Vec3d move;
+    move += forward * ((key(GLFW_KEY_W) ? 1.0 : 0.0) - (key(GLFW_KEY_S) ? 1.0 : 0.0));
+    move += right * ((key(GLFW_KEY_D) ? 1.0 : 0.0) - (key(GLFW_KEY_A) ? 1.0 : 0.0));
+    move.z += (key(GLFW_KEY_E) || key(GLFW_KEY_PAGE_UP) ? 1.0 : 0.0) -
+              (key(GLFW_KEY_Q) || key(GLFW_KEY_PAGE_DOWN) ? 1.0 : 0.0);
+    const double turn = 60.0 * dt;
+    const double yaw_change =
+        ((key(GLFW_KEY_RIGHT) ? 1.0 : 0.0) - (key(GLFW_KEY_LEFT) ? 1.0 : 0.0)) * turn -
+        input.drag_yaw_deg;
+    const double pitch_change =
+        ((key(GLFW_KEY_UP) ? 1.0 : 0.0) - (key(GLFW_KEY_DOWN) ? 1.0 : 0.0)) * turn +
+        input.drag_pitch_deg;
+    input.drag_yaw_deg = input.drag_pitch_deg = 0.0;
+    constexpr double kLookAheadS = 3.0;
+    ahead = camera.position + move * (dt > 0 ? speed / dt * kLookAheadS : 0.0);
+    if (move.x == 0 && move.y == 0 && move.z == 0 && yaw_change == 0 && pitch_change == 0) {
+        return false;
+    }
+    camera.position += move * speed;
+    camera.yaw_deg = std::fmod(camera.yaw_deg + yaw_change + 360.0, 360.0);
+    camera.pitch_deg = std::clamp(camera.pitch_deg + pitch_change, -89.9, 89.9);
+    return true;
+}
+
+/// The frame time, the pose and the load in the window's title.
+void set_title(GLFWwindow* w, double frame_ms, const ViewCamera& camera, const LoadStatus& status) {
+    char title[256];
+    std::snprintf(title, sizeof title,
+                  "beamtrace view | %.1f ms/frame (%.1f fps) | %.0f, %.0f, %.0f yaw %.0f "
+                  "pitch %.0f%s",
+                  frame_ms, frame_ms > 0 ? 1e3 / frame_ms : 0.0, camera.position.x,
+                  camera.position.y, camera.position.z, camera.yaw_deg, camera.pitch_deg,
+                  status.loading ? " | loading sections" : "");
+    std::string text = title;
+    if (status.loading && status.points_total > 0) {
+        text += " " + std::to_string(100 * status.points_done / status.points_total) + "%";
+    }
+    glfwSetWindowTitle(w, text.c_str());
+}
+
+/// Lets every section of the camera's window load, then draws and reads back that frame.
+void write_screenshot(GLFWwindow* w, ViewSession& session, const ViewCamera& camera,
+                      const RenderOptions& render, const std::string& path, ViewImage& image) {
+    for (;;) {
+        static_cast<void>(session.update(camera.position));
+        if (session.load_status().sections == 0) {
+            break;
+        }
+        session.finish_loading();
+    }
+    session.render(camera, render, image);
+    draw(w, image);
+    save_screenshot(w, path);
+    glfwSwapBuffers(w);
+}
+
+}  // namespace
+
 void run_view_window(ViewSession& session, ViewCamera camera, const RenderOptions& render,
                      const WindowOptions& options) {
     camera.validate();
@@ -239,35 +311,8 @@ void run_view_window(ViewSession& session, ViewCamera camera, const RenderOption
         const auto now = Clock::now();
         const double dt = std::min(0.25, std::chrono::duration<double>(now - last).count());
         last = now;
-        const auto key = [w](int k) { return glfwGetKey(w, k) == GLFW_PRESS; };
-        const double speed = base_speed * input.speed_factor *
-                             (key(GLFW_KEY_LEFT_SHIFT) || key(GLFW_KEY_RIGHT_SHIFT) ? 4.0 : 1.0) *
-                             dt;
-        const double yaw = camera.yaw_deg * std::numbers::pi / 180.0;
-        const Vec3d forward(std::cos(yaw), std::sin(yaw), 0.0);
-        const Vec3d right(std::sin(yaw), -std::cos(yaw), 0.0);
-        Vec3d move;
-        move += forward * ((key(GLFW_KEY_W) ? 1.0 : 0.0) - (key(GLFW_KEY_S) ? 1.0 : 0.0));
-        move += right * ((key(GLFW_KEY_D) ? 1.0 : 0.0) - (key(GLFW_KEY_A) ? 1.0 : 0.0));
-        move.z += (key(GLFW_KEY_E) || key(GLFW_KEY_PAGE_UP) ? 1.0 : 0.0) -
-                  (key(GLFW_KEY_Q) || key(GLFW_KEY_PAGE_DOWN) ? 1.0 : 0.0);
-        const double turn = 60.0 * dt;
-        const double yaw_change =
-            ((key(GLFW_KEY_LEFT) ? 1.0 : 0.0) - (key(GLFW_KEY_RIGHT) ? 1.0 : 0.0)) * turn +
-            input.drag_yaw_deg;
-        const double pitch_change =
-            ((key(GLFW_KEY_UP) ? 1.0 : 0.0) - (key(GLFW_KEY_DOWN) ? 1.0 : 0.0)) * turn +
-            input.drag_pitch_deg;
-        input.drag_yaw_deg = input.drag_pitch_deg = 0.0;
-        // Where the camera will be in a few seconds at this speed: its sections load ahead.
-        constexpr double kLookAheadS = 3.0;
-        const Vec3d ahead = camera.position + move * (dt > 0 ? speed / dt * kLookAheadS : 0.0);
-        if (move.x != 0 || move.y != 0 || move.z != 0 || yaw_change != 0 || pitch_change != 0) {
-            camera.position += move * speed;
-            camera.yaw_deg = std::fmod(camera.yaw_deg + yaw_change + 360.0, 360.0);
-            camera.pitch_deg = std::clamp(camera.pitch_deg + pitch_change, -89.9, 89.9);
-            dirty = true;
-        }
+        Vec3d ahead;
+        dirty = steer(w, input, base_speed, dt, camera, ahead) || dirty;
         // Never waits for sections: adopts finished loads and starts new ones, for the
         // camera's window first, then for the window ahead.
         dirty = session.update(camera.position, ahead) || dirty;
@@ -282,18 +327,7 @@ void run_view_window(ViewSession& session, ViewCamera camera, const RenderOption
         }
         draw(w, image);
         draw_overlay(w, frame_ms, status);
-        char title[256];
-        std::snprintf(title, sizeof title,
-                      "beamtrace view | %.1f ms/frame (%.1f fps) | %.0f, %.0f, %.0f yaw %.0f "
-                      "pitch %.0f%s",
-                      frame_ms, frame_ms > 0 ? 1e3 / frame_ms : 0.0, camera.position.x,
-                      camera.position.y, camera.position.z, camera.yaw_deg, camera.pitch_deg,
-                      status.loading ? " | loading sections" : "");
-        std::string text = title;
-        if (status.loading && status.points_total > 0) {
-            text += " " + std::to_string(100 * status.points_done / status.points_total) + "%";
-        }
-        glfwSetWindowTitle(w, text.c_str());
+        set_title(w, frame_ms, camera, status);
         glfwSwapBuffers(w);
         if (!dirty && !status.loading && options.frames <= 0) {
             glfwWaitEventsTimeout(0.1);
@@ -302,18 +336,7 @@ void run_view_window(ViewSession& session, ViewCamera camera, const RenderOption
         }
     }
     if (!options.screenshot.empty()) {
-        // Let every section of the camera's window load, then draw and read back that frame.
-        for (;;) {
-            static_cast<void>(session.update(camera.position));
-            if (session.load_status().sections == 0) {
-                break;
-            }
-            session.finish_loading();
-        }
-        session.render(camera, render, image);
-        draw(w, image);
-        save_screenshot(w, options.screenshot);
-        glfwSwapBuffers(w);
+        write_screenshot(w, session, camera, render, options.screenshot, image);
     }
     if (!options.quiet) {
         std::printf("%d frames, %.1f ms per frame%s%s\n", frames,

@@ -1,9 +1,6 @@
 #include "beamtrace/heightfield/camera_path.hpp"
 
-#include <charconv>
-#include <cmath>
 #include <fstream>
-#include <optional>
 #include <string>
 #include <vector>
 
@@ -34,36 +31,7 @@ namespace {
     }
 }
 
-/// Five finite numbers, or nullopt with `why`.
-[[nodiscard]] std::optional<CameraPose> parse_fields(const std::string& text, std::string& why) {
-    const auto fields = split(text);
-    if (fields.size() != 5) {
-        why = "expected 5 comma-separated numbers x,y,z,yaw,pitch, found " +
-              std::to_string(fields.size()) + " fields";
-        return std::nullopt;
-    }
-    double v[5];
-    for (std::size_t i = 0; i < 5; ++i) {
-        const std::string& f = fields[i];
-        const auto [end, ec] = std::from_chars(f.data(), f.data() + f.size(), v[i]);
-        if (ec != std::errc() || end != f.data() + f.size() || f.empty() || !std::isfinite(v[i])) {
-            why = "field " + std::to_string(i + 1) + " '" + f + "' is not a finite number";
-            return std::nullopt;
-        }
-    }
-    return CameraPose{{v[0], v[1], v[2]}, v[3], v[4]};
-}
-
 }  // namespace
-
-CameraPose parse_camera_pose(const std::string& text, const std::string& what) {
-    std::string why;
-    const auto pose = parse_fields(text, why);
-    if (!pose) {
-        throw ConfigError(what + " '" + text + "': " + why);
-    }
-    return *pose;
-}
 
 std::vector<CameraPose> read_camera_path(const std::filesystem::path& path) {
     std::ifstream in(path);
@@ -90,11 +58,11 @@ std::vector<CameraPose> read_camera_path(const std::filesystem::path& path) {
             continue;
         }
         std::string why;
-        const auto pose = parse_fields(text, why);
+        const auto pose = try_parse_camera_pose(text, {}, why);
         if (!pose) {
             throw InputError(path.string(), number, why);
         }
-        poses.push_back(*pose);
+        poses.push_back(pose->pose);
     }
     if (poses.empty()) {
         throw InputError(path.string(), header ? "camera path has no poses after the header"

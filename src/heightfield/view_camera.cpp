@@ -1,5 +1,6 @@
 #include "beamtrace/heightfield/view_camera.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <string>
@@ -30,12 +31,20 @@ void ViewCamera::validate() const {
     }
 }
 
+ViewCamera overview_camera(const Vec3d& lo, const Vec3d& hi, ViewCamera camera) {
+    const double extent = std::max(hi.x - lo.x, hi.y - lo.y);
+    camera.position = {0.5 * (lo.x + hi.x) - 0.3 * (hi.x - lo.x), 0.5 * (lo.y + hi.y),
+                       hi.z + 0.1 * extent};
+    camera.yaw_deg = 0.0;
+    camera.pitch_deg = -30.0;
+    return camera;
+}
+
 CameraRays::CameraRays(const ViewCamera& camera) {
     const double deg = std::numbers::pi / 180.0;
     const double yaw = camera.yaw_deg * deg;
-    const double pitch = camera.pitch_deg * deg;
-    forward_ = {std::cos(pitch) * std::cos(yaw), std::cos(pitch) * std::sin(yaw), std::sin(pitch)};
-    right_ = {std::sin(yaw), -std::cos(yaw), 0.0};
+    forward_ = camera.pose().forward();
+    right_ = {-std::sin(yaw), -std::cos(yaw), 0.0};  // horizontal, 90 degrees right of the yaw
     up_ = cross(right_, forward_);
     width_ = camera.width;
     height_ = camera.height;

@@ -90,23 +90,6 @@ std::pair<int, int> parse_image_size(std::string_view text) {
     return {w, h};
 }
 
-void parse_camera_pose(std::string_view text, CameraConfig& camera) {
-    const std::string what = "--camera '" + std::string(text) + "'";
-    const auto v = parse_numbers(text, what);
-    if (v.size() < 5 || v.size() > 6) {
-        throw ConfigError(what + ": expected X,Y,Z,YAW,PITCH[,VFOV] (metres, degrees)");
-    }
-    camera.position_m = {v[0], v[1], v[2]};
-    camera.orientation.yaw_rad = v[3] * kDeg;
-    camera.orientation.pitch_rad = v[4] * kDeg;
-    if (v.size() == 6) {
-        if (!(v[5] > 0.0 && v[5] < 180.0)) {
-            throw ConfigError(what + ": VFOV must be in (0, 180) degrees");
-        }
-        camera.vfov_rad = v[5] * kDeg;
-    }
-}
-
 CameraConfig frame_bounds(const Aabb& box, CameraConfig camera) {
     if (box.empty()) {
         throw ConfigError("cannot frame an empty scene: give --camera");

@@ -30,7 +30,7 @@ class ViewCli : public test::TempDirTest {
 TEST_F(ViewCli, WritesAPngFromOneCamera) {
     const auto out = dir_ / "view.png";
     const auto r = test::run_command(cli() +
-                                     "--camera 636600,849200,900,30,-60 --fov 70 "
+                                     "--camera 636600,849200,900,-30,-60 --fov 70 "
                                      "--color rgb --fog 3000 --output '" +
                                      out.string() + "'");
     ASSERT_EQ(r.exit_code, 0) << r.out;
@@ -43,8 +43,8 @@ TEST_F(ViewCli, WritesAPngFromOneCamera) {
 TEST_F(ViewCli, WritesOneFramePerPathRow) {
     const auto path = test::write_file(dir_ / "path.csv",
                                        "x,y,z,yaw,pitch\n"
-                                       "636100,848950,600,30,-20\n"
-                                       "636300,849050,580,40,-25\n");
+                                       "636100,848950,600,-30,-20\n"
+                                       "636300,849050,580,-40,-25\n");
     const auto frames = dir_ / "frames";
     const auto r = test::run_command(cli() + "--path '" + path.string() + "' --output '" +
                                      frames.string() + "' --memory-budget 64MB --quiet");
@@ -60,9 +60,9 @@ TEST_F(ViewCli, WritesAnMp4OfThePathWithFfmpeg) {
     }
     const auto path = test::write_file(dir_ / "path.csv",
                                        "x,y,z,yaw,pitch\n"
-                                       "636100,848950,600,30,-20\n"
-                                       "636200,849000,590,35,-22\n"
-                                       "636300,849050,580,40,-25\n");
+                                       "636100,848950,600,-30,-20\n"
+                                       "636200,849000,590,-35,-22\n"
+                                       "636300,849050,580,-40,-25\n");
     const auto video = dir_ / "fly.mp4";
     auto r =
         test::run_command(cli() + "--path '" + path.string() + "' --output '" +
@@ -81,7 +81,7 @@ TEST_F(ViewCli, WritesAnMp4OfThePathWithFfmpeg) {
 
 TEST_F(ViewCli, Mp4WithoutFfmpegIsAClearError) {
     const auto path =
-        test::write_file(dir_ / "path.csv", "x,y,z,yaw,pitch\n636100,848950,600,30,-20\n");
+        test::write_file(dir_ / "path.csv", "x,y,z,yaw,pitch\n636100,848950,600,-30,-20\n");
     const auto r = test::run_command("PATH=/nonexistent-beamtrace-dir " + cli() + "--path '" +
                                      path.string() + "' --output '" + (dir_ / "frames").string() +
                                      "' --mp4 '" + (dir_ / "x.mp4").string() + "'");

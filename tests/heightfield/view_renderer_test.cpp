@@ -245,9 +245,10 @@ TEST_F(ViewAutzen, FromAboveEqualsTheReference) {
 }
 
 TEST_F(ViewAutzen, FromGrazingAnglesEqualsTheReference) {
-    expect_same(camera_at({lo_.x + 10, centre_.y, hi_.z + 5}, 5.0, -4.0, 160, 90), 1000);
-    expect_same(camera_at({hi_.x - 10, lo_.y + 10, lo_.z + 30}, 150.0, -1.0, 160, 90), 1000);
-    expect_same(camera_at({centre_.x, centre_.y, lo_.z + 20}, 270.0, 0.0, 160, 90), 1000);
+    // Yaw positive clockwise seen from above (docs/camera.md): each camera looks into the data.
+    expect_same(camera_at({lo_.x + 10, centre_.y, hi_.z + 5}, -5.0, -4.0, 160, 90), 1000);
+    expect_same(camera_at({hi_.x - 10, lo_.y + 10, lo_.z + 30}, -150.0, -1.0, 160, 90), 1000);
+    expect_same(camera_at({centre_.x, centre_.y, lo_.z + 20}, -270.0, 0.0, 160, 90), 1000);
 }
 
 TEST_F(ViewAutzen, InEveryOctantEqualsTheReference) {

@@ -20,7 +20,7 @@ class ViewWindow : public test::TempDirTest {
     [[nodiscard]] std::string view(const std::string& args) const {
         return std::string(BEAMTRACE_CLI_PATH) + " view '" + las_.string() +
                "' --cell-size 2 --levels 5 --section-cells 8 --size 240x135 --threads 2 "
-               "--color rgb --fog 3000 --camera 636237,849047,670,25,-30 " +
+               "--color rgb --fog 3000 --camera 636237,849047,670,-25,-30 " +
                args;
     }
     std::filesystem::path las_;

@@ -9,6 +9,7 @@
 
 #include "beamtrace/core/error.hpp"
 #include "beamtrace/geometry/primitives.hpp"
+#include "beamtrace/render/render_job.hpp"
 #include "beamtrace/render/render_options.hpp"
 #include "beamtrace/render/renderer.hpp"
 #include "beamtrace/scene/scene_builder.hpp"
@@ -344,10 +345,17 @@ TEST(RenderOptions, ParsesAndRejects) {
     for (const char* bad : {"64", "0x5", "64x", "ax5", "64x48x2"}) {
         EXPECT_THROW(static_cast<void>(parse_image_size(bad)), ConfigError) << bad;
     }
-    CameraConfig cam;
-    parse_camera_pose("1,2,3,90,10,30", cam);
-    EXPECT_NEAR(cam.vfov_rad, kPi / 6, 1e-12);
-    EXPECT_THROW(parse_camera_pose("1,2,3", cam), ConfigError);
+    RenderJobConfig job;
+    job.set_camera("1,2,3,90,10,30");
+    EXPECT_NEAR(job.render.camera.vfov_rad, kPi / 6, 1e-12);
+    EXPECT_NEAR(job.render.camera.orientation.yaw_rad, kPi / 2, 1e-12);
+    EXPECT_NEAR(job.render.camera.orientation.pitch_rad, kPi / 18, 1e-12);
+    EXPECT_EQ(*job.camera_position_m, (Vec3d{1, 2, 3}));
+    EXPECT_TRUE(job.camera_angles);
+    EXPECT_THROW(job.set_camera("1,2"), ConfigError);
+    EXPECT_THROW(job.set_camera("1,2,3,4"), ConfigError);
+    EXPECT_THROW(job.set_camera("1,2,3,4,5,200"), ConfigError);
+    CameraConfig cam = job.render.camera;
     // look_at agrees with the camera's forward axis.
     cam.orientation = look_at({1, 2, 3}, {4, -2, 3 + 5});
     const Vec3d f = Camera(cam).forward();
@@ -379,6 +387,25 @@ TEST(RenderCli, WritesPngAndRejectsBadOptions) {
     }
     EXPECT_FALSE(std::filesystem::exists(dir / "bad.png"));
     EXPECT_EQ(test::entry_count(dir.path()), 2u);
+}
+
+TEST(RenderCli, LookAtNeedsOnlyThePosition) {
+    test::TempDir dir;
+    const std::string cli =
+        std::string(BEAMTRACE_CLI_PATH) + " render " +
+        (std::filesystem::path(BEAMTRACE_EXAMPLES_DIR) / "scenes/beach_ball.yaml").string() +
+        " --size 48x32 --quiet --look-at 0,0,0.8 ";
+    auto r = test::run_command(cli + "--camera -6,-4,3 --output " + (dir / "a.png").string());
+    ASSERT_EQ(r.exit_code, 0) << r.out;
+    r = test::run_command(cli + "--camera -6,-4,3,10,20 --output " + (dir / "b.png").string());
+    ASSERT_EQ(r.exit_code, 0) << r.out;
+    EXPECT_EQ(test::read_file(dir / "a.png"), test::read_file(dir / "b.png"));
+    // X,Y,Z alone is a position without a direction: it needs --look-at.
+    r = test::run_command(std::string(BEAMTRACE_CLI_PATH) + " render --demo --camera -6,-4,3 " +
+                          "--output " + (dir / "c.png").string());
+    EXPECT_EQ(r.exit_code, 2) << r.out;
+    EXPECT_NE(r.out.find("needs --look-at"), std::string::npos) << r.out;
+    EXPECT_FALSE(std::filesystem::exists(dir / "c.png"));
 }
 
 }  // namespace

@@ -21,7 +21,7 @@ struct HeightFieldConfig {
     int section_cells = 32;  ///< cells per side of a section's coarsest level (thesis: 32)
     int sections = 4;        ///< the window holds sections x sections sections (thesis: 4)
     /// Upper bound on the bytes of resident sections plus the loader's read buffers.
-    std::uint64_t memory_budget_bytes = std::uint64_t{1} << 30;
+    std::uint64_t memory_budget_bytes = 1'000'000'000;  ///< 1 GB, as `view --memory-budget`
     ColorMode color = ColorMode::height;
     /// Height stacks: up to this many occupied height intervals per finest cell (0 or 1: one
     /// column per cell, as in the thesis; 2 to 8: rays pass under bridges and tree crowns).

@@ -1,25 +1,38 @@
 // The pinhole camera of height-field views.
 #pragma once
 
+#include "beamtrace/core/camera_pose.hpp"
 #include "beamtrace/core/vec3.hpp"
 
 namespace beamtrace {
 
-/// Position in the LAS files' coordinates; yaw in degrees from +x toward +y; pitch in degrees,
-/// positive up (-90 looks straight down); horizontal field of view; image size in pixels. The
-/// image's "right" is horizontal whatever the pitch, so looking straight down is well defined
-/// (yaw then turns the image).
+/// Position in the LAS files' coordinates; yaw and pitch in degrees in beamtrace's camera
+/// convention (core/camera_pose.hpp, docs/camera.md: yaw 0 looks along +x, positive yaw pans
+/// right, i.e. clockwise seen from above; pitch positive up, -90 looks straight down);
+/// horizontal field of view; image size in pixels. The image's "right" is horizontal whatever
+/// the pitch, so looking straight down is well defined (yaw then turns the image).
 struct ViewCamera {
     Vec3d position;
     double yaw_deg = 0.0;
     double pitch_deg = 0.0;
-    double hfov_deg = 60.0;
-    int width = 1920;
-    int height = 1080;
+    double hfov_deg = 60.0;  ///< horizontal field of view, (0, 180) degrees
+    int width = 1920;        ///< pixels, 1 to 32768
+    int height = 1080;       ///< pixels, 1 to 32768
 
+    [[nodiscard]] CameraPose pose() const { return {position, yaw_deg, pitch_deg}; }
+    void set_pose(const CameraPose& p) {
+        position = p.position;
+        yaw_deg = p.yaw_deg;
+        pitch_deg = p.pitch_deg;
+    }
     /// Throws ConfigError listing every problem (size, FOV, pitch beyond +-90, non-finite values).
     void validate() const;
 };
+
+/// The start of an interactive view of data within [lo, hi]: above the middle of the data, a
+/// tenth of its extent over its highest point, set back along -x, looking 30 degrees down along
+/// +x. Keeps the field of view and image size of `camera`.
+[[nodiscard]] ViewCamera overview_camera(const Vec3d& lo, const Vec3d& hi, ViewCamera camera);
 
 /// Unit ray directions through pixel centres; pixel (0, 0) is the top-left.
 class CameraRays {

@@ -2,7 +2,8 @@
 // pan/tilt/track/zoom as plain parameters.
 //
 // Camera frame as in the ladar report: x forward (optical axis), y left, z up; the orientation
-// [roll pitch yaw] rotates it into the world like `scan --orientation` (positive yaw pans to the
+// [roll pitch yaw] rotates it into the world like `scan --orientation` and every other
+// orientation in beamtrace (docs/camera.md, core/camera_pose.hpp: positive yaw pans to the
 // right, clockwise seen from above; positive pitch tilts up). Pixels are row-major, (0, 0) at the
 // top left; rays pass through pixel centres.
 #pragma once
@@ -27,8 +28,8 @@ struct CameraConfig {
     double vfov_rad = 0.8;      ///< pinhole: vertical field of view at zoom 1, in (0, pi)
     double view_width_m = 2.0;  ///< orthographic: width of the view at zoom 1, > 0
     double zoom = 1.0;          ///< magnification: divides tan(vfov/2) or the view width
-    int width = 320;            ///< pixels, 1..16384
-    int height = 240;           ///< pixels, 1..16384
+    int width = 640;            ///< pixels, 1..16384
+    int height = 480;           ///< pixels, 1..16384
 
     /// Every problem with these settings; empty when valid.
     [[nodiscard]] std::vector<std::string> validate() const;

@@ -1,5 +1,5 @@
-// Text forms of render settings shared by the CLI and scripts: lights, image sizes, camera
-// poses, and a default view that frames a scene.
+// Text forms of render settings shared by the CLI and scripts: lights and image sizes (camera
+// poses: core/camera_pose.hpp), and a default view that frames a scene.
 #pragma once
 
 #include <string_view>
@@ -19,10 +19,6 @@ namespace beamtrace {
 
 /// `WxH`, e.g. `640x480` -> {640, 480}; throws ConfigError.
 [[nodiscard]] std::pair<int, int> parse_image_size(std::string_view text);
-
-/// `X,Y,Z,YAW,PITCH[,VFOV]` (metres, degrees; yaw/pitch as `scan --orientation`: positive yaw
-/// pans right, positive pitch tilts up) into `camera`; throws ConfigError.
-void parse_camera_pose(std::string_view text, CameraConfig& camera);
 
 /// A view of the whole box from azimuth 225 degrees (from the -x,-y side) and 25 degrees up: the
 /// pinhole is set back until the box's bounding sphere fits the vertical field of view; the

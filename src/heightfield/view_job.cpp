@@ -1,0 +1,207 @@
+#include "beamtrace/heightfield/view_job.hpp"
+
+#include <cctype>
+#include <charconv>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <utility>
+
+#include "beamtrace/core/error.hpp"
+#include "beamtrace/heightfield/camera_path.hpp"
+#include "beamtrace/io/mp4_writer.hpp"
+#include "beamtrace/io/png_writer.hpp"
+
+namespace beamtrace {
+namespace {
+
+/// The power of ten or two of a size unit; 0 when unknown.
+double unit_factor(std::string unit) {
+    for (auto& c : unit) {
+        c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+    }
+    if (unit.empty() || unit == "B") {
+        return 1;
+    }
+    if (unit == "KB" || unit == "K") {
+        return 1e3;
+    }
+    if (unit == "MB" || unit == "M") {
+        return 1e6;
+    }
+    if (unit == "GB" || unit == "G") {
+        return 1e9;
+    }
+    if (unit == "KIB") {
+        return 1024.0;
+    }
+    if (unit == "MIB") {
+        return 1024.0 * 1024.0;
+    }
+    return unit == "GIB" ? 1024.0 * 1024.0 * 1024.0 : 0.0;
+}
+
+/// Checks of the one-image and fly-through modes.
+void check_offline(const ViewJobConfig& c, std::vector<std::string>& problems) {
+    if (c.pose.has_value() == !c.path.empty()) {
+        problems.emplace_back(
+            "view: give exactly one of --camera x,y,z,yaw,pitch and --path FILE.csv (or "
+            "--interactive)");
+    }
+    if (c.output.empty()) {
+        problems.emplace_back(
+            "view: --output is required (a PNG file with --camera, a folder with --path)");
+    }
+    if (!c.screenshot.empty() || c.frames != 0) {
+        problems.emplace_back("view: --screenshot and --frames go with --interactive");
+    }
+}
+
+}  // namespace
+
+std::vector<std::string> ViewJobConfig::validate() const {
+    std::vector<std::string> problems;
+    if (interactive) {
+        if (!path.empty()) {
+            problems.emplace_back("view: --interactive starts at --camera (optional), not --path");
+        }
+    } else {
+        check_offline(*this, problems);
+    }
+    if (!mp4.empty()) {
+        if (path.empty()) {
+            problems.emplace_back("view: --mp4 goes with --path (a fly-through)");
+        }
+        if (!(fps > 0) || !std::isfinite(fps)) {
+            problems.push_back("view: --fps " + std::to_string(fps) + " is not positive");
+        }
+    }
+    if (frames < 0) {
+        problems.push_back("view: --frames " + std::to_string(frames) + " is negative");
+    }
+    return problems;
+}
+
+std::vector<CameraPose> ViewJobConfig::poses() const {
+    if (pose) {
+        return {*pose};
+    }
+    if (!path.empty()) {
+        return read_camera_path(path);
+    }
+    return {};
+}
+
+ViewFramesResult run_view_frames(const ViewJobConfig& job, ViewSession& session,
+                                 const std::vector<CameraPose>& poses,
+                                 const ViewFrameHooks& hooks) {
+    if (!job.path.empty()) {
+        std::error_code ec;
+        std::filesystem::create_directories(job.output, ec);
+        if (ec) {
+            throw OutputError(job.output.string() + ": cannot create directory: " + ec.message());
+        }
+    }
+    std::unique_ptr<Mp4Writer> video;
+    if (!job.mp4.empty()) {
+        video = std::make_unique<Mp4Writer>(job.mp4, job.camera.width, job.camera.height, job.fps);
+    }
+    ViewFramesResult result;
+    ViewCamera camera = job.camera;
+    ViewImage image;  // its buffers are reused frame after frame
+    for (std::size_t i = 0; i < poses.size(); ++i) {
+        camera.set_pose(poses[i]);
+        ViewFrame frame;
+        frame.index = i;
+        // Waits for the sections prefetched while the previous frame rendered, then loads
+        // whatever did not fit next to them: frame i is the same as without prefetching.
+        frame.stats = session.move_to(camera.position, [&](std::uint64_t done, std::uint64_t n) {
+            if (hooks.loading) {
+                hooks.loading(i, done, n);
+            }
+        });
+        result.prefetched += frame.stats.sections_prefetched;
+        if (i + 1 < poses.size() && job.prefetch) {
+            session.prefetch(poses[i + 1].position);  // loads on the loader thread meanwhile
+        }
+        const auto start = std::chrono::steady_clock::now();
+        session.render(camera, job.render, image);
+        result.render_s +=
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        frame.file = job.output;
+        if (!job.path.empty()) {
+            char name[32];
+            std::snprintf(name, sizeof name, "frame_%05zu.png", i);
+            frame.file /= name;
+        }
+        write_png_rgb8(frame.file, image.width, image.height, image.rgb);
+        if (video) {
+            video->write(image.rgb);
+        }
+        frame.image = &image;
+        frame.render_s = result.render_s;
+        if (hooks.written) {
+            hooks.written(frame);
+        }
+    }
+    result.frames = poses.size();
+    if (video) {
+        video->commit();
+        result.mp4_frames = video->frames();
+        result.mp4_codec = video->codec();
+    }
+    return result;
+}
+
+std::uint64_t parse_byte_size(std::string_view text) {
+    const std::string s(text);
+    std::size_t used = 0;
+    double value = 0;
+    try {
+        value = std::stod(s, &used);
+    } catch (const std::exception&) {
+        used = 0;
+    }
+    const double factor = unit_factor(s.substr(used));
+    if (used == 0 || factor == 0 || !(value > 0) || !std::isfinite(value * factor)) {
+        throw ConfigError("memory budget '" + s + "' is not a size such as 256MB, 2GB or 512MiB");
+    }
+    return static_cast<std::uint64_t>(value * factor);
+}
+
+std::string byte_size_text(std::uint64_t bytes) {
+    for (const auto& [factor, unit] :
+         {std::pair<std::uint64_t, const char*>{1000000000, "GB"}, {1000000, "MB"}, {1000, "KB"}}) {
+        if (bytes > 0 && bytes % factor == 0) {
+            return std::to_string(bytes / factor) + unit;
+        }
+    }
+    return std::to_string(bytes);
+}
+
+void parse_size_pair(std::string_view text, std::string_view what, int& w, int& h) {
+    const auto x = text.find('x');
+    const auto num = [](std::string_view s, int& out) {
+        const auto [ptr, ec] = std::from_chars(s.data(), s.data() + s.size(), out);
+        return !s.empty() && ec == std::errc() && ptr == s.data() + s.size() && out >= 1;
+    };
+    int a = 0, b = 0;
+    if (x == std::string_view::npos || !num(text.substr(0, x), a) || !num(text.substr(x + 1), b)) {
+        throw ConfigError(std::string(what) + " '" + std::string(text) +
+                          "' is not of the form WxH with positive integers");
+    }
+    w = a;
+    h = b;
+}
+
+int parse_section_window(std::string_view text) {
+    int sx = 0, sy = 0;
+    parse_size_pair(text, "--sections", sx, sy);
+    if (sx != sy) {
+        throw ConfigError("--sections '" + std::string(text) + "' must be square (NxN)");
+    }
+    return sx;
+}
+
+}  // namespace beamtrace
