@@ -7,7 +7,7 @@
 #include <tuple>
 #include <vector>
 
-#include "beamtrace/render/render_job.hpp"
+#include "beamtrace/pipeline/render_job.hpp"
 #include "beamtrace/render/render_options.hpp"
 #include "commands.hpp"
 

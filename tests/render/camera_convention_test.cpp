@@ -13,7 +13,7 @@
 #include "beamtrace/core/rotation.hpp"
 #include "beamtrace/heightfield/view_camera.hpp"
 #include "beamtrace/render/camera.hpp"
-#include "beamtrace/render/render_job.hpp"
+#include "beamtrace/pipeline/render_job.hpp"
 
 namespace beamtrace {
 namespace {

@@ -9,7 +9,7 @@
 
 #include "beamtrace/core/error.hpp"
 #include "beamtrace/geometry/primitives.hpp"
-#include "beamtrace/render/render_job.hpp"
+#include "beamtrace/pipeline/render_job.hpp"
 #include "beamtrace/render/render_options.hpp"
 #include "beamtrace/render/renderer.hpp"
 #include "beamtrace/scene/scene_builder.hpp"

@@ -1,4 +1,4 @@
-#include "beamtrace/render/render_job.hpp"
+#include "beamtrace/pipeline/render_job.hpp"
 
 #include <chrono>
 #include <cmath>
@@ -7,6 +7,7 @@
 #include "beamtrace/core/error.hpp"
 #include "beamtrace/core/thread_pool.hpp"
 #include "beamtrace/render/render_options.hpp"
+#include "beamtrace/pipeline/demo_sensor.hpp"
 #include "beamtrace/scene/demo_scene.hpp"
 #include "beamtrace/scene/scene_builder.hpp"
 
