@@ -75,8 +75,8 @@ struct BlockStages {
 
     void run(std::size_t block_index, detail::BlockWork& w, detail::BlockOutput& out) const {
         const std::uint64_t first = std::uint64_t{block_index} * detail::kBlockPulses;
-        const auto n = static_cast<std::size_t>(
-            std::min<std::uint64_t>(detail::kBlockPulses, pulses - first));
+        const auto n =
+            static_cast<std::size_t>(std::min<std::uint64_t>(detail::kBlockPulses, pulses - first));
         w.size_for(first, n, sub_rays, max_returns);
         pattern->generate(first, n, w.pulses);
         rays->generate(w.pulses, first, w.rays, 0, w.origin.data(), w.axis.data(),
@@ -216,16 +216,21 @@ SurveyResult run_survey(const SurveySpec& spec, const SurveyRunConfig& run,
     t0 = Clock::now();
     const detail::SurveyRaySource source{&spec, in.trajectory.get(), sim ? &*sim : nullptr,
                                          run.seed};
-    BlockStages stages{in.pattern.get(), &source, backend.get(), physics ? &*physics : nullptr,
+    BlockStages stages{in.pattern.get(),
+                       &source,
+                       backend.get(),
+                       physics ? &*physics : nullptr,
                        detail::SurveyPoints{&in.scene, sim.has_value(), source.sub_rays(),
                                             physics ? physics->max_returns() : 1},
-                       &sinks, result.pulses, source.sub_rays(),
+                       &sinks,
+                       result.pulses,
+                       source.sub_rays(),
                        physics ? physics->max_returns() : 1};
     // At most chunk_pulses (rounded up to whole blocks) in flight between the oldest block not
     // yet written and the newest one taken.
-    const std::size_t window = (std::max<std::size_t>(1, run.chunk_pulses) +
-                                detail::kBlockPulses - 1) /
-                               detail::kBlockPulses;
+    const std::size_t window =
+        (std::max<std::size_t>(1, run.chunk_pulses) + detail::kBlockPulses - 1) /
+        detail::kBlockPulses;
     result.points = stream_blocks(stages, sinks, window, pool, progress);
     result.outputs = sinks.commit();
     result.survey_s = seconds_since(t0);

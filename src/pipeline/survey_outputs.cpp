@@ -34,16 +34,15 @@ std::optional<SampledTrajectory> survey_trajectory_samples(const SurveySpec& spe
         samples.push_back({time, pose.position_m + origin_m, to_rpy(pose.attitude)});
     }
     if (samples.size() == 1) {
-        samples.push_back({samples[0].time_s + 1.0 / spec.trajectory_rate_hz,
-                           samples[0].position_m, samples[0].attitude});
+        samples.push_back({samples[0].time_s + 1.0 / spec.trajectory_rate_hz, samples[0].position_m,
+                           samples[0].attitude});
     }
     return SampledTrajectory(samples);
 }
 
-SinkFacts survey_sink_facts(const SurveySpec& spec, const SurveyRunConfig& run,
-                            const Scene& scene, const ScanPattern& pattern,
-                            const Trajectory& trajectory, const PulseSimulator* sim,
-                            std::uint64_t pulses) {
+SinkFacts survey_sink_facts(const SurveySpec& spec, const SurveyRunConfig& run, const Scene& scene,
+                            const ScanPattern& pattern, const Trajectory& trajectory,
+                            const PulseSimulator* sim, std::uint64_t pulses) {
     SinkFacts f;
     f.output_dir = run.output_dir;
     f.physics = sim != nullptr;
@@ -56,8 +55,8 @@ SinkFacts survey_sink_facts(const SurveySpec& spec, const SurveyRunConfig& run,
     f.comment = "beamtrace survey " + spec.source.filename().string();
     f.image = survey_image_grid(spec);
     if (sim != nullptr && sim->config().keep_waveform) {
-        f.waveform = WaveformFacts{sim->config().waveform.bin_ns,
-                                   sim->config().waveform.pulse_fwhm_ns};
+        f.waveform =
+            WaveformFacts{sim->config().waveform.bin_ns, sim->config().waveform.pulse_fwhm_ns};
     }
     f.trajectory = survey_trajectory_samples(spec, pattern, trajectory, scene.origin_m, pulses);
     f.trajectory_rate_hz = spec.trajectory_rate_hz;
@@ -67,9 +66,8 @@ SinkFacts survey_sink_facts(const SurveySpec& spec, const SurveyRunConfig& run,
 SinkSet open_survey_sinks(const SurveySpec& spec, const SinkFacts& facts) {
     SinkSet sinks;
     for (const SinkEntry& e : point_sinks()) {
-        const bool chosen =
-            e.key.empty() || std::find(spec.outputs.begin(), spec.outputs.end(), e.name) !=
-                                 spec.outputs.end();
+        const bool chosen = e.key.empty() || std::find(spec.outputs.begin(), spec.outputs.end(),
+                                                       e.name) != spec.outputs.end();
         if (chosen && e.applies(facts)) {
             sinks.add(e.make(facts));
         }

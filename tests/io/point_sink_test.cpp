@@ -92,8 +92,8 @@ TEST(PointSinks, StreamedPlyIsByteIdenticalToTheInMemoryWriter) {
         const std::vector<BlockPoint> points = random_points(n, 7);
         std::vector<PointRecord> records;
         for (const BlockPoint& p : points) {
-            records.push_back({p.x, p.y, p.z, p.range_m, p.face,
-                               static_cast<std::uint32_t>(p.pulse)});
+            records.push_back(
+                {p.x, p.y, p.z, p.range_m, p.face, static_cast<std::uint32_t>(p.pulse)});
         }
         fs::create_directories(dir / "memory");
         write_points_ply(dir / "memory" / "points.ply", records, "sink test\nsecond line");

@@ -52,9 +52,8 @@ TEST(SinkSet, BlocksEncodedInAnyOrderAreWrittenToEverySinkInBlockOrder) {
         detail::SinkSet sinks;
         sinks.add(std::make_unique<RecordingSink>(&first, false));
         sinks.add(std::make_unique<RecordingSink>(&second, false));
-        detail::OrderedBlocks ordered(kBlocks, 5, [&](std::size_t, detail::BlockOutput& out) {
-            sinks.write(out);
-        });
+        detail::OrderedBlocks ordered(
+            kBlocks, 5, [&](std::size_t, detail::BlockOutput& out) { sinks.write(out); });
         ThreadPool pool(threads);
         pool.parallel_for(kBlocks, 1, [&](std::size_t kb, std::size_t ke) {
             std::mt19937 rng(static_cast<unsigned>(kb));

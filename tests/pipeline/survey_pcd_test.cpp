@@ -79,12 +79,14 @@ output: {pcd: true, csv: true, trajectory_rate_hz: 0}
                                                   dir);
     ASSERT_GT(las.points.size(), 1000u);
     std::vector<std::pair<std::string, std::string>> header;
-    const std::vector<PcdPoint> pcd = parse_pcd(test::read_file(dir / "out" / "points.pcd"), header);
+    const std::vector<PcdPoint> pcd =
+        parse_pcd(test::read_file(dir / "out" / "points.pcd"), header);
     const std::string n = std::to_string(las.points.size());
     const std::vector<std::pair<std::string, std::string>> expected = {
         {"VERSION", "0.7"},
-        {"FIELDS", "x y z intensity return_number number_of_returns classification gps_time "
-                   "range ring"},
+        {"FIELDS",
+         "x y z intensity return_number number_of_returns classification gps_time "
+         "range ring"},
         {"SIZE", "8 8 8 2 1 1 1 8 4 2"},
         {"TYPE", "F F F U U U U F F U"},
         {"COUNT", "1 1 1 1 1 1 1 1 1 1"},

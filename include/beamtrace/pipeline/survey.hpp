@@ -46,7 +46,7 @@ struct SurveySpec {
     /// written; waveforms, images and the trajectory whenever the survey calls for them.
     std::vector<std::string> outputs;
     double trajectory_rate_hz = 10.0;  ///< samples per second in trajectory.csv (0: none)
-    std::string text;                       ///< the file's text (recorded in the LAS VLR)
+    std::string text;                  ///< the file's text (recorded in the LAS VLR)
     /// The `physics:` block (docs/physics.md); nullopt: ideal single rays, no intensity/noise.
     std::optional<PhysicsConfig> physics;
 

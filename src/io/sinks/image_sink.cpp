@@ -51,8 +51,8 @@ class ImageSink final : public PointSink {
                 throw OutputError((dir_ / "range.npy").string() + ": pulse " +
                                   std::to_string(p.pulse) + " is outside the image");
             }
-            pixels.push_back({v * static_cast<std::size_t>(grid_.width) + u, p.range_m,
-                              p.classification});
+            pixels.push_back(
+                {v * static_cast<std::size_t>(grid_.width) + u, p.range_m, p.classification});
         }
     }
     void write(const SinkBuffer& encoded) override {

@@ -35,7 +35,8 @@ LasWriterConfig las_config(const SinkFacts& facts) {
 class LasSink final : public PointSink {
   public:
     explicit LasSink(const SinkFacts& facts)
-        : writer_(std::make_unique<LasWriter>(facts.output_dir / "points.las", las_config(facts))) {}
+        : writer_(std::make_unique<LasWriter>(facts.output_dir / "points.las", las_config(facts))) {
+    }
 
     [[nodiscard]] std::unique_ptr<SinkBuffer> make_buffer() const override {
         return std::make_unique<LasBuffer>();

@@ -22,14 +22,16 @@ char* put(char* out, const T& value) {
 
 std::string pcd_header(std::size_t count) {
     const std::string n = std::to_string(count);
-    return "# .PCD v0.7 - Point Cloud Data file format (beamtrace " BEAMTRACE_VERSION ")\n"
+    return "# .PCD v0.7 - Point Cloud Data file format (beamtrace " BEAMTRACE_VERSION
+           ")\n"
            "VERSION 0.7\n"
            "FIELDS x y z intensity return_number number_of_returns classification gps_time "
            "range ring\n"
            "SIZE 8 8 8 2 1 1 1 8 4 2\n"
            "TYPE F F F U U U U F F U\n"
            "COUNT 1 1 1 1 1 1 1 1 1 1\n"
-           "WIDTH " + n + "\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS " + n + "\nDATA binary\n";
+           "WIDTH " +
+           n + "\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS " + n + "\nDATA binary\n";
 }
 
 class PcdSink final : public PointSink {

@@ -18,8 +18,8 @@ class PlySink final : public PointSink {
         bytes.resize(block.points.size() * kPlyRecordBytes);
         char* p = bytes.data();
         for (const BlockPoint& b : block.points) {
-            const PointRecord r{b.x, b.y, b.z, b.range_m, b.face,
-                                static_cast<std::uint32_t>(b.pulse)};
+            const PointRecord r{b.x,       b.y,    b.z,
+                                b.range_m, b.face, static_cast<std::uint32_t>(b.pulse)};
             p = encode_ply_records(std::span(&r, 1), p);
         }
     }

@@ -17,10 +17,18 @@ std::unique_ptr<PointSink> make_pcd_sink(const SinkFacts& facts);
 
 namespace {
 
-bool always(const SinkFacts& /*facts*/) { return true; }
-bool with_waveforms(const SinkFacts& facts) { return facts.waveform.has_value(); }
-bool with_image(const SinkFacts& facts) { return facts.image.has_value(); }
-bool with_trajectory(const SinkFacts& facts) { return facts.trajectory.has_value(); }
+bool always(const SinkFacts& /*facts*/) {
+    return true;
+}
+bool with_waveforms(const SinkFacts& facts) {
+    return facts.waveform.has_value();
+}
+bool with_image(const SinkFacts& facts) {
+    return facts.image.has_value();
+}
+bool with_trajectory(const SinkFacts& facts) {
+    return facts.trajectory.has_value();
+}
 
 }  // namespace
 

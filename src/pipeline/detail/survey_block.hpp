@@ -31,8 +31,8 @@ struct BlockWork {
     HitBatch hits;
     std::vector<Vec3d> origin, axis;
     std::vector<float> scan_angle;
-    std::vector<PulseReturn> returns;         ///< max_returns per pulse
-    std::vector<std::uint8_t> return_count;   ///< returns of each pulse
+    std::vector<PulseReturn> returns;        ///< max_returns per pulse
+    std::vector<std::uint8_t> return_count;  ///< returns of each pulse
     std::vector<SubRayHit> sub;
     PulseResponse response;
     PointBlock points;
