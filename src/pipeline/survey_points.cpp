@@ -4,7 +4,7 @@ namespace beamtrace::detail {
 
 void SurveyPoints::run(BlockWork& w) const {
     std::vector<BlockPoint>& out = w.points.points;
-    BlockPoint p;
+    out.reserve(w.pulse_count * max_returns);
     for (std::size_t k = 0; k < w.pulse_count; ++k) {
         const std::size_t n = physics ? w.return_count[k] : (w.hits.hit(k) ? 1 : 0);
         for (std::size_t r = 0; r < n; ++r) {
@@ -13,6 +13,7 @@ void SurveyPoints::run(BlockWork& w) const {
             const double t = physics ? ret->range_m : double{w.hits.t[k]};
             const ScenePart& part = scene->parts[scene->part_of_face(w.hits.face[h])];
             const Vec3d xyz = w.origin[k] + w.axis[k] * t + scene->origin_m;
+            BlockPoint& p = out.emplace_back();
             p.x = xyz.x;
             p.y = xyz.y;
             p.z = xyz.z;
@@ -28,7 +29,6 @@ void SurveyPoints::run(BlockWork& w) const {
             p.channel = w.pulses.channel[k];
             p.user_data = static_cast<std::uint8_t>(w.pulses.channel[k] & 0xFFu);  // beam / row
             p.pulse = w.first + k;
-            out.push_back(p);
         }
     }
 }

@@ -14,25 +14,20 @@
 #include <vector>
 
 #include "beamtrace/core/vec3.hpp"
+#include "beamtrace/io/las_writer.hpp"
 #include "beamtrace/sensor/trajectory.hpp"
 
 namespace beamtrace {
 
-/// One point of a block: what any sink may record of a return.
-struct BlockPoint {
-    double x = 0.0, y = 0.0, z = 0.0;  ///< world metres (scene origin added)
-    double gps_time = 0.0;             ///< pulse time, seconds
-    float range_m = 0.0f;              ///< distance from the beam origin
-    float scan_angle_deg = 0.0f;
-    std::uint32_t face = 0;  ///< face of the hit (PLY face_id)
-    std::uint16_t intensity = 0;
-    std::uint16_t point_source_id = 0;  ///< the scene part's id
-    std::uint16_t channel = 0;          ///< beam / row of the scanner
-    std::uint8_t return_number = 1;
-    std::uint8_t number_of_returns = 1;
-    std::uint8_t classification = 0;  ///< the scene part's label (LAS, labels.png)
-    std::uint8_t user_data = 0;       ///< LAS user data (the channel's low byte)
-    std::uint64_t pulse = 0;          ///< pulse (or ray) index: PLY `ray`, image pixel
+/// One point of a block: what any sink may record of a return. The LAS fields (world xyz,
+/// GPS time, scan angle, intensity, point source ID = the part's id, return number and count,
+/// classification = the part's label, user data = the channel's low byte) are those of
+/// LasSimplePoint, so the LAS sink encodes a BlockPoint as it is.
+struct BlockPoint : LasSimplePoint {
+    float range_m = 0.0f;       ///< distance from the beam origin
+    std::uint32_t face = 0;     ///< face of the hit (PLY face_id)
+    std::uint16_t channel = 0;  ///< beam / row of the scanner
+    std::uint64_t pulse = 0;    ///< pulse (or ray) index: PLY `ray`, image pixel
 };
 
 /// One pulse's sampled echo (physics.waveform.keep): samples [first_sample, + count) of the block.

@@ -48,20 +48,8 @@ class LasSink final : public PointSink {
         if (las.bytes.size() < most) {
             las.bytes.resize(most);
         }
-        LasSimplePoint p;
-        for (const BlockPoint& b : block.points) {
-            p.x = b.x;
-            p.y = b.y;
-            p.z = b.z;
-            p.gps_time = b.gps_time;
-            p.scan_angle_deg = b.scan_angle_deg;
-            p.return_number = b.return_number;
-            p.number_of_returns = b.number_of_returns;
-            p.intensity = b.intensity;
-            p.classification = b.classification;
-            p.point_source_id = b.point_source_id;
-            p.user_data = b.user_data;
-            writer_->encode(p, las);
+        for (const BlockPoint& p : block.points) {
+            writer_->encode(static_cast<const LasSimplePoint&>(p), las);
         }
     }
     void write(const SinkBuffer& encoded) override {
