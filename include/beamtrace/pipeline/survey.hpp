@@ -1,5 +1,5 @@
 // `beamtrace survey`: a scanner on a platform flies or drives through a scene; every pulse is
-// traced and the hits are streamed to LAS 1.4 (and optionally PLY), with the trajectory as CSV.
+// traced and the points are streamed to the output sinks (LAS 1.4, and as asked CSV, PLY, PCD...).
 #pragma once
 
 #include <cstdint>
