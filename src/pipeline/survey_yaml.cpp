@@ -1,8 +1,10 @@
 // Survey files in YAML (docs/survey.md): every problem is collected and reported at once.
+#include <algorithm>
 #include <fstream>
 #include <numbers>
 #include <sstream>
 
+#include "beamtrace/io/point_sink_registry.hpp"
 #include "beamtrace/pipeline/survey.hpp"
 #include "pipeline/detail/physics_yaml.hpp"
 #include "text/yaml_checker.hpp"
@@ -224,6 +226,46 @@ void parse_platform(YamlChecker& c, const YAML::Node& n, SurveySpec& s) {
     }
 }
 
+/// The `output:` block: the LAS point format, the trajectory rate, and one `<key>: true|false`
+/// per switchable sink of the registry.
+void parse_output(YamlChecker& c, const YAML::Node& o, SurveySpec& s) {
+    std::vector<std::string> known{"point_format", "trajectory_rate_hz"};
+    for (const SinkEntry& e : point_sinks()) {
+        if (!e.key.empty()) {
+            known.emplace_back(e.key);
+        }
+    }
+    for (const auto& kv : o) {
+        const auto name = kv.first.as<std::string>();
+        if (std::find(known.begin(), known.end(), name) == known.end()) {
+            std::string list;
+            for (const auto& k : known) {
+                list += (list.empty() ? "" : ", ") + k;
+            }
+            c.error(kv.first, "output." + name, "unknown key (expected one of: " + list + ")");
+        }
+    }
+    long pf = 0;
+    if (o["point_format"] && c.integer(o["point_format"], "output.point_format", 6, 8, pf)) {
+        s.point_format = static_cast<int>(pf);
+    }
+    for (const SinkEntry& e : point_sinks()) {
+        const std::string key(e.key);
+        bool on = false;
+        if (!key.empty() && o[key] && c.boolean(o[key], "output." + key, on)) {
+            std::erase(s.outputs, std::string(e.name));
+            if (on) {
+                s.outputs.emplace_back(e.name);
+            }
+        }
+    }
+    if (o["trajectory_rate_hz"] &&
+        c.number(o["trajectory_rate_hz"], "output.trajectory_rate_hz", s.trajectory_rate_hz) &&
+        s.trajectory_rate_hz < 0) {
+        c.error(o["trajectory_rate_hz"], "output.trajectory_rate_hz", "must not be negative");
+    }
+}
+
 }  // namespace
 
 SurveySpec parse_survey_spec(const std::string& yaml_text, const std::filesystem::path& source) {
@@ -262,22 +304,7 @@ SurveySpec parse_survey_spec(const std::string& yaml_text, const std::filesystem
         s.mount = Mount::from_lever_arm(arm, rpy_deg(bore));
     }
     if (const auto o = root["output"]) {
-        c.only_keys(o, "output", {"point_format", "ply", "csv", "trajectory_rate_hz"});
-        long pf = 0;
-        if (o["point_format"] && c.integer(o["point_format"], "output.point_format", 6, 8, pf)) {
-            s.point_format = static_cast<int>(pf);
-        }
-        for (const auto& [key, flag] :
-             {std::pair{"ply", &s.write_ply}, std::pair{"csv", &s.write_csv}}) {
-            if (const auto p = o[key]) {
-                c.boolean(p, std::string("output.") + key, *flag);
-            }
-        }
-        if (o["trajectory_rate_hz"] &&
-            c.number(o["trajectory_rate_hz"], "output.trajectory_rate_hz", s.trajectory_rate_hz) &&
-            s.trajectory_rate_hz < 0) {
-            c.error(o["trajectory_rate_hz"], "output.trajectory_rate_hz", "must not be negative");
-        }
+        parse_output(c, o, s);
     }
     if (const auto ph = root["physics"]) {
         s.physics.emplace();

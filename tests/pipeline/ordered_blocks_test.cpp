@@ -26,7 +26,7 @@ std::vector<std::string> run_blocks(std::size_t blocks, std::size_t window, unsi
         if (k == fail_at) {
             throw std::runtime_error("disk full at " + std::to_string(k));
         }
-        written.push_back(out.csv);
+        written.push_back(static_cast<const ByteBuffer&>(*out.sinks.at(0)).bytes);
     });
     ThreadPool pool(threads);
     pool.parallel_for(blocks, 1, [&](std::size_t kb, std::size_t ke) {
@@ -37,7 +37,10 @@ std::vector<std::string> run_blocks(std::size_t blocks, std::size_t window, unsi
                 return;
             }
             std::this_thread::sleep_for(std::chrono::microseconds(rng() % 300));
-            out->csv = "block " + std::to_string(k);
+            if (out->sinks.empty()) {
+                out->sinks.push_back(std::make_unique<ByteBuffer>());
+            }
+            static_cast<ByteBuffer&>(*out->sinks[0]).bytes = "block " + std::to_string(k);
             ordered.publish(k);
         }
     });

@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <span>
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -24,6 +25,16 @@ struct PointRecord {
 /// atomically; throws OutputError naming the path.
 void write_points_ply(const std::filesystem::path& path, std::span<const PointRecord> points,
                       std::string_view comment);
+
+/// Bytes per point record of write_points_ply.
+inline constexpr std::size_t kPlyRecordBytes = 36;
+
+/// The header write_points_ply writes for `count` points (also for writers that stream the
+/// records, such as the PLY point sink, and write the header once the count is known).
+[[nodiscard]] std::string points_ply_header(std::size_t count, std::string_view comment);
+
+/// Writes the records of `points` (kPlyRecordBytes each) at `out`; returns the end.
+char* encode_ply_records(std::span<const PointRecord> points, char* out);
 
 /// Reads a file with exactly the layout write_points_ply writes (comments and obj_info lines
 /// are ignored). Throws InputError naming the file on any other layout or a size mismatch.

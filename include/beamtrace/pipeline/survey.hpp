@@ -1,5 +1,5 @@
 // `beamtrace survey`: a scanner on a platform flies or drives through a scene; every pulse is
-// traced and the hits are streamed to LAS 1.4 (and optionally PLY), with the trajectory as CSV.
+// traced and the points are streamed to the output sinks (LAS 1.4, and as asked CSV, PLY, PCD...).
 #pragma once
 
 #include <cstdint>
@@ -41,10 +41,12 @@ struct SurveySpec {
     std::filesystem::path trajectory_file;  ///< for `trajectory`
     Mount mount;                            ///< lever arm and boresight
     int point_format = 6;                   ///< LAS point format (6, 7 or 8)
-    bool write_ply = false;                 ///< also points.ply (held in memory until the end)
-    bool write_csv = false;                 ///< also points.csv (streamed)
-    double trajectory_rate_hz = 10.0;       ///< samples per second in trajectory.csv (0: none)
-    std::string text;                       ///< the file's text (recorded in the LAS VLR)
+    /// The switchable outputs turned on by `output: {<key>: true}`: names of point sinks of the
+    /// registry (io/point_sink_registry.hpp), e.g. "ply", "csv", "pcd". points.las is always
+    /// written; waveforms, images and the trajectory whenever the survey calls for them.
+    std::vector<std::string> outputs;
+    double trajectory_rate_hz = 10.0;  ///< samples per second in trajectory.csv (0: none)
+    std::string text;                  ///< the file's text (recorded in the LAS VLR)
     /// The `physics:` block (docs/physics.md); nullopt: ideal single rays, no intensity/noise.
     std::optional<PhysicsConfig> physics;
 

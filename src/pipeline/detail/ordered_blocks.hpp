@@ -12,24 +12,9 @@
 #include <thread>
 #include <vector>
 
-#include "beamtrace/io/las_writer.hpp"
-#include "beamtrace/io/point_cloud_ply.hpp"
+#include "pipeline/detail/sink_set.hpp"
 
 namespace beamtrace::detail {
-
-/// What one block of pulses produces (encoded on a pool thread, written in block order).
-struct BlockOutput {
-    LasRecordBlock las;
-    std::string csv;
-    std::vector<PointRecord> ply;
-    std::string waves;  ///< waveforms.bin records
-    void clear() {
-        las.clear();
-        csv.clear();
-        ply.clear();
-        waves.clear();
-    }
-};
 
 /// Blocks filled by pool threads in any order and written strictly in block order by one writer
 /// thread, with at most `window` blocks between the oldest one not yet written and the newest

@@ -1,0 +1,125 @@
+// Point sinks: every output of a survey or scan (LAS, CSV, PLY, PCD, waveforms, images, the
+// trajectory) behind one small interface, in the spirit of PDAL's streamable writers. A sink is
+// opened with the header facts (its factory), encodes blocks of points on any thread, writes the
+// encoded blocks in block order on one thread, and finally commits (its files appear complete)
+// or aborts (nothing appears). The registry (point_sink_registry.hpp) names them.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "beamtrace/core/vec3.hpp"
+#include "beamtrace/io/las_writer.hpp"
+#include "beamtrace/sensor/trajectory.hpp"
+
+namespace beamtrace {
+
+/// One point of a block: what any sink may record of a return. The LAS fields (world xyz,
+/// GPS time, scan angle, intensity, point source ID = the part's id, return number and count,
+/// classification = the part's label, user data = the channel's low byte) are those of
+/// LasSimplePoint, so the LAS sink encodes a BlockPoint as it is.
+struct BlockPoint : LasSimplePoint {
+    float range_m = 0.0f;       ///< distance from the beam origin
+    std::uint32_t face = 0;     ///< face of the hit (PLY face_id)
+    std::uint16_t channel = 0;  ///< beam / row of the scanner
+    std::uint64_t pulse = 0;    ///< pulse (or ray) index: PLY `ray`, image pixel
+};
+
+/// One pulse's sampled echo (physics.waveform.keep): samples [first_sample, + count) of the block.
+struct PulseWaveform {
+    std::uint64_t pulse = 0;
+    double time_s = 0.0;
+    Vec3d origin_m;  ///< beam origin, world
+    Vec3d axis;      ///< beam axis (unit)
+    std::int64_t first_bin = 0;
+    std::size_t first_sample = 0;
+    std::uint32_t count = 0;
+};
+
+/// A block of consecutive pulses' points, in pulse order (a pulse's returns side by side).
+struct PointBlock {
+    std::vector<BlockPoint> points;
+    std::vector<PulseWaveform> waveforms;  ///< empty unless waveforms are kept
+    std::vector<float> samples;            ///< the waveforms' samples, watts
+    /// Empties the block (keeps its memory).
+    void clear() {
+        points.clear();
+        waveforms.clear();
+        samples.clear();
+    }
+};
+
+/// Range/label image of an image scanner firing one frame: pulse u * height + v is pixel
+/// (row v, column u).
+struct ImageGrid {
+    int width = 0, height = 0;
+};
+
+/// What the waveform record's file header says.
+struct WaveformFacts {
+    double bin_ns = 0.5;
+    double pulse_fwhm_ns = 4.0;
+};
+
+/// The header facts every sink may need, known before the first point: the schema and the
+/// settings of the run. Sinks take what they use.
+struct SinkFacts {
+    std::filesystem::path output_dir;
+    bool physics = false;  ///< intensity and return numbers are simulated (CSV columns)
+    Vec3d lo_m, hi_m;      ///< world bounds of the scene (LAS scale and offset)
+    int las_point_format = 6;
+    std::string provenance;  ///< recorded in the LAS VLR (version, seed, survey file)
+    std::string comment;     ///< PLY header comment
+    std::optional<ImageGrid> image;
+    bool image_labels = true;  ///< labels.png besides range.npy and range.png
+    std::optional<WaveformFacts> waveform;
+    /// The platform's samples for trajectory.csv (none: no trajectory output).
+    std::optional<SampledTrajectory> trajectory;
+    double trajectory_rate_hz = 0.0;
+};
+
+/// What a sink encodes from one block, on a pool thread, for its write(). Reused block to block.
+class SinkBuffer {
+  public:
+    virtual ~SinkBuffer() = default;
+    /// Empties the buffer (keeps its memory).
+    virtual void clear() = 0;
+};
+
+/// The common SinkBuffer: bytes to append to a file.
+struct ByteBuffer final : SinkBuffer {
+    std::string bytes;
+    void clear() override { bytes.clear(); }
+};
+
+/// One output. The factory opens it (temporary files); then encode() on any threads, write()
+/// in block order on one thread, and commit() once. Destroyed without commit() — or after
+/// abort() — it leaves no file. Errors throw OutputError naming the file.
+class PointSink {
+  public:
+    PointSink() = default;
+    virtual ~PointSink() = default;
+    PointSink(const PointSink&) = delete;
+    PointSink& operator=(const PointSink&) = delete;
+    PointSink(PointSink&&) = delete;
+    PointSink& operator=(PointSink&&) = delete;
+
+    /// A buffer for encode().
+    [[nodiscard]] virtual std::unique_ptr<SinkBuffer> make_buffer() const;
+    /// Encodes `block` into `out` (empty on entry). Thread-safe: called on pool threads, on
+    /// different blocks at once, in any order.
+    virtual void encode(const PointBlock& block, SinkBuffer& out) const = 0;
+    /// Appends an encoded block; one thread, blocks in order.
+    virtual void write(const SinkBuffer& encoded) = 0;
+    /// Finishes the files and renames them into place; returns them. Called once.
+    [[nodiscard]] virtual std::vector<std::filesystem::path> commit() = 0;
+    /// Removes whatever was written; the sink accepts nothing afterwards.
+    virtual void abort() noexcept = 0;
+};
+
+}  // namespace beamtrace

@@ -1,0 +1,74 @@
+// points.las: LAS 1.4 (formats 6-8), coordinates quantised to 1 mm around the scene, the
+// provenance (version, seed, survey file) in a VLR. Records are encoded on the pool threads.
+#include <algorithm>
+
+#include "beamtrace/io/las_writer.hpp"
+#include "beamtrace/io/point_sink.hpp"
+
+namespace beamtrace {
+
+namespace {
+
+/// Longest VLR payload recorded (a VLR holds less than 64 KiB).
+constexpr std::size_t kMaxProvenance = 60000;
+
+struct LasBuffer final : SinkBuffer {
+    LasRecordBlock block;
+    void clear() override { block.clear(); }
+};
+
+LasWriterConfig las_config(const SinkFacts& facts) {
+    LasWriterConfig las = las_config_for_extent(facts.lo_m, facts.hi_m, 0.001);
+    las.point_format = facts.las_point_format;
+    LasVlr vlr;
+    vlr.user_id = "beamtrace";
+    vlr.record_id = 1;
+    vlr.description = "survey file";
+    const std::string& record = facts.provenance;
+    vlr.data.assign(record.begin(),
+                    record.begin() + static_cast<std::ptrdiff_t>(
+                                         std::min<std::size_t>(record.size(), kMaxProvenance)));
+    las.vlrs.push_back(std::move(vlr));
+    return las;
+}
+
+class LasSink final : public PointSink {
+  public:
+    explicit LasSink(const SinkFacts& facts)
+        : writer_(std::make_unique<LasWriter>(facts.output_dir / "points.las", las_config(facts))) {
+    }
+
+    [[nodiscard]] std::unique_ptr<SinkBuffer> make_buffer() const override {
+        return std::make_unique<LasBuffer>();
+    }
+    void encode(const PointBlock& block, SinkBuffer& out) const override {
+        LasRecordBlock& las = static_cast<LasBuffer&>(out).block;
+        // Room for the whole block at once (kept from block to block).
+        const std::size_t most = block.points.size() * writer_->header().point_record_length;
+        if (las.bytes.size() < most) {
+            las.bytes.resize(most);
+        }
+        for (const BlockPoint& p : block.points) {
+            writer_->encode(static_cast<const LasSimplePoint&>(p), las);
+        }
+    }
+    void write(const SinkBuffer& encoded) override {
+        writer_->write_block(static_cast<const LasBuffer&>(encoded).block);
+    }
+    std::vector<std::filesystem::path> commit() override {
+        writer_->close();
+        return {writer_->path()};
+    }
+    void abort() noexcept override { writer_.reset(); }
+
+  private:
+    std::unique_ptr<LasWriter> writer_;
+};
+
+}  // namespace
+
+std::unique_ptr<PointSink> make_las_sink(const SinkFacts& facts) {
+    return std::make_unique<LasSink>(facts);
+}
+
+}  // namespace beamtrace

@@ -1,0 +1,83 @@
+// A survey block's working arrays, reused from block to block, and the shelf they wait on.
+#pragma once
+
+#include <cstddef>
+#include <memory>
+#include <mutex>
+#include <vector>
+
+#include "beamtrace/core/hit_batch.hpp"
+#include "beamtrace/core/ray_batch.hpp"
+#include "beamtrace/core/thread_pool.hpp"
+#include "beamtrace/io/point_sink.hpp"
+#include "beamtrace/physics/pulse.hpp"
+#include "beamtrace/sensor/scan_pattern.hpp"
+#include "pipeline/detail/survey_rays.hpp"
+
+namespace beamtrace::detail {
+
+/// Pulses per block: each block is generated, traced, simulated and encoded by one thread.
+/// Blocks start at multiples of it, so results do not depend on the thread count.
+inline constexpr std::size_t kBlockPulses = 1024;
+
+/// A block's working arrays (pulses, rays, hits, returns, points). Blocks take one from a
+/// WorkShelf and put it back, so a thread keeps reusing the same, cache-warm memory.
+struct BlockWork {
+    std::uint64_t first = 0;  ///< global index of the block's first pulse
+    std::size_t pulse_count = 0;
+    PulseBatch pulses;
+    SurveyRaySource::Scratch scratch;
+    RayBatch rays;
+    HitBatch hits;
+    std::vector<Vec3d> origin, axis;
+    std::vector<float> scan_angle;
+    std::vector<PulseReturn> returns;        ///< max_returns per pulse
+    std::vector<std::uint8_t> return_count;  ///< returns of each pulse
+    std::vector<SubRayHit> sub;
+    PulseResponse response;
+    PointBlock points;
+    ThreadPool this_thread{1};  ///< no workers: the backend traces the block on the caller
+
+    /// Sizes the arrays for `pulse_count` pulses (contents are overwritten by the stages).
+    void size_for(std::uint64_t first_pulse, std::size_t pulses_in_block, std::size_t sub_rays,
+                  std::size_t max_returns) {
+        first = first_pulse;
+        pulse_count = pulses_in_block;
+        const std::size_t n = pulse_count * sub_rays;
+        rays.resize(n);
+        if (hits.size() != n) {
+            hits.resize(n);
+        }
+        origin.resize(pulse_count);
+        axis.resize(pulse_count);
+        scan_angle.resize(pulse_count);
+        returns.resize(pulse_count * max_returns);
+        return_count.resize(pulse_count);
+        sub.resize(sub_rays);
+        points.clear();
+    }
+};
+
+/// Spare BlockWork, last in first out.
+class WorkShelf {
+  public:
+    std::unique_ptr<BlockWork> take() {
+        const std::lock_guard lock(mutex_);
+        if (spare_.empty()) {
+            return std::make_unique<BlockWork>();
+        }
+        auto w = std::move(spare_.back());
+        spare_.pop_back();
+        return w;
+    }
+    void put(std::unique_ptr<BlockWork> w) {
+        const std::lock_guard lock(mutex_);
+        spare_.push_back(std::move(w));
+    }
+
+  private:
+    std::mutex mutex_;
+    std::vector<std::unique_ptr<BlockWork>> spare_;
+};
+
+}  // namespace beamtrace::detail
