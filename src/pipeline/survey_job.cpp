@@ -127,15 +127,7 @@ constexpr std::size_t kBlockPulses = 1024;
 }  // namespace
 
 std::unique_ptr<ScanPattern> SurveySpec::make_pattern() const {
-    switch (scanner) {
-        case ScannerKind::rotating:
-            return std::make_unique<RotatingScanner>(rotating);
-        case ScannerKind::line:
-            return std::make_unique<LineScanner>(line);
-        case ScannerKind::image:
-            return std::make_unique<ImagePattern>(image);
-    }
-    throw ConfigError("unknown scanner kind");
+    return scanner.make_pattern();
 }
 
 std::unique_ptr<Trajectory> SurveySpec::make_trajectory() const {
@@ -271,8 +263,9 @@ SurveyResult run_survey(const SurveySpec& spec, const SurveyRunConfig& run,
     }
 
     // Image scanners firing one frame also get the report's range image and a label image.
-    const bool images = spec.scanner == ScannerKind::image && spec.image.frames == 1;
-    const int img_w = spec.image.image.width, img_h = spec.image.image.height;
+    const std::optional<ImageGrid> grid = pattern->image_grid();
+    const bool images = grid.has_value();
+    const int img_w = grid ? grid->width : 0, img_h = grid ? grid->height : 0;
     std::vector<float> range_img(
         images ? static_cast<std::size_t>(img_w) * static_cast<std::size_t>(img_h) : 0, 0.0f);
     std::vector<std::uint16_t> label_img(range_img.size(), 0);
