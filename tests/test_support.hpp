@@ -100,6 +100,17 @@ inline std::vector<BackendKind> backends(bool with_brute = true, bool inside_tes
     return kinds;
 }
 
+/// The usable backends that trace instances in place (BackendTraits::instances_natively).
+inline std::vector<BackendKind> instancing_backends() {
+    std::vector<BackendKind> kinds;
+    for (const BackendEntry& e : backend_registry()) {
+        if (e.traits.instances_natively && with_backend(e)) {
+            kinds.push_back(e.kind);
+        }
+    }
+    return kinds;
+}
+
 /// Skips the current test when a shared data file is missing (CI has ../shared too).
 #define BEAMTRACE_REQUIRE_FILE(path)                                         \
     do {                                                                     \

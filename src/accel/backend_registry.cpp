@@ -17,8 +17,10 @@ bool always() {
     return true;
 }
 
-/// CPU backends traverse ray by ray in the pipeline's blocks of 1024 pulses.
-constexpr BackendTraits kCpuRays{1024, false, false};
+/// CPU backends traverse ray by ray in the pipeline's blocks of 1024 pulses; the oracles trace a
+/// flattened copy of an instanced scene.
+constexpr BackendTraits kCpuRays{1024, false, false, false};
+constexpr BackendTraits kCpuTwoLevel{1024, false, false, true};
 
 #ifdef BEAMTRACE_HAVE_EMBREE
 constexpr BackendEntry::MeshFactory kEmbreeMesh = [](const TriangleMesh& m, ThreadPool& pool,
@@ -41,14 +43,14 @@ using detail::make_kdtree_backend;
 // clang-format off
 constexpr std::array kBackends{
     BackendEntry{BackendKind::bvh, "bvh", "binned-SAH BVH (two-level over instances)", true,
-                 always, kCpuRays, make_bvh_backend, make_bvh_backend, ""},
+                 always, kCpuTwoLevel, make_bvh_backend, make_bvh_backend, ""},
     BackendEntry{BackendKind::kdtree, "kdtree", "SAH k-d tree (or the ladar report's rules)", true,
                  always, kCpuRays, make_kdtree_backend, make_kdtree_backend, ""},
     BackendEntry{BackendKind::brute, "brute", "every ray against every triangle (the oracle)", true,
                  always, kCpuRays, make_brute_backend, make_brute_backend, ""},
     // Packets of 16 neighbouring rays (rtcIntersect16).
     BackendEntry{BackendKind::embree, "embree", "Embree 3", embree_available(), always,
-                 BackendTraits{1024, true, false}, kEmbreeMesh, kEmbreeScene,
+                 BackendTraits{1024, true, false, true}, kEmbreeMesh, kEmbreeScene,
                  "install libembree-dev and reconfigure with -DBEAMTRACE_WITH_EMBREE=ON"},
 };
 // clang-format on

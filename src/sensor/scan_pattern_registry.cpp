@@ -45,14 +45,21 @@ ScannerSpec::ScannerSpec(std::string type, std::unique_ptr<ScannerSettings> sett
 }
 
 ScannerSpec::ScannerSpec(const ScannerSpec& other)
-    : type_(other.type_), settings_(other.settings_->clone()) {}
+    : type_(other.type_), settings_(other.settings_ ? other.settings_->clone() : nullptr) {}
 
 ScannerSpec& ScannerSpec::operator=(const ScannerSpec& other) {
     if (this != &other) {
         type_ = other.type_;
-        settings_ = other.settings_->clone();
+        settings_ = other.settings_ ? other.settings_->clone() : nullptr;
     }
     return *this;
+}
+
+const ScannerSettings& ScannerSpec::settings() const {
+    if (!settings_) {
+        throw ConfigError("scanner '" + type_ + "': no settings (a moved-from ScannerSpec)");
+    }
+    return *settings_;
 }
 
 std::span<const ScanPatternEntry> scan_pattern_registry() {

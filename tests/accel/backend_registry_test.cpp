@@ -66,6 +66,8 @@ TEST(BackendRegistry, BuiltMatchesThisBuild) {
         }
     }
     EXPECT_EQ(backend_entry(BackendKind::embree).built, embree_available());
+    EXPECT_TRUE(backend_entry(BackendKind::bvh).traits.instances_natively);
+    EXPECT_FALSE(backend_entry(BackendKind::brute).traits.instances_natively);
     EXPECT_TRUE(backend_entry(default_backend_kind()).usable());
     const auto usable = usable_backends();
     EXPECT_NE(std::find(usable.begin(), usable.end(), default_backend_kind()), usable.end());

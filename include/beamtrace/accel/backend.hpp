@@ -56,6 +56,8 @@ struct BackendTraits {
     std::size_t preferred_batch_rays = 4096;
     bool coherent_packets = false;  ///< traces neighbouring rays together (wants coherent order)
     bool asynchronous = false;      ///< works best with batches in flight while others are written
+    /// Traces instanced meshes in place (two levels); false: traces a flattened copy of the scene.
+    bool instances_natively = false;
 };
 
 class Backend {

@@ -94,7 +94,8 @@ class ScannerSpec {
 
     /// The registry name ("rotating", "line", "pinhole", "scan", ...).
     [[nodiscard]] const std::string& type() const { return type_; }
-    [[nodiscard]] const ScannerSettings& settings() const { return *settings_; }
+    /// Throws ConfigError for a moved-from spec.
+    [[nodiscard]] const ScannerSettings& settings() const;
     /// The config when the settings are those of `Pattern`, else nullptr.
     template <class Pattern>
     [[nodiscard]] const typename Pattern::Config* config() const {
@@ -102,7 +103,7 @@ class ScannerSpec {
         return s != nullptr ? &s->config : nullptr;
     }
     [[nodiscard]] std::unique_ptr<ScanPattern> make_pattern() const {
-        return settings_->make_pattern();
+        return settings().make_pattern();
     }
 
   private:
