@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "beamtrace/accel/backend.hpp"
+#include "beamtrace/accel/backend_registry.hpp"
 #include "beamtrace/geometry/primitives.hpp"
 
 namespace bt = beamtrace;
@@ -134,11 +135,10 @@ void BM_Spheres(benchmark::State& state) {
 
 void sphere_args(benchmark::internal::Benchmark* b) {
     const unsigned hw = std::max(1u, std::thread::hardware_concurrency());
-    std::vector<bt::BackendKind> kinds{bt::BackendKind::bvh};
-    if (bt::embree_available()) {
-        kinds.push_back(bt::BackendKind::embree);
-    }
-    for (const auto kind : kinds) {
+    for (const auto kind : bt::usable_backends()) {
+        if (kind == bt::BackendKind::brute) {
+            continue;  // the oracle: every ray against every triangle, not a contender
+        }
         for (const int exact : {0, 1}) {
             b->Args({static_cast<int>(kind), exact, static_cast<int>(hw)});
         }

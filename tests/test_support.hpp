@@ -24,6 +24,7 @@
 #include <unistd.h>
 
 #include "beamtrace/accel/backend.hpp"
+#include "beamtrace/accel/backend_registry.hpp"
 #include "beamtrace/core/error.hpp"
 #include "beamtrace/core/ray_batch.hpp"
 #include "beamtrace/geometry/triangle_mesh.hpp"
@@ -62,19 +63,52 @@ inline bool require_all() {
 /// (a CPU without AVX-512, say): a skip even under BEAMTRACE_REQUIRE_ALL=1.
 #define BEAMTRACE_SKIP_HARDWARE(why) GTEST_SKIP() << "hardware: " << why
 
-/// Whether a test's Embree part should run: true when Embree is built in. When it is not, the
-/// test says so on stdout, and under BEAMTRACE_REQUIRE_ALL=1 fails (set-up installs Embree).
-inline bool with_embree() {
-    if (embree_available()) {
+/// Whether a test's part for the registry backend `entry` should run: true when it is built and
+/// available here. When it is not, the test says so on stdout, and under
+/// BEAMTRACE_REQUIRE_ALL=1 fails (set-up installs every backend's library).
+inline bool with_backend(const BackendEntry& entry) {
+    if (entry.usable()) {
         return true;
     }
     if (require_all()) {
-        ADD_FAILURE() << "built without Embree, so its part of this test cannot run "
-                         "(BEAMTRACE_REQUIRE_ALL=1; apt install libembree-dev)";
+        ADD_FAILURE() << "built without " << entry.summary << " (backend " << entry.name
+                      << "), so its part of this test cannot run (BEAMTRACE_REQUIRE_ALL=1; "
+                      << entry.how_to_build << ")";
     } else {
-        std::printf("  note: built without Embree: its part of this test did not run\n");
+        std::printf("  note: built without %s: its part of this test did not run\n",
+                    std::string(entry.summary).c_str());
     }
     return false;
+}
+
+/// Whether a test's Embree part should run (with_backend of the Embree entry).
+inline bool with_embree() {
+    return with_backend(backend_entry(BackendKind::embree));
+}
+
+/// Every backend of the registry usable here, in table order; `brute` (the oracle) only with
+/// `with_brute`. Inside a test (`inside_test`), each registered backend left out is noted, as
+/// with_backend does; outside one (test parameter lists) it is silently left out.
+inline std::vector<BackendKind> backends(bool with_brute = true, bool inside_test = true) {
+    std::vector<BackendKind> kinds;
+    for (const BackendEntry& e : backend_registry()) {
+        const bool usable = inside_test ? with_backend(e) : e.usable();
+        if (usable && (with_brute || e.kind != BackendKind::brute)) {
+            kinds.push_back(e.kind);
+        }
+    }
+    return kinds;
+}
+
+/// The usable backends that trace instances in place (BackendTraits::instances_natively).
+inline std::vector<BackendKind> instancing_backends() {
+    std::vector<BackendKind> kinds;
+    for (const BackendEntry& e : backend_registry()) {
+        if (e.traits.instances_natively && with_backend(e)) {
+            kinds.push_back(e.kind);
+        }
+    }
+    return kinds;
 }
 
 /// Skips the current test when a shared data file is missing (CI has ../shared too).

@@ -86,7 +86,7 @@ int run(const ScanOptions& o) {
         const Vec3d rpy = parse_triple(o.orientation, "--orientation");
         c.sensor.orientation = {rpy.x, rpy.y, rpy.z};
     }
-    if (c.pattern == PatternKind::rays) {
+    if (c.reads_rays_file()) {
         c.image_width = o.width;
         c.image_height = o.height;
     } else {

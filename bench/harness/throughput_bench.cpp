@@ -12,6 +12,7 @@
 
 #include <unistd.h>
 
+#include "beamtrace/accel/backend_registry.hpp"
 #include "beamtrace/core/error.hpp"
 #include "beamtrace/core/memory_usage.hpp"
 #include "beamtrace/io/las_reader.hpp"
@@ -115,8 +116,10 @@ std::vector<std::string> ThroughputBenchConfig::validate() const {
         p.emplace_back("min_time_s must be in [0, 60]");
     }
     for (BackendKind b : backends) {
-        if (b == BackendKind::embree && !embree_available()) {
-            p.emplace_back("backend embree: this build has no Embree");
+        const BackendEntry& e = backend_entry(b);
+        if (!e.usable()) {
+            p.push_back("backend " + std::string(e.name) + ": this build has no " +
+                        std::string(e.summary));
         }
     }
     return p;
@@ -210,11 +213,11 @@ ThroughputReport run_throughput_bench(const ThroughputBenchConfig& config,
         }
     }
     std::vector<BackendKind> backends = config.backends;
-    if (backends.empty()) {
-        if (embree_available()) {
-            backends.push_back(BackendKind::embree);
+    if (backends.empty()) {  // the default backend, and our BVH beside it
+        backends.push_back(default_backend_kind());
+        if (default_backend_kind() != BackendKind::bvh) {
+            backends.push_back(BackendKind::bvh);
         }
-        backends.push_back(BackendKind::bvh);
     }
     const std::filesystem::path scratch =
         config.scratch_dir.empty()

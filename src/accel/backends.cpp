@@ -1,6 +1,6 @@
 // The three own backends: brute force (the oracle), the report's k-d tree and the binned-SAH BVH
 // (single-level over one mesh, or two-level over instanced meshes and exact spheres); Embree is
-// in embree_backend.cpp.
+// in embree_backend.cpp, the table naming them all in backend_registry.cpp.
 #include <cmath>
 #include <memory>
 #include <span>
@@ -10,10 +10,10 @@
 #include "beamtrace/accel/bvh.hpp"
 #include "beamtrace/accel/kdtree.hpp"
 #include "beamtrace/core/error.hpp"
-#include "detail/embree.hpp"
+#include "detail/own_backends.hpp"
 #include "detail/queries.hpp"
 
-namespace beamtrace {
+namespace beamtrace::detail {
 namespace {
 
 using detail::slab_entry;
@@ -289,82 +289,46 @@ struct KdTreeTraverser {
 
 }  // namespace
 
-BackendKind parse_backend_kind(std::string_view name) {
-    if (name == "brute") {
-        return BackendKind::brute;
-    }
-    if (name == "kdtree") {
-        return BackendKind::kdtree;
-    }
-    if (name == "bvh") {
-        return BackendKind::bvh;
-    }
-    if (name == "embree") {
-        if (!embree_available()) {
-            throw ConfigError(
-                "backend 'embree': beamtrace was built without Embree (install libembree-dev "
-                "and reconfigure with -DBEAMTRACE_WITH_EMBREE=ON)");
-        }
-        return BackendKind::embree;
-    }
-    throw ConfigError("unknown backend '" + std::string(name) + "' (expected " +
-                      std::string(backend_choices()) + ")");
+std::unique_ptr<Backend> make_brute_backend(const TriangleMesh& mesh, ThreadPool& /*pool*/,
+                                            const BackendConfig& /*config*/) {
+    return std::make_unique<QueryBackend<BruteForceTraverser, BackendKind::brute>>(
+        BruteForceTraverser{&mesh});
 }
 
-std::string_view to_string(BackendKind kind) {
-    switch (kind) {
-        case BackendKind::brute:
-            return "brute";
-        case BackendKind::kdtree:
-            return "kdtree";
-        case BackendKind::bvh:
-            return "bvh";
-        case BackendKind::embree:
-            return "embree";
-    }
-    return "?";
+std::unique_ptr<Backend> make_kdtree_backend(const TriangleMesh& mesh, ThreadPool& /*pool*/,
+                                             const BackendConfig& config) {
+    return std::make_unique<QueryBackend<KdTreeTraverser, BackendKind::kdtree>>(
+        KdTreeTraverser{&mesh, build_kdtree(mesh, config.kdtree)});
 }
 
-std::unique_ptr<Backend> make_backend(BackendKind kind, const TriangleMesh& mesh, ThreadPool& pool,
-                                      const BackendConfig& config) {
-    switch (kind) {
-        case BackendKind::brute:
-            return std::make_unique<detail::QueryBackend<BruteForceTraverser, BackendKind::brute>>(
-                BruteForceTraverser{&mesh});
-        case BackendKind::kdtree:
-            return std::make_unique<detail::QueryBackend<KdTreeTraverser, BackendKind::kdtree>>(
-                KdTreeTraverser{&mesh, build_kdtree(mesh, config.kdtree)});
-        case BackendKind::bvh:
-            return std::make_unique<detail::QueryBackend<BvhTraverser, BackendKind::bvh>>(
-                BvhTraverser{&mesh, build_bvh(mesh, config.bvh, pool)});
-        case BackendKind::embree:
-            return detail::make_embree_backend(mesh, pool);
-    }
-    throw ConfigError("unknown backend kind");
+std::unique_ptr<Backend> make_bvh_backend(const TriangleMesh& mesh, ThreadPool& pool,
+                                          const BackendConfig& config) {
+    return std::make_unique<QueryBackend<BvhTraverser, BackendKind::bvh>>(
+        BvhTraverser{&mesh, build_bvh(mesh, config.bvh, pool)});
 }
 
-std::unique_ptr<Backend> make_backend(BackendKind kind, const SceneGeometry& geometry,
-                                      ThreadPool& pool, const BackendConfig& config) {
-    if (geometry.is_single_mesh()) {
-        return make_backend(kind, geometry.meshes[geometry.instances[0].mesh], pool, config);
-    }
-    if (kind == BackendKind::embree) {
-        return detail::make_embree_backend(geometry, pool);
-    }
-    if (kind == BackendKind::bvh) {
-        return std::make_unique<detail::QueryBackend<TwoLevelTraverser, BackendKind::bvh>>(
-            build_two_level(geometry, config.bvh, pool));
-    }
-    // The oracle backends trace a flattened copy (face IDs are the same) and test the exact
-    // spheres one by one.
+std::unique_ptr<Backend> make_bvh_backend(const SceneGeometry& geometry, ThreadPool& pool,
+                                          const BackendConfig& config) {
+    return std::make_unique<QueryBackend<TwoLevelTraverser, BackendKind::bvh>>(
+        build_two_level(geometry, config.bvh, pool));
+}
+
+// The oracle backends trace a flattened copy (face IDs are the same) and test the exact spheres
+// one by one.
+std::unique_ptr<Backend> make_brute_backend(const SceneGeometry& geometry, ThreadPool& /*pool*/,
+                                            const BackendConfig& /*config*/) {
     auto flat = std::make_shared<const TriangleMesh>(geometry.flatten());
     const auto* spheres = geometry.spheres.empty() ? nullptr : &geometry.spheres;
-    if (kind == BackendKind::brute) {
-        return std::make_unique<detail::QueryBackend<BruteForceTraverser, BackendKind::brute>>(
-            BruteForceTraverser{flat.get(), spheres}, flat);
-    }
-    return std::make_unique<detail::QueryBackend<KdTreeTraverser, BackendKind::kdtree>>(
+    return std::make_unique<QueryBackend<BruteForceTraverser, BackendKind::brute>>(
+        BruteForceTraverser{flat.get(), spheres}, flat);
+}
+
+std::unique_ptr<Backend> make_kdtree_backend(const SceneGeometry& geometry, ThreadPool& /*pool*/,
+                                             const BackendConfig& config) {
+    auto flat = std::make_shared<const TriangleMesh>(geometry.flatten());
+    const auto* spheres = geometry.spheres.empty() ? nullptr : &geometry.spheres;
+    return std::make_unique<QueryBackend<KdTreeTraverser, BackendKind::kdtree>>(
         KdTreeTraverser{flat.get(), build_kdtree(*flat, config.kdtree), spheres}, flat);
 }
 
-}  // namespace beamtrace
+}  // namespace beamtrace::detail

@@ -4,39 +4,26 @@
 #include <cmath>
 #include <string>
 
-#include "beamtrace/core/error.hpp"
+#include "beamtrace/core/name_table.hpp"
 
 namespace beamtrace {
 
+namespace {
+
+constexpr NameTable<ColorMode, 4> kColorModes{"colour mode",
+                                              {{{ColorMode::height, "height"},
+                                                {ColorMode::rgb, "rgb"},
+                                                {ColorMode::intensity, "intensity"},
+                                                {ColorMode::classification, "classification"}}}};
+
+}  // namespace
+
 ColorMode parse_color_mode(std::string_view name) {
-    if (name == "height") {
-        return ColorMode::height;
-    }
-    if (name == "rgb") {
-        return ColorMode::rgb;
-    }
-    if (name == "intensity") {
-        return ColorMode::intensity;
-    }
-    if (name == "classification") {
-        return ColorMode::classification;
-    }
-    throw ConfigError("colour mode '" + std::string(name) +
-                      "' is not one of height, rgb, intensity, classification");
+    return kColorModes.parse(name);
 }
 
 std::string_view color_mode_name(ColorMode mode) {
-    switch (mode) {
-        case ColorMode::height:
-            return "height";
-        case ColorMode::rgb:
-            return "rgb";
-        case ColorMode::intensity:
-            return "intensity";
-        case ColorMode::classification:
-            return "classification";
-    }
-    return "height";
+    return kColorModes.to_string(mode);
 }
 
 Rgb8 height_ramp(double x) {

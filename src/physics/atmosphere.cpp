@@ -3,22 +3,23 @@
 #include <cmath>
 
 #include "beamtrace/core/error.hpp"
+#include "beamtrace/core/name_table.hpp"
 
 namespace beamtrace {
 
+namespace {
+
+constexpr NameTable<ExtinctionModel, 2> kExtinctionModels{
+    "extinction model", {{{ExtinctionModel::kim, "kim"}, {ExtinctionModel::kruse, "kruse"}}}};
+
+}  // namespace
+
 std::string_view to_string(ExtinctionModel model) {
-    return model == ExtinctionModel::kim ? "kim" : "kruse";
+    return kExtinctionModels.to_string(model);
 }
 
 ExtinctionModel parse_extinction_model(std::string_view name) {
-    if (name == "kim") {
-        return ExtinctionModel::kim;
-    }
-    if (name == "kruse") {
-        return ExtinctionModel::kruse;
-    }
-    throw ConfigError("unknown extinction model '" + std::string(name) +
-                      "' (expected kim or kruse)");
+    return kExtinctionModels.parse(name);
 }
 
 std::vector<std::string> AtmosphereConfig::validate() const {

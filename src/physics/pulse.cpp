@@ -5,32 +5,26 @@
 #include <cmath>
 
 #include "beamtrace/core/error.hpp"
+#include "beamtrace/core/name_table.hpp"
 
 namespace beamtrace {
 
+namespace {
+
+constexpr NameTable<ReturnMode, 4> kReturnModes{"return mode",
+                                                {{{ReturnMode::first, "first"},
+                                                  {ReturnMode::last, "last"},
+                                                  {ReturnMode::strongest, "strongest"},
+                                                  {ReturnMode::all, "all"}}}};
+
+}  // namespace
+
 std::string_view to_string(ReturnMode mode) {
-    switch (mode) {
-        case ReturnMode::first:
-            return "first";
-        case ReturnMode::last:
-            return "last";
-        case ReturnMode::strongest:
-            return "strongest";
-        case ReturnMode::all:
-            return "all";
-    }
-    return "all";
+    return kReturnModes.to_string(mode);
 }
 
 ReturnMode parse_return_mode(std::string_view name) {
-    for (const auto m :
-         {ReturnMode::first, ReturnMode::last, ReturnMode::strongest, ReturnMode::all}) {
-        if (name == to_string(m)) {
-            return m;
-        }
-    }
-    throw ConfigError("unknown return mode '" + std::string(name) +
-                      "' (expected first, last, strongest or all)");
+    return kReturnModes.parse(name);
 }
 
 std::vector<std::string> PhysicsConfig::validate() const {

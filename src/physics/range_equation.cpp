@@ -5,22 +5,24 @@
 #include <numbers>
 
 #include "beamtrace/core/error.hpp"
+#include "beamtrace/core/name_table.hpp"
 
 namespace beamtrace {
 
+namespace {
+
+constexpr NameTable<IntensityScale, 2> kIntensityScales{
+    "intensity scale",
+    {{{IntensityScale::linear, "linear"}, {IntensityScale::logarithmic, "logarithmic"}}}};
+
+}  // namespace
+
 std::string_view to_string(IntensityScale scale) {
-    return scale == IntensityScale::linear ? "linear" : "logarithmic";
+    return kIntensityScales.to_string(scale);
 }
 
 IntensityScale parse_intensity_scale(std::string_view name) {
-    if (name == "linear") {
-        return IntensityScale::linear;
-    }
-    if (name == "logarithmic") {
-        return IntensityScale::logarithmic;
-    }
-    throw ConfigError("unknown intensity scale '" + std::string(name) +
-                      "' (expected linear or logarithmic)");
+    return kIntensityScales.parse(name);
 }
 
 std::vector<std::string> RadiometryConfig::validate() const {

@@ -98,50 +98,33 @@ std::vector<std::filesystem::path> write_scan_sinks(const ScanJobConfig& config,
 
 /// The scan's rays, and the range image's width x height (0 x 0: none).
 RayBatch cast_scan_rays(const ScanJobConfig& config, int& width, int& height) {
-    RayBatch rays;
-    switch (config.pattern) {
-        case PatternKind::pinhole:
-            rays = cast_rays_pinhole(config.sensor);
-            width = config.sensor.width;
-            height = config.sensor.height;
-            break;
-        case PatternKind::scan:
-            rays = cast_rays_scan(config.sensor);
-            width = config.sensor.width;
-            height = config.sensor.height;
-            break;
-        case PatternKind::rays:
-            rays = read_rays_csv(config.rays_file);
-            if (config.image_width) {
-                width = *config.image_width;
-                height = *config.image_height;
-                if (static_cast<std::size_t>(width) * static_cast<std::size_t>(height) !=
-                    rays.size()) {
-                    throw ConfigError(config.rays_file.string() + ": has " +
-                                      std::to_string(rays.size()) +
-                                      " rays but --width x --height is " + std::to_string(width) +
-                                      " x " + std::to_string(height));
-                }
-            }
-            break;
+    StaticRays cast =
+        static_scan_pattern(config.pattern).static_rays({config.sensor, config.rays_file});
+    if (!cast.grid && config.image_width) {
+        cast.grid = ImageGrid{*config.image_width, *config.image_height};
+        if (static_cast<std::size_t>(cast.grid->width) *
+                static_cast<std::size_t>(cast.grid->height) !=
+            cast.rays.size()) {
+            throw ConfigError(config.rays_file.string() + ": has " +
+                              std::to_string(cast.rays.size()) + " rays but --width x --height is " +
+                              std::to_string(cast.grid->width) + " x " +
+                              std::to_string(cast.grid->height));
+        }
     }
-    return rays;
+    width = cast.grid ? cast.grid->width : 0;
+    height = cast.grid ? cast.grid->height : 0;
+    return std::move(cast.rays);
 }
 
 }  // namespace
 
-PatternKind parse_pattern_kind(std::string_view name) {
-    if (name == "pinhole") {
-        return PatternKind::pinhole;
-    }
-    if (name == "scan") {
-        return PatternKind::scan;
-    }
-    if (name == "rays") {
-        return PatternKind::rays;
-    }
-    throw ConfigError("unknown pattern '" + std::string(name) +
-                      "' (expected pinhole, scan or rays)");
+std::string parse_pattern_kind(std::string_view name) {
+    return std::string(static_scan_pattern(name).name);
+}
+
+bool ScanJobConfig::reads_rays_file() const {
+    const ScanPatternEntry* e = find_scan_pattern(pattern);
+    return e != nullptr && e->reads_rays_file;
 }
 
 std::vector<std::string> ScanJobConfig::validate() const {
@@ -155,20 +138,26 @@ std::vector<std::string> ScanJobConfig::validate() const {
     if (output_dir.empty()) {
         p.emplace_back("no output directory (--output DIR)");
     }
-    if (pattern == PatternKind::rays) {
+    const ScanPatternEntry* e = find_scan_pattern(pattern);
+    if (e == nullptr || e->static_rays == nullptr) {
+        p.emplace_back("unknown pattern '" + pattern + "' (expected " +
+                       static_scan_pattern_choices() + ")");
+        return p;
+    }
+    if (e->reads_rays_file) {
         if (rays_file.empty()) {
-            p.emplace_back("--pattern rays needs --rays FILE");
+            p.emplace_back("--pattern " + pattern + " needs --rays FILE");
         }
         if (image_width.has_value() != image_height.has_value()) {
             p.emplace_back("--width and --height go together");
         } else if (image_width && (*image_width < 1 || *image_height < 1)) {
             p.emplace_back("--width and --height must be at least 1");
         }
-    } else {
-        if (!rays_file.empty()) {
-            p.emplace_back("--rays needs --pattern rays");
-        }
-        for (auto& s : sensor.validate(pattern == PatternKind::scan)) {
+    } else if (!rays_file.empty()) {
+        p.emplace_back("--rays needs --pattern rays");
+    }
+    if (e->check_static != nullptr) {
+        for (auto& s : e->check_static({sensor, rays_file})) {
             p.push_back(std::move(s));
         }
     }

@@ -133,15 +133,7 @@ std::uint64_t stream_blocks(const BlockStages& stages, detail::SinkSet& sinks, s
 }  // namespace
 
 std::unique_ptr<ScanPattern> SurveySpec::make_pattern() const {
-    switch (scanner) {
-        case ScannerKind::rotating:
-            return std::make_unique<RotatingScanner>(rotating);
-        case ScannerKind::line:
-            return std::make_unique<LineScanner>(line);
-        case ScannerKind::image:
-            return std::make_unique<ImagePattern>(image);
-    }
-    throw ConfigError("unknown scanner kind");
+    return scanner.make_pattern();
 }
 
 std::unique_ptr<Trajectory> SurveySpec::make_trajectory() const {

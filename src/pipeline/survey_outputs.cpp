@@ -7,13 +7,6 @@
 
 namespace beamtrace::detail {
 
-std::optional<ImageGrid> survey_image_grid(const SurveySpec& spec) {
-    if (spec.scanner == ScannerKind::image && spec.image.frames == 1) {
-        return ImageGrid{spec.image.image.width, spec.image.image.height};
-    }
-    return std::nullopt;
-}
-
 std::optional<SampledTrajectory> survey_trajectory_samples(const SurveySpec& spec,
                                                            const ScanPattern& pattern,
                                                            const Trajectory& trajectory,
@@ -53,7 +46,7 @@ SinkFacts survey_sink_facts(const SurveySpec& spec, const SurveyRunConfig& run, 
     f.provenance = "# beamtrace " BEAMTRACE_VERSION " survey, seed " + std::to_string(run.seed) +
                    "\n" + spec.text;
     f.comment = "beamtrace survey " + spec.source.filename().string();
-    f.image = survey_image_grid(spec);
+    f.image = pattern.image_grid();
     if (sim != nullptr && sim->config().keep_waveform) {
         f.waveform =
             WaveformFacts{sim->config().waveform.bin_ns, sim->config().waveform.pulse_fwhm_ns};

@@ -6,6 +6,7 @@
 
 #include "beamtrace/io/point_sink_registry.hpp"
 #include "beamtrace/pipeline/survey.hpp"
+#include "beamtrace/sensor/scan_pattern_registry.hpp"
 #include "pipeline/detail/physics_yaml.hpp"
 #include "text/yaml_checker.hpp"
 
@@ -26,31 +27,36 @@ void positive(YamlChecker& c, const YAML::Node& n, const std::string& key, doubl
 }
 
 /// Each scanner type accepts its own keys only (a rotating scanner's scan_rate_hz is an error,
-/// not silently ignored); an unknown type's keys are checked against all types'.
-void check_scanner_keys(YamlChecker& c, const YAML::Node& n, const std::string& type) {
-    if (type == "rotating") {
-        c.only_keys(
-            n, "scanner",
-            {"type", "preset", "beam_elevations_deg", "rotation_rate_hz", "azimuth_resolution_deg",
-             "spin_clockwise", "duration_s", "range_min_m", "range_max_m"},
-            "a rotating scanner");
-    } else if (type == "line") {
-        c.only_keys(n, "scanner",
-                    {"type", "pulse_rate_hz", "scan_rate_hz", "scan_angle_max_deg", "waveform",
-                     "duration_s", "range_min_m", "range_max_m"},
-                    "a line scanner");
-    } else if (type == "pinhole" || type == "scan") {
-        c.only_keys(n, "scanner",
-                    {"type", "width", "height", "hfov_deg", "vfov_deg", "frames", "pulse_rate_hz",
-                     "range_min_m", "range_max_m"},
-                    "a " + type + " scanner");
-    } else {
-        c.only_keys(n, "scanner",
-                    {"type", "preset", "beam_elevations_deg", "rotation_rate_hz",
-                     "azimuth_resolution_deg", "spin_clockwise", "pulse_rate_hz", "scan_rate_hz",
-                     "scan_angle_max_deg", "waveform", "width", "height", "hfov_deg", "vfov_deg",
-                     "frames", "duration_s", "range_min_m", "range_max_m"});
+/// not silently ignored), plus the survey's type and range limits.
+void check_scanner_keys(YamlChecker& c, const YAML::Node& n, const ScanPatternEntry& type) {
+    std::vector<std::string_view> known{"type"};
+    known.insert(known.end(), type.keys.begin(), type.keys.end());
+    known.insert(known.end(), {"range_min_m", "range_max_m"});
+    for (const auto& kv : n) {
+        const auto name = kv.first.as<std::string>();
+        if (std::find(known.begin(), known.end(), name) != known.end()) {
+            continue;
+        }
+        std::string list;
+        for (const auto k : known) {
+            list += (list.empty() ? "" : ", ") + std::string(k);
+        }
+        c.error(kv.first, "scanner." + name,
+                "unknown key for a " + std::string(type.name) +
+                    " scanner (expected one of: " + list + ")");
     }
+}
+
+/// The type's own keys, through its registry entry (scan_pattern_registry.hpp).
+void parse_scanner_type(YamlChecker& c, const YAML::Node& n, SurveySpec& s) {
+    const std::string type = n["type"] && n["type"].IsScalar() ? n["type"].Scalar() : "";
+    const ScanPatternEntry* entry = find_scan_pattern(type);
+    if (entry == nullptr || entry->parse == nullptr) {
+        c.error(n["type"] ? n["type"] : n, "scanner.type", "expected " + survey_scanner_types());
+        return;
+    }
+    check_scanner_keys(c, n, *entry);
+    s.scanner = ScannerSpec(type, entry->parse(c, n));
 }
 
 void parse_scanner(YamlChecker& c, const YAML::Node& n, SurveySpec& s) {
@@ -58,101 +64,7 @@ void parse_scanner(YamlChecker& c, const YAML::Node& n, SurveySpec& s) {
         c.error(n ? n : YAML::Node(), "scanner", "expected a map with at least 'type'");
         return;
     }
-    const std::string type = n["type"] && n["type"].IsScalar() ? n["type"].Scalar() : "";
-    check_scanner_keys(c, n, type);
-    double duration = 0.0;
-    const bool has_duration =
-        n["duration_s"] && c.number(n["duration_s"], "scanner.duration_s", duration);
-    if (type == "rotating") {
-        s.scanner = ScannerKind::rotating;
-        if (const auto p = n["preset"]) {
-            const std::string name = p.IsScalar() ? p.Scalar() : "";
-            if (name == "vlp16") {
-                s.rotating = vlp16();
-            } else if (name == "hdl32") {
-                s.rotating = hdl32();
-            } else if (name == "hdl64") {
-                s.rotating = hdl64();
-            } else if (name == "os128") {
-                s.rotating = os128();
-            } else {
-                c.error(p, "scanner.preset",
-                        "unknown preset (expected vlp16, hdl32, hdl64, os128)");
-            }
-        }
-        if (const auto b = n["beam_elevations_deg"]) {
-            s.rotating.beam_elevations_deg.clear();
-            if (!b.IsSequence() || b.size() == 0) {
-                c.error(b, "scanner.beam_elevations_deg", "expected a list of angles");
-            } else {
-                for (std::size_t i = 0; i < b.size(); ++i) {
-                    double e = 0;
-                    if (c.number(b[i], "scanner.beam_elevations_deg[" + std::to_string(i) + "]",
-                                 e)) {
-                        s.rotating.beam_elevations_deg.push_back(e);
-                    }
-                }
-            }
-        }
-        positive(c, n["rotation_rate_hz"], "scanner.rotation_rate_hz", s.rotating.rotation_rate_hz);
-        positive(c, n["azimuth_resolution_deg"], "scanner.azimuth_resolution_deg",
-                 s.rotating.azimuth_resolution_deg);
-        if (const auto cw = n["spin_clockwise"]) {
-            c.boolean(cw, "scanner.spin_clockwise", s.rotating.spin_clockwise);
-        }
-        if (has_duration) {
-            s.rotating.duration_s = duration;
-        }
-        for (const auto& p : s.rotating.validate()) {
-            c.error(n, "scanner", p);
-        }
-    } else if (type == "line") {
-        s.scanner = ScannerKind::line;
-        positive(c, n["pulse_rate_hz"], "scanner.pulse_rate_hz", s.line.pulse_rate_hz);
-        positive(c, n["scan_rate_hz"], "scanner.scan_rate_hz", s.line.scan_rate_hz);
-        positive(c, n["scan_angle_max_deg"], "scanner.scan_angle_max_deg",
-                 s.line.scan_angle_max_deg);
-        if (const auto w = n["waveform"]) {
-            try {
-                s.line.waveform = parse_scan_waveform(w.IsScalar() ? w.Scalar() : "");
-            } catch (const ConfigError& e) {
-                c.error(w, "scanner.waveform", e.what());
-            }
-        }
-        if (has_duration) {
-            s.line.duration_s = duration;
-        }
-        for (const auto& p : s.line.validate()) {
-            c.error(n, "scanner", p);
-        }
-    } else if (type == "pinhole" || type == "scan") {
-        s.scanner = ScannerKind::image;
-        s.image.projection = type == "pinhole" ? ImageProjection::pinhole : ImageProjection::scan;
-        long v = 0;
-        if (n["width"] && c.integer(n["width"], "scanner.width", 1, 1 << 20, v)) {
-            s.image.image.width = static_cast<int>(v);
-        }
-        if (n["height"] && c.integer(n["height"], "scanner.height", 1, 1 << 16, v)) {
-            s.image.image.height = static_cast<int>(v);
-        }
-        if (n["frames"] && c.integer(n["frames"], "scanner.frames", 1, 1L << 30, v)) {
-            s.image.frames = static_cast<std::uint64_t>(v);
-        }
-        double deg = 0;
-        if (n["hfov_deg"] && c.number(n["hfov_deg"], "scanner.hfov_deg", deg)) {
-            s.image.image.hfov_rad = deg * kDeg;
-        }
-        if (n["vfov_deg"] && c.number(n["vfov_deg"], "scanner.vfov_deg", deg)) {
-            s.image.image.vfov_rad = deg * kDeg;
-        }
-        positive(c, n["pulse_rate_hz"], "scanner.pulse_rate_hz", s.image.pulse_rate_hz);
-        for (const auto& p : s.image.validate()) {
-            c.error(n, "scanner", p);
-        }
-    } else {
-        c.error(n["type"] ? n["type"] : n, "scanner.type",
-                "expected rotating, line, pinhole or scan");
-    }
+    parse_scanner_type(c, n, s);
     if (n["range_min_m"] && c.number(n["range_min_m"], "scanner.range_min_m", s.range_min_m) &&
         s.range_min_m < 0) {
         c.error(n["range_min_m"], "scanner.range_min_m", "must not be negative");

@@ -1,8 +1,12 @@
 #include "beamtrace/sensor/image_pattern.hpp"
 
+#include <array>
 #include <cmath>
 #include <numbers>
 #include <utility>
+
+#include "sensor/detail/scan_pattern_types.hpp"
+#include "sensor/detail/scanner_yaml.hpp"
 
 namespace beamtrace {
 
@@ -87,6 +91,76 @@ void ImagePattern::generate_pulses(std::uint64_t first, std::size_t count, Pulse
         out.channel[j] = static_cast<std::uint16_t>(v);
         out.scan_angle_deg[j] = column_angle_deg_[u];
     }
+}
+
+std::optional<ImageGrid> ImagePattern::image_grid() const {
+    if (config_.frames != 1) {
+        return std::nullopt;
+    }
+    return ImageGrid{config_.image.width, config_.image.height};
+}
+
+namespace {
+
+constexpr double kDeg = std::numbers::pi / 180.0;
+
+/// The keys of both projections (pinhole and scan share them).
+std::unique_ptr<ScannerSettings> parse_image(detail::YamlChecker& c, const YAML::Node& n,
+                                             ImageProjection projection) {
+    ImagePatternConfig s;
+    s.projection = projection;
+    long v = 0;
+    if (n["width"] && c.integer(n["width"], "scanner.width", 1, 1 << 20, v)) {
+        s.image.width = static_cast<int>(v);
+    }
+    if (n["height"] && c.integer(n["height"], "scanner.height", 1, 1 << 16, v)) {
+        s.image.height = static_cast<int>(v);
+    }
+    if (n["frames"] && c.integer(n["frames"], "scanner.frames", 1, 1L << 30, v)) {
+        s.frames = static_cast<std::uint64_t>(v);
+    }
+    double deg = 0;
+    if (n["hfov_deg"] && c.number(n["hfov_deg"], "scanner.hfov_deg", deg)) {
+        s.image.hfov_rad = deg * kDeg;
+    }
+    if (n["vfov_deg"] && c.number(n["vfov_deg"], "scanner.vfov_deg", deg)) {
+        s.image.vfov_rad = deg * kDeg;
+    }
+    detail::scanner_positive(c, n, "pulse_rate_hz", s.pulse_rate_hz);
+    detail::scanner_problems(c, n, s.validate());
+    return std::make_unique<SettingsOf<ImagePattern>>(std::move(s));
+}
+
+constexpr std::array<std::string_view, 6> kImageKeys{"width",    "height", "hfov_deg",
+                                                     "vfov_deg", "frames", "pulse_rate_hz"};
+
+StaticRays image_rays(const StaticScanInput& in, bool scanning) {
+    return {scanning ? cast_rays_scan(in.sensor) : cast_rays_pinhole(in.sensor),
+            ImageGrid{in.sensor.width, in.sensor.height}};
+}
+
+}  // namespace
+
+ScanPatternEntry detail::pinhole_pattern_entry() {
+    return {"pinhole",
+            "an image sensor: rays through a flat image plane (the report's castRaysPinhole)",
+            kImageKeys,
+            [](detail::YamlChecker& c, const YAML::Node& n) {
+                return parse_image(c, n, ImageProjection::pinhole);
+            },
+            [](const StaticScanInput& in) { return image_rays(in, false); },
+            [](const StaticScanInput& in) { return in.sensor.validate(false); }};
+}
+
+ScanPatternEntry detail::scan_pattern_entry() {
+    return {"scan",
+            "an image sensor: rows and columns evenly spaced in angle (the report's castRaysScan)",
+            kImageKeys,
+            [](detail::YamlChecker& c, const YAML::Node& n) {
+                return parse_image(c, n, ImageProjection::scan);
+            },
+            [](const StaticScanInput& in) { return image_rays(in, true); },
+            [](const StaticScanInput& in) { return in.sensor.validate(true); }};
 }
 
 }  // namespace beamtrace

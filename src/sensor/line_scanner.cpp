@@ -1,10 +1,14 @@
 #include "beamtrace/sensor/line_scanner.hpp"
 
+#include <array>
 #include <cmath>
 #include <numbers>
 #include <utility>
 
 #include "beamtrace/core/error.hpp"
+#include "beamtrace/core/name_table.hpp"
+#include "sensor/detail/scan_pattern_types.hpp"
+#include "sensor/detail/scanner_yaml.hpp"
 
 namespace beamtrace {
 namespace {
@@ -16,29 +20,19 @@ double frac(double x) {
     return x - std::floor(x);
 }
 
+constexpr NameTable<ScanWaveform, 3> kScanWaveforms{"scan waveform",
+                                                    {{{ScanWaveform::sawtooth, "sawtooth"},
+                                                      {ScanWaveform::sinusoid, "sinusoid"},
+                                                      {ScanWaveform::triangle, "triangle"}}}};
+
 }  // namespace
 
 std::string_view to_string(ScanWaveform waveform) {
-    switch (waveform) {
-        case ScanWaveform::sawtooth:
-            return "sawtooth";
-        case ScanWaveform::sinusoid:
-            return "sinusoid";
-        case ScanWaveform::triangle:
-            return "triangle";
-    }
-    return "unknown";
+    return kScanWaveforms.to_string(waveform);
 }
 
 ScanWaveform parse_scan_waveform(std::string_view name) {
-    for (const ScanWaveform w :
-         {ScanWaveform::sawtooth, ScanWaveform::sinusoid, ScanWaveform::triangle}) {
-        if (name == to_string(w)) {
-            return w;
-        }
-    }
-    throw ConfigError("unknown scan waveform '" + std::string(name) +
-                      "' (expected sawtooth, sinusoid or triangle)");
+    return kScanWaveforms.parse(name);
 }
 
 std::vector<std::string> LineScannerConfig::validate() const {
@@ -122,6 +116,40 @@ void LineScanner::generate_pulses(std::uint64_t first, std::size_t count, PulseB
         out.channel[j] = 0;
         out.scan_angle_deg[j] = static_cast<float>(s_deg);
     }
+}
+
+namespace {
+
+std::unique_ptr<ScannerSettings> parse_line(detail::YamlChecker& c, const YAML::Node& n) {
+    double duration = 0.0;
+    const bool has_duration =
+        n["duration_s"] && c.number(n["duration_s"], "scanner.duration_s", duration);
+    LineScannerConfig s;
+    detail::scanner_positive(c, n, "pulse_rate_hz", s.pulse_rate_hz);
+    detail::scanner_positive(c, n, "scan_rate_hz", s.scan_rate_hz);
+    detail::scanner_positive(c, n, "scan_angle_max_deg", s.scan_angle_max_deg);
+    if (const auto w = n["waveform"]) {
+        try {
+            s.waveform = parse_scan_waveform(w.IsScalar() ? w.Scalar() : "");
+        } catch (const ConfigError& e) {
+            c.error(w, "scanner.waveform", e.what());
+        }
+    }
+    if (has_duration) {
+        s.duration_s = duration;
+    }
+    detail::scanner_problems(c, n, s.validate());
+    return std::make_unique<SettingsOf<LineScanner>>(std::move(s));
+}
+
+constexpr std::array<std::string_view, 5> kLineKeys{"pulse_rate_hz", "scan_rate_hz",
+                                                    "scan_angle_max_deg", "waveform", "duration_s"};
+
+}  // namespace
+
+ScanPatternEntry detail::line_scanner_entry() {
+    return {"line", "an airborne line scanner: one beam swept across track by a mirror", kLineKeys,
+            parse_line};
 }
 
 }  // namespace beamtrace

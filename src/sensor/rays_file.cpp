@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "beamtrace/core/error.hpp"
+#include "sensor/detail/scan_pattern_types.hpp"
 #include "text/row_writer.hpp"
 
 namespace beamtrace {
@@ -274,6 +275,15 @@ void write_rays_csv(const std::filesystem::path& path, const RayBatch& rays) {
         rows.end_row(p);
     }
     rows.commit();
+}
+
+ScanPatternEntry detail::rays_file_entry() {
+    ScanPatternEntry e{"rays", "the rays of a CSV file (ox,oy,oz,dx,dy,dz per line)", {}};
+    e.static_rays = [](const StaticScanInput& in) {
+        return StaticRays{read_rays_csv(in.rays_file), std::nullopt};
+    };
+    e.reads_rays_file = true;
+    return e;
 }
 
 }  // namespace beamtrace

@@ -1,9 +1,14 @@
 #include "beamtrace/sensor/rotating_scanner.hpp"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <numbers>
 #include <utility>
+
+#include "sensor/detail/scan_pattern_types.hpp"
+#include "sensor/detail/scanner_yaml.hpp"
 
 namespace beamtrace {
 namespace {
@@ -187,6 +192,71 @@ void RotatingScanner::generate_pulses(std::uint64_t first, std::size_t count,
         out.channel[j] = static_cast<std::uint16_t>(b);
         out.scan_angle_deg[j] = static_cast<float>(az_deg);
     }
+}
+
+namespace {
+
+struct Preset {
+    std::string_view name;
+    RotatingScannerConfig (*make)();
+};
+constexpr std::array<Preset, 4> kPresets{
+    {{"vlp16", vlp16}, {"hdl32", hdl32}, {"hdl64", hdl64}, {"os128", os128}}};
+
+/// `preset` (replacing the whole config) and `beam_elevations_deg`.
+void parse_beams(detail::YamlChecker& c, const YAML::Node& n, RotatingScannerConfig& s) {
+    if (const auto p = n["preset"]) {
+        const std::string name = p.IsScalar() ? p.Scalar() : "";
+        const auto* it = std::find_if(kPresets.begin(), kPresets.end(),
+                                      [&](const Preset& q) { return q.name == name; });
+        if (it != kPresets.end()) {
+            s = it->make();
+        } else {
+            c.error(p, "scanner.preset", "unknown preset (expected vlp16, hdl32, hdl64, os128)");
+        }
+    }
+    if (const auto b = n["beam_elevations_deg"]) {
+        s.beam_elevations_deg.clear();
+        if (!b.IsSequence() || b.size() == 0) {
+            c.error(b, "scanner.beam_elevations_deg", "expected a list of angles");
+            return;
+        }
+        for (std::size_t i = 0; i < b.size(); ++i) {
+            double e = 0;
+            if (c.number(b[i], "scanner.beam_elevations_deg[" + std::to_string(i) + "]", e)) {
+                s.beam_elevations_deg.push_back(e);
+            }
+        }
+    }
+}
+
+std::unique_ptr<ScannerSettings> parse_rotating(detail::YamlChecker& c, const YAML::Node& n) {
+    double duration = 0.0;
+    const bool has_duration =
+        n["duration_s"] && c.number(n["duration_s"], "scanner.duration_s", duration);
+    RotatingScannerConfig s = vlp16();
+    parse_beams(c, n, s);
+    detail::scanner_positive(c, n, "rotation_rate_hz", s.rotation_rate_hz);
+    detail::scanner_positive(c, n, "azimuth_resolution_deg", s.azimuth_resolution_deg);
+    if (const auto cw = n["spin_clockwise"]) {
+        c.boolean(cw, "scanner.spin_clockwise", s.spin_clockwise);
+    }
+    if (has_duration) {
+        s.duration_s = duration;
+    }
+    detail::scanner_problems(c, n, s.validate());
+    return std::make_unique<SettingsOf<RotatingScanner>>(std::move(s));
+}
+
+constexpr std::array<std::string_view, 6> kRotatingKeys{
+    "preset",         "beam_elevations_deg", "rotation_rate_hz", "azimuth_resolution_deg",
+    "spin_clockwise", "duration_s"};
+
+}  // namespace
+
+ScanPatternEntry detail::rotating_scanner_entry() {
+    return {"rotating", "a spinning multi-beam head (Velodyne, Ouster, Hesai)", kRotatingKeys,
+            parse_rotating};
 }
 
 }  // namespace beamtrace

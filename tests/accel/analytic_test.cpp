@@ -103,11 +103,7 @@ TEST_P(Analytic, EmptySceneMissesEverything) {
 
 /// Every backend this build has: Embree, the default backend, too where it is built.
 std::vector<BackendKind> built_backends() {
-    std::vector<BackendKind> kinds{BackendKind::brute, BackendKind::kdtree, BackendKind::bvh};
-    if (embree_available()) {
-        kinds.push_back(BackendKind::embree);
-    }
-    return kinds;
+    return test::backends(true, false);
 }
 
 INSTANTIATE_TEST_SUITE_P(AllBackends, Analytic, ::testing::ValuesIn(built_backends()),

@@ -131,11 +131,12 @@ struct NamedBackend {
 std::vector<NamedBackend> accelerated_backends() {
     BackendConfig report;
     report.kdtree = KdTreeBuildConfig::report();
-    std::vector<NamedBackend> all{{BackendKind::kdtree, {}, "kdtree"},
-                                  {BackendKind::kdtree, report, "kdtree-report-rules"},
-                                  {BackendKind::bvh, {}, "bvh"}};
-    if (test::with_embree()) {
-        all.push_back({BackendKind::embree, {}, "embree"});
+    std::vector<NamedBackend> all;
+    for (const BackendKind kind : test::backends(false)) {
+        all.push_back({kind, {}, backend_entry(kind).name.data()});
+        if (kind == BackendKind::kdtree) {
+            all.push_back({kind, report, "kdtree-report-rules"});
+        }
     }
     return all;
 }
@@ -513,10 +514,7 @@ TEST(CrossCheck, AllHitsMatchBruteForceAndMollerTrumbore) {
     }
     AllHits ref;
     make_backend(BackendKind::brute, sphere, pool)->intersect_all(rays, Facing::both, ref, pool);
-    std::vector<BackendKind> kinds{BackendKind::kdtree, BackendKind::bvh};
-    if (test::with_embree()) {
-        kinds.push_back(BackendKind::embree);
-    }
+    const std::vector<BackendKind> kinds = test::backends(false);
     for (BackendKind kind : kinds) {
         for (Facing facing : {Facing::front, Facing::back, Facing::both}) {
             AllHits got;
@@ -553,10 +551,7 @@ TEST(CrossCheck, ResultsDoNotDependOnThreadCount) {
         rays.push_back(o, normalize(Vec3d{g(rng), g(rng), g(rng)} - o));
     }
     ThreadPool one(1), four(4);
-    std::vector<BackendKind> kinds{BackendKind::kdtree, BackendKind::bvh};
-    if (test::with_embree()) {
-        kinds.push_back(BackendKind::embree);
-    }
+    const std::vector<BackendKind> kinds = test::backends(false);
     for (BackendKind kind : kinds) {
         const HitBatch a = make_backend(kind, sphere, one)->intersect(rays, one);
         const HitBatch b = make_backend(kind, sphere, four)->intersect(rays, four);

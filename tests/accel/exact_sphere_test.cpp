@@ -17,11 +17,7 @@ namespace beamtrace {
 namespace {
 
 std::vector<BackendKind> all_kinds() {
-    std::vector<BackendKind> kinds{BackendKind::brute, BackendKind::kdtree, BackendKind::bvh};
-    if (test::with_embree()) {
-        kinds.push_back(BackendKind::embree);
-    }
-    return kinds;
+    return test::backends();
 }
 
 /// Instanced icospheres, a flat grid and exact spheres, interleaved so that sphere IDs fall

@@ -109,13 +109,11 @@ TEST(Instancing, TwoLevelBvhAgreesWithBruteForceOnTheFlattenedScene) {
     ThreadPool pool(2);
     const RayBatch rays = rays_at(g.bounds(), test::heavy_scale(20000), 7);
     const auto brute = make_backend(BackendKind::brute, g, pool);
-    const auto bvh = make_backend(BackendKind::bvh, g, pool);
-    const auto kd = make_backend(BackendKind::kdtree, g, pool);
-    std::vector<const Backend*> backends{bvh.get(), kd.get()};
-    std::unique_ptr<Backend> embree;
-    if (test::with_embree()) {
-        embree = make_backend(BackendKind::embree, g, pool);
-        backends.push_back(embree.get());
+    std::vector<std::unique_ptr<Backend>> owned;
+    std::vector<const Backend*> backends;
+    for (const BackendKind kind : test::backends(false)) {
+        owned.push_back(make_backend(kind, g, pool));
+        backends.push_back(owned.back().get());
     }
     const HitBatch oracle = brute->intersect(rays, pool);
     std::size_t hits = 0, per_instance[5] = {0, 0, 0, 0, 0};
@@ -144,14 +142,12 @@ TEST(Instancing, TwoLevelBvhAgreesWithBruteForceOnTheFlattenedScene) {
         EXPECT_GT(per_instance[k], 0u) << "instance " << k << " is never hit";
     }
     // Occlusion agrees.
-    std::vector<std::uint8_t> occ_brute, occ_bvh;
+    std::vector<std::uint8_t> occ_brute;
     brute->occluded(rays, 0, rays.size(), occ_brute, pool);
-    bvh->occluded(rays, 0, rays.size(), occ_bvh, pool);
-    EXPECT_EQ(occ_brute, occ_bvh);
-    if (embree) {
-        std::vector<std::uint8_t> occ_embree;
-        embree->occluded(rays, 0, rays.size(), occ_embree, pool);
-        EXPECT_EQ(occ_brute, occ_embree);
+    for (const auto* backend : backends) {
+        std::vector<std::uint8_t> occ;
+        backend->occluded(rays, 0, rays.size(), occ, pool);
+        EXPECT_EQ(occ_brute, occ) << to_string(backend->kind());
     }
 }
 
@@ -162,10 +158,7 @@ TEST(Instancing, AllHitsAndFacingSurviveMirroredPlacements) {
     const RayBatch rays = rays_at(g.bounds(), test::heavy_scale(4000), 11);
     const auto brute = make_backend(BackendKind::brute, g, pool);
     const auto bvh = make_backend(BackendKind::bvh, g, pool);
-    std::vector<BackendKind> kinds{BackendKind::bvh};
-    if (test::with_embree()) {
-        kinds.push_back(BackendKind::embree);
-    }
+    const std::vector<BackendKind> kinds = test::backends(false);
     for (const BackendKind kind : kinds) {
         const auto backend = make_backend(kind, g, pool);
         for (const Facing facing : {Facing::both, Facing::front, Facing::back}) {
@@ -234,10 +227,7 @@ TEST(Instancing, LargeArrayTracesLikeTheSingleMesh) {
         local.push_back({x, y, 10.0}, {0, 0, -1});
         copy.push_back(j * n + i);
     }
-    std::vector<BackendKind> kinds{BackendKind::bvh};
-    if (test::with_embree()) {
-        kinds.push_back(BackendKind::embree);
-    }
+    const std::vector<BackendKind> kinds = test::instancing_backends();
     const HitBatch hl = single->intersect(local, pool);
     for (const BackendKind kind : kinds) {
         const auto backend = kind == BackendKind::bvh ? nullptr : make_backend(kind, g, pool);

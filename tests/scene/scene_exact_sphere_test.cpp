@@ -56,8 +56,7 @@ TEST(SceneExactSphere, PartsGetOneFacePerCopyBetweenTriangleParts) {
     rays.push_back({20, 0, 50}, {0, 0, -1});   // the third copy of the row, top at z = 2: 48 m
     rays.push_back({5, 0, 50}, {0, 0, -1});    // between the copies: the plane at 50 m
     rays.push_back({0, 30, 50}, {0, 0, -1});   // the icosphere (a vertex at its top): 46 m
-    for (const BackendKind kind :
-         {BackendKind::brute, BackendKind::kdtree, BackendKind::bvh, default_backend_kind()}) {
+    for (const BackendKind kind : test::backends()) {
         const HitBatch h = make_backend(kind, s.geometry, pool)->intersect(rays, pool);
         const std::string k(to_string(kind));
         EXPECT_EQ(h.face[0], 2u) << k;

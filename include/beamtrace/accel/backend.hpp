@@ -20,8 +20,9 @@
 
 namespace beamtrace {
 
-/// `embree` exists in every build; make_backend and parse_backend_kind refuse it when beamtrace
-/// was built without Embree (see embree_available()).
+/// The backends of the registry (backend_registry.hpp), which names them, says whether this
+/// build has each and how to make it. `embree` exists in every build; make_backend and
+/// parse_backend_kind refuse it when beamtrace was built without Embree.
 enum class BackendKind : std::uint8_t { brute, kdtree, bvh, embree };
 
 /// True when this build has the Embree backend (BEAMTRACE_HAVE_EMBREE).
@@ -39,20 +40,32 @@ enum class BackendKind : std::uint8_t { brute, kdtree, bvh, embree };
     return embree_available() ? BackendKind::embree : BackendKind::bvh;
 }
 
-/// Help text for --backend options: the backends this build has.
-[[nodiscard]] constexpr const char* backend_choices() {
-    return embree_available() ? "bvh | kdtree | brute | embree" : "bvh | kdtree | brute";
-}
+/// Help text for --backend options: the backends this build has, "bvh | kdtree | brute | ...".
+[[nodiscard]] std::string backend_choices();
 
-/// "brute", "kdtree", "bvh" or "embree"; throws ConfigError otherwise, and for "embree" when
-/// beamtrace was built without Embree.
+/// A backend's name from the registry; throws ConfigError listing the built ones otherwise, and
+/// for a backend this build lacks (saying how to get it).
 [[nodiscard]] BackendKind parse_backend_kind(std::string_view name);
 [[nodiscard]] std::string_view to_string(BackendKind kind);
+
+/// How a backend likes to be fed (the pipeline sizes its batches from these, never from the
+/// backend's name).
+struct BackendTraits {
+    /// Rays per intersect() call that keeps it efficient: a CPU backend a few thousand, a GPU
+    /// one millions.
+    std::size_t preferred_batch_rays = 4096;
+    bool coherent_packets = false;  ///< traces neighbouring rays together (wants coherent order)
+    bool asynchronous = false;      ///< works best with batches in flight while others are written
+    /// Traces instanced meshes in place (two levels); false: traces a flattened copy of the scene.
+    bool instances_natively = false;
+};
 
 class Backend {
   public:
     virtual ~Backend() = default;
     [[nodiscard]] virtual BackendKind kind() const = 0;
+    /// The traits of this backend's registry entry.
+    [[nodiscard]] const BackendTraits& traits() const;
 
     /// Nearest hit of rays [begin, end) into `hits` (which must hold rays.size() slots). Ties in
     /// range go to the lowest face ID, so every backend gives the same face for the same ray.

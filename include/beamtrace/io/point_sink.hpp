@@ -15,6 +15,7 @@
 
 #include "beamtrace/core/vec3.hpp"
 #include "beamtrace/io/las_writer.hpp"
+#include "beamtrace/sensor/scan_pattern.hpp"
 #include "beamtrace/sensor/trajectory.hpp"
 
 namespace beamtrace {
@@ -52,12 +53,6 @@ struct PointBlock {
         waveforms.clear();
         samples.clear();
     }
-};
-
-/// Range/label image of an image scanner firing one frame: pulse u * height + v is pixel
-/// (row v, column u).
-struct ImageGrid {
-    int width = 0, height = 0;
 };
 
 /// What the waveform record's file header says.

@@ -13,18 +13,19 @@
 #include "beamtrace/pipeline/face_filter.hpp"
 #include "beamtrace/scene/scene.hpp"
 #include "beamtrace/sensor/image_sensor.hpp"
+#include "beamtrace/sensor/scan_pattern_registry.hpp"
 
 namespace beamtrace {
 
-enum class PatternKind : std::uint8_t { pinhole, scan, rays };
-
-/// "pinhole", "scan" or "rays"; throws ConfigError otherwise.
-[[nodiscard]] PatternKind parse_pattern_kind(std::string_view name);
+/// A `beamtrace scan` pattern of the scan pattern registry ("pinhole", "scan" or "rays", see
+/// static_scan_pattern_choices()): returns the name; throws ConfigError listing them otherwise.
+[[nodiscard]] std::string parse_pattern_kind(std::string_view name);
 
 struct ScanJobConfig {
     std::vector<std::filesystem::path> meshes;  ///< OBJ/PLY/STL files, concatenated in order
     bool demo = false;                          ///< use the embedded demo scene instead
-    PatternKind pattern = PatternKind::pinhole;
+    /// A registry pattern offered by scan (scan_pattern_registry.hpp).
+    std::string pattern = "pinhole";
     ImageSensorConfig sensor;         ///< for pinhole and scan
     std::filesystem::path rays_file;  ///< for rays: CSV ox,oy,oz,dx,dy,dz
     /// For rays: write range images of this width x height (must equal the ray count).
@@ -37,6 +38,9 @@ struct ScanJobConfig {
 
     /// Every problem at once; empty when valid.
     [[nodiscard]] std::vector<std::string> validate() const;
+    /// Whether `pattern` reads its rays from rays_file (rays) rather than casting them from
+    /// `sensor`; false for an unknown pattern.
+    [[nodiscard]] bool reads_rays_file() const;
 };
 
 struct ScanResult {

@@ -18,21 +18,20 @@
 #include "beamtrace/sensor/image_pattern.hpp"
 #include "beamtrace/sensor/line_scanner.hpp"
 #include "beamtrace/sensor/rotating_scanner.hpp"
+#include "beamtrace/sensor/scan_pattern_registry.hpp"
 #include "beamtrace/sensor/trajectory.hpp"
 
 namespace beamtrace {
 
-enum class ScannerKind : std::uint8_t { rotating, line, image };
 enum class PlatformKind : std::uint8_t { fixed, legs, trajectory };
 
 /// Everything a survey file says. Parsed by load_survey_spec (see docs/survey.md).
 struct SurveySpec {
     std::filesystem::path source;      ///< the survey file
     std::filesystem::path scene_file;  ///< empty: the embedded demo scene
-    ScannerKind scanner = ScannerKind::rotating;
-    RotatingScannerConfig rotating = vlp16();
-    LineScannerConfig line;
-    ImagePatternConfig image;
+    /// The scanner: a type of the scan pattern registry and its settings (a value: SurveySpec
+    /// stays copyable). Default: a rotating VLP-16, one revolution.
+    ScannerSpec scanner;
     double range_min_m = 0.0;  ///< closer hits are not recorded
     double range_max_m = std::numeric_limits<double>::infinity();
     PlatformKind platform = PlatformKind::fixed;

@@ -18,6 +18,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -27,6 +28,7 @@
 
 namespace beamtrace {
 
+/// The two projections, which are the scan pattern registry's "pinhole" and "scan" types.
 enum class ImageProjection { pinhole, scan };
 
 struct ImagePatternConfig {
@@ -43,6 +45,8 @@ struct ImagePatternConfig {
 
 class ImagePattern final : public ScanPattern {
   public:
+    using Config = ImagePatternConfig;
+
     /// Throws ConfigError listing every problem of `config`.
     explicit ImagePattern(ImagePatternConfig config);
 
@@ -51,6 +55,8 @@ class ImagePattern final : public ScanPattern {
     [[nodiscard]] double start_time_s() const override { return config_.start_time_s; }
     [[nodiscard]] const ImagePatternConfig& config() const { return config_; }
     [[nodiscard]] std::uint64_t pixels_per_frame() const { return pixels_; }
+    /// width x height when the pattern fires a single frame.
+    [[nodiscard]] std::optional<ImageGrid> image_grid() const override;
 
   private:
     void generate_pulses(std::uint64_t first, std::size_t count, PulseBatch& out) const override;

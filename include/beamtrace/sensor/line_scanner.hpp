@@ -52,6 +52,8 @@ struct LineScannerConfig {
 
 class LineScanner final : public ScanPattern {
   public:
+    using Config = LineScannerConfig;
+
     /// Throws ConfigError listing every problem of `config`.
     explicit LineScanner(LineScannerConfig config);
 

@@ -64,6 +64,8 @@ struct RotatingScannerConfig {
 
 class RotatingScanner final : public ScanPattern {
   public:
+    using Config = RotatingScannerConfig;
+
     /// Throws ConfigError listing every problem of `config`.
     explicit RotatingScanner(RotatingScannerConfig config);
 

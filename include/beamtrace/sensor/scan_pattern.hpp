@@ -8,6 +8,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -40,6 +41,14 @@ struct PulseBatch {
     void clear() { resize(0); }
 };
 
+/// The image a pattern's pulses form: pulse u * height + v is pixel row v, column u (the
+/// report's ray order, image_sensor.hpp).
+struct ImageGrid {
+    int width = 0;
+    int height = 0;
+    friend bool operator==(const ImageGrid&, const ImageGrid&) = default;
+};
+
 /// The pulses of a whole survey, in firing order.
 class ScanPattern {
   public:
@@ -63,6 +72,10 @@ class ScanPattern {
     }
     /// The end of the survey: start_time_s() + pulse_count() / pulse_rate_hz().
     [[nodiscard]] double end_time_s() const { return pulse_time_s(pulse_count()); }
+
+    /// The image grid of the pulses when they form one image (an image pattern firing a single
+    /// frame): the survey then writes range and label images. nullopt for every other pattern.
+    [[nodiscard]] virtual std::optional<ImageGrid> image_grid() const { return std::nullopt; }
 
     /// Fills `out` (resized to `count`) with pulses [first, first + count). Throws
     /// std::out_of_range when that goes past pulse_count().

@@ -13,9 +13,6 @@
 
 namespace beamtrace::detail {
 
-/// The range/label image grid when the scanner is an image scanner firing one frame.
-[[nodiscard]] std::optional<ImageGrid> survey_image_grid(const SurveySpec& spec);
-
 /// The platform over the survey window in world coordinates, at output.trajectory_rate_hz;
 /// nullopt when the rate is 0 or there are no pulses.
 [[nodiscard]] std::optional<SampledTrajectory> survey_trajectory_samples(
