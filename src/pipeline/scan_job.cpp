@@ -5,8 +5,10 @@
 #include <system_error>
 
 #include "beamtrace/core/error.hpp"
+#include "beamtrace/core/name_table.hpp"
 #include "beamtrace/io/hits_csv.hpp"
 #include "beamtrace/io/point_sink_registry.hpp"
+#include "beamtrace/pipeline/demo_sensor.hpp"
 #include "beamtrace/scene/demo_scene.hpp"
 #include "beamtrace/sensor/rays_file.hpp"
 
@@ -105,10 +107,10 @@ RayBatch cast_scan_rays(const ScanJobConfig& config, int& width, int& height) {
         if (static_cast<std::size_t>(cast.grid->width) *
                 static_cast<std::size_t>(cast.grid->height) !=
             cast.rays.size()) {
-            throw ConfigError(config.rays_file.string() + ": has " +
-                              std::to_string(cast.rays.size()) + " rays but --width x --height is " +
-                              std::to_string(cast.grid->width) + " x " +
-                              std::to_string(cast.grid->height));
+            throw ConfigError(
+                config.rays_file.string() + ": has " + std::to_string(cast.rays.size()) +
+                " rays but --width x --height is " + std::to_string(cast.grid->width) + " x " +
+                std::to_string(cast.grid->height));
         }
     }
     width = cast.grid ? cast.grid->width : 0;
@@ -120,6 +122,32 @@ RayBatch cast_scan_rays(const ScanJobConfig& config, int& width, int& height) {
 
 std::string parse_pattern_kind(std::string_view name) {
     return std::string(static_scan_pattern(name).name);
+}
+
+KdTreeBuildConfig parse_kdtree_rules(std::string_view name) {
+    static constexpr NameTable<KdSplitRule, 2> kRules{
+        "k-d tree rule set", {{{KdSplitRule::sah, "sah"}, {KdSplitRule::report, "report"}}}};
+    return kRules.parse(name) == KdSplitRule::report ? KdTreeBuildConfig::report()
+                                                     : KdTreeBuildConfig{};
+}
+
+void ScanJobConfig::apply(const ScanSensorOptions& o) {
+    if (demo) {
+        sensor = demo_sensor();
+    }
+    sensor.position_m = o.position_m.value_or(sensor.position_m);
+    if (o.orientation_rad) {
+        sensor.orientation = {o.orientation_rad->x, o.orientation_rad->y, o.orientation_rad->z};
+    }
+    if (reads_rays_file()) {
+        image_width = o.width;
+        image_height = o.height;
+    } else {
+        sensor.width = o.width.value_or(sensor.width);
+        sensor.height = o.height.value_or(sensor.height);
+    }
+    sensor.hfov_rad = o.hfov_rad.value_or(sensor.hfov_rad);
+    sensor.vfov_rad = o.vfov_rad.value_or(sensor.vfov_rad);
 }
 
 bool ScanJobConfig::reads_rays_file() const {

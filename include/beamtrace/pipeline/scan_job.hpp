@@ -21,6 +21,21 @@ namespace beamtrace {
 /// static_scan_pattern_choices()): returns the name; throws ConfigError listing them otherwise.
 [[nodiscard]] std::string parse_pattern_kind(std::string_view name);
 
+/// The sensor options of `beamtrace scan`, each applied only when given, over the sensor the
+/// scan starts from: ImageSensorConfig's defaults, or the demo scene's (demo_sensor()) with
+/// `demo`. See ScanJobConfig::apply.
+struct ScanSensorOptions {
+    std::optional<Vec3d> position_m;
+    std::optional<Vec3d> orientation_rad;  ///< roll, pitch, yaw
+    /// Pixels; for a rays file, the size of its range images (width x height = ray count).
+    std::optional<int> width, height;
+    std::optional<double> hfov_rad, vfov_rad;
+};
+
+/// "sah" (binned SAH, the default) or "report" (the ladar report's rules): the k-d tree's build
+/// settings; throws ConfigError listing the two otherwise.
+[[nodiscard]] KdTreeBuildConfig parse_kdtree_rules(std::string_view name);
+
 struct ScanJobConfig {
     std::vector<std::filesystem::path> meshes;  ///< OBJ/PLY/STL files, concatenated in order
     bool demo = false;                          ///< use the embedded demo scene instead
@@ -36,6 +51,9 @@ struct ScanJobConfig {
     std::filesystem::path output_dir;
     std::vector<FaceRange> exclude_faces;  ///< hits on these faces are left out of points.ply
 
+    /// Sets `sensor` (from the demo's sensor when `demo`), or for a rays file the image size,
+    /// from the options given. Call after `demo` and `pattern` are set.
+    void apply(const ScanSensorOptions& options);
     /// Every problem at once; empty when valid.
     [[nodiscard]] std::vector<std::string> validate() const;
     /// Whether `pattern` reads its rays from rays_file (rays) rather than casting them from
