@@ -4,6 +4,8 @@
 #include <numbers>
 #include <string>
 
+#include "text/quote.hpp"
+
 namespace beamtrace::detail {
 namespace {
 
@@ -31,7 +33,8 @@ void choice(YamlChecker& c, const YAML::Node& n, const std::string& prefix, cons
             Parse parse) {
     if (const auto f = n[key]) {
         try {
-            out = parse(f.IsScalar() ? f.Scalar() : std::string());
+            // A name longer than the quote limit matches none: the error quotes it clipped.
+            out = parse(f.IsScalar() ? clip_value(f.Scalar()) : std::string());
         } catch (const ConfigError& e) {
             c.error(f, prefix + key, e.what());
         }

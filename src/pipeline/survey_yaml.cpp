@@ -1,8 +1,6 @@
 // Survey files in YAML (docs/survey.md): every problem is collected and reported at once.
 #include <algorithm>
-#include <fstream>
 #include <numbers>
-#include <sstream>
 
 #include "beamtrace/io/point_sink_registry.hpp"
 #include "beamtrace/pipeline/survey.hpp"
@@ -32,19 +30,7 @@ void check_scanner_keys(YamlChecker& c, const YAML::Node& n, const ScanPatternEn
     std::vector<std::string_view> known{"type"};
     known.insert(known.end(), type.keys.begin(), type.keys.end());
     known.insert(known.end(), {"range_min_m", "range_max_m"});
-    for (const auto& kv : n) {
-        const auto name = kv.first.as<std::string>();
-        if (std::find(known.begin(), known.end(), name) != known.end()) {
-            continue;
-        }
-        std::string list;
-        for (const auto k : known) {
-            list += (list.empty() ? "" : ", ") + std::string(k);
-        }
-        c.error(kv.first, "scanner." + name,
-                "unknown key for a " + std::string(type.name) +
-                    " scanner (expected one of: " + list + ")");
-    }
+    c.only_keys_of(n, "scanner", known, "a " + std::string(type.name) + " scanner");
 }
 
 /// The type's own keys, through its registry entry (scan_pattern_registry.hpp).
@@ -129,34 +115,45 @@ void parse_platform(YamlChecker& c, const YAML::Node& n, SurveySpec& s) {
             c.error(f ? f : n, "platform.file", "expected a trajectory CSV file name");
         } else {
             s.trajectory_file = s.source.parent_path() / f.Scalar();
-            if (!std::filesystem::exists(s.trajectory_file)) {
-                c.error(f, "platform.file", "file not found: " + s.trajectory_file.string());
-            }
+            c.existing_file(f, "platform.file", s.trajectory_file);
         }
     } else {
         c.error(n["type"] ? n["type"] : n, "platform.type", "expected static, legs or trajectory");
     }
 }
 
+/// The `mount:` block: the scanner's lever arm and boresight on the platform.
+void parse_mount(YamlChecker& c, const YAML::Node& m, SurveySpec& s) {
+    if (!m.IsMap()) {
+        c.error(m, "mount", "expected a map with lever_arm_m, boresight_deg");
+        return;
+    }
+    c.only_keys(m, "mount", {"lever_arm_m", "boresight_deg"});
+    Vec3d arm, bore;
+    if (m["lever_arm_m"]) {
+        c.vec3(m["lever_arm_m"], "mount.lever_arm_m", arm);
+    }
+    if (m["boresight_deg"]) {
+        c.vec3(m["boresight_deg"], "mount.boresight_deg", bore);
+    }
+    s.mount = Mount::from_lever_arm(arm, rpy_deg(bore));
+}
+
 /// The `output:` block: the LAS point format, the trajectory rate, and one `<key>: true|false`
 /// per switchable sink of the registry.
 void parse_output(YamlChecker& c, const YAML::Node& o, SurveySpec& s) {
+    if (!o.IsMap()) {
+        c.error(o, "output",
+                "expected a map (point_format, trajectory_rate_hz, a switch per sink)");
+        return;
+    }
     std::vector<std::string> known{"point_format", "trajectory_rate_hz"};
     for (const SinkEntry& e : point_sinks()) {
         if (!e.key.empty()) {
             known.emplace_back(e.key);
         }
     }
-    for (const auto& kv : o) {
-        const auto name = kv.first.as<std::string>();
-        if (std::find(known.begin(), known.end(), name) == known.end()) {
-            std::string list;
-            for (const auto& k : known) {
-                list += (list.empty() ? "" : ", ") + k;
-            }
-            c.error(kv.first, "output." + name, "unknown key (expected one of: " + list + ")");
-        }
-    }
+    c.only_keys_of(o, "output", known);
     long pf = 0;
     if (o["point_format"] && c.integer(o["point_format"], "output.point_format", 6, 8, pf)) {
         s.point_format = static_cast<int>(pf);
@@ -195,9 +192,7 @@ SurveySpec parse_survey_spec(const std::string& yaml_text, const std::filesystem
             c.error(sc, "scene", "expected a scene file name or 'demo'");
         } else if (sc.Scalar() != "demo") {
             s.scene_file = source.parent_path() / sc.Scalar();
-            if (!std::filesystem::exists(s.scene_file)) {
-                c.error(sc, "scene", "file not found: " + s.scene_file.string());
-            }
+            c.existing_file(sc, "scene", s.scene_file);
         }
     } else {
         c.error(root, "scene", "missing (a scene file name, or 'demo')");
@@ -205,15 +200,7 @@ SurveySpec parse_survey_spec(const std::string& yaml_text, const std::filesystem
     parse_scanner(c, root["scanner"], s);
     parse_platform(c, root["platform"], s);
     if (const auto m = root["mount"]) {
-        c.only_keys(m, "mount", {"lever_arm_m", "boresight_deg"});
-        Vec3d arm, bore;
-        if (m["lever_arm_m"]) {
-            c.vec3(m["lever_arm_m"], "mount.lever_arm_m", arm);
-        }
-        if (m["boresight_deg"]) {
-            c.vec3(m["boresight_deg"], "mount.boresight_deg", bore);
-        }
-        s.mount = Mount::from_lever_arm(arm, rpy_deg(bore));
+        parse_mount(c, m, s);
     }
     if (const auto o = root["output"]) {
         parse_output(c, o, s);

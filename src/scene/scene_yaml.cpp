@@ -1,20 +1,26 @@
 // Scene files in YAML: every problem is collected (file, line, key) and reported at once.
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <cmath>
-#include <fstream>
+#include <cstdint>
 #include <numbers>
 #include <set>
 #include <sstream>
 
 #include "beamtrace/core/error.hpp"
 #include "beamtrace/scene/scene_spec.hpp"
+#include "text/quote.hpp"
 #include "text/yaml_checker.hpp"
 
 namespace beamtrace {
 namespace {
 
 using Checker = detail::YamlChecker;
+
+/// The most copies one part's `array` may make (docs/scene-file.md): each copy stores a
+/// transform and, for a sphere, its own primitive, so 10^6 copies take ~100 MB.
+constexpr long kMaxArrayCopies = 1000000;
 
 void parse_transform(Checker& c, const YAML::Node& n, const std::string& key, PartTransform& t) {
     if (!n.IsMap()) {
@@ -55,11 +61,14 @@ void parse_array(Checker& c, const YAML::Node& n, const std::string& key, PartAr
         if (!cn.IsSequence() || cn.size() != 3) {
             c.error(cn, key + ".count", "expected [nx, ny, nz]");
         } else {
+            bool ok = true;
             for (std::size_t i = 0; i < 3; ++i) {
-                c.integer(cn[i], key + ".count", 1, 1000000, a.count[i]);
+                ok = c.integer(cn[i], key + ".count", 1, kMaxArrayCopies, a.count[i]) && ok;
             }
-            if (a.copies() > 100000000) {
-                c.error(cn, key + ".count", "more than 10^8 copies");
+            if (ok && a.copies() > static_cast<std::uint64_t>(kMaxArrayCopies)) {
+                c.error(cn, key + ".count",
+                        std::to_string(a.copies()) + " copies, more than the limit of " +
+                            std::to_string(kMaxArrayCopies) + " copies of a part");
             }
         }
     } else {
@@ -67,6 +76,23 @@ void parse_array(Checker& c, const YAML::Node& n, const std::string& key, PartAr
     }
     if (n["step_m"]) {
         c.vec3(n["step_m"], key + ".step_m", a.step_m);
+    }
+}
+
+/// The copies of all parts together stay within kMaxArrayCopies (each part's own count is
+/// checked by parse_array).
+void check_total_copies(Checker& c, const YAML::Node& parts, const SceneSpec& spec) {
+    std::uint64_t total = 0;
+    for (const PartSpec& p : spec.parts) {
+        if (p.array.copies() > static_cast<std::uint64_t>(kMaxArrayCopies)) {
+            return;  // reported for the part
+        }
+        total += p.array.copies();
+    }
+    if (total > static_cast<std::uint64_t>(kMaxArrayCopies)) {
+        c.error(parts, "parts",
+                std::to_string(total) + " copies of parts in all, more than the limit of " +
+                    std::to_string(kMaxArrayCopies) + " copies in a scene");
     }
 }
 
@@ -91,9 +117,7 @@ void parse_part(Checker& c, const YAML::Node& n, std::size_t index, SceneSpec& s
                 c.error(f, key + "." + k, "expected a file name");
             } else {
                 p.file = dir / f.Scalar();
-                if (!std::filesystem::exists(p.file)) {
-                    c.error(f, key + "." + k, "file not found: " + p.file.string());
-                }
+                c.existing_file(f, key + "." + k, p.file);
             }
         }
     }
@@ -172,7 +196,7 @@ void parse_part(Checker& c, const YAML::Node& n, std::size_t index, SceneSpec& s
     if (const auto m = n["material"]) {
         p.material = m.IsScalar() ? m.Scalar() : "";
         if (spec.find_material(p.material) == nullptr) {
-            c.error(m, key + ".material", "unknown material '" + p.material + "'");
+            c.error(m, key + ".material", "unknown material " + detail::quote_value(p.material));
         }
     }
     long v = 0;
@@ -239,7 +263,7 @@ void parse_material(Checker& c, const YAML::Node& n, std::size_t index, SceneSpe
     } else {
         m.name = n["name"].Scalar();
         if (!names.insert(m.name).second) {
-            c.error(n["name"], key + ".name", "duplicate material '" + m.name + "'");
+            c.error(n["name"], key + ".name", "duplicate material " + detail::quote_value(m.name));
         }
     }
     const auto unit = [&](const char* k, double& out) {
@@ -328,6 +352,7 @@ SceneSpec parse_scene_spec(const std::string& yaml_text, const std::filesystem::
         for (std::size_t i = 0; i < ps.size(); ++i) {
             parse_part(c, ps[i], i, spec);
         }
+        check_total_copies(c, ps, spec);
     }
     c.throw_if_any("scene file");
     return spec;

@@ -9,6 +9,7 @@
 #include "beamtrace/core/name_table.hpp"
 #include "sensor/detail/scan_pattern_types.hpp"
 #include "sensor/detail/scanner_yaml.hpp"
+#include "text/quote.hpp"
 
 namespace beamtrace {
 namespace {
@@ -130,7 +131,8 @@ std::unique_ptr<ScannerSettings> parse_line(detail::YamlChecker& c, const YAML::
     detail::scanner_positive(c, n, "scan_angle_max_deg", s.scan_angle_max_deg);
     if (const auto w = n["waveform"]) {
         try {
-            s.waveform = parse_scan_waveform(w.IsScalar() ? w.Scalar() : "");
+            // A name longer than the quote limit matches none, so the error quotes it clipped.
+            s.waveform = parse_scan_waveform(w.IsScalar() ? detail::clip_value(w.Scalar()) : "");
         } catch (const ConfigError& e) {
             c.error(w, "scanner.waveform", e.what());
         }

@@ -24,12 +24,14 @@ namespace {
 
 constexpr std::size_t kFields = 6;
 constexpr std::string_view kHeader = "ox,oy,oz,dx,dy,dz";
+/// The read buffer, which is also the longest line a rays file may have (docs/survey.md).
 constexpr std::size_t kChunkBytes = std::size_t{1} << 20;
 constexpr std::size_t kMaxRowBytes =
     std::size_t{6} * 25;  // shortest doubles are at most 24 characters
 
 /// Reads a file line by line through one reused buffer, so that memory stays small however
-/// large the file is. Lines exclude the '\n'.
+/// large the file is. Lines exclude the '\n'; one longer than the buffer (kChunkBytes) is an
+/// error, so that a file without line ends (/dev/zero) is refused with little memory.
 class LineReader {
   public:
     explicit LineReader(const std::filesystem::path& path)
@@ -72,7 +74,9 @@ class LineReader {
         end_ -= begin_;
         begin_ = 0;
         if (end_ == buffer_.size()) {
-            buffer_.resize(2 * buffer_.size());  // a line longer than the buffer
+            throw InputError(path_, line_ + 1,
+                             "line longer than " + std::to_string(buffer_.size() >> 20) +
+                                 " MiB, the limit for a line of a rays file");
         }
         const std::size_t wanted = buffer_.size() - end_;
         const std::size_t got = std::fread(buffer_.data() + end_, 1, wanted, file_);

@@ -19,6 +19,8 @@ namespace {
 constexpr std::array<std::string_view, 7> kColumns = {"time_s", "x",     "y",  "z",
                                                       "roll",   "pitch", "yaw"};
 constexpr std::string_view kHeader = "time_s,x,y,z,roll,pitch,yaw";
+/// The largest trajectory CSV file read (docs/survey.md): 512 MiB, some 6 million samples.
+constexpr std::size_t kMaxFileBytes = std::size_t{512} << 20;
 
 [[nodiscard]] double time_tolerance_s(double t) {
     return 1e-9 * std::max(1.0, std::abs(t));
@@ -269,7 +271,7 @@ RollPitchYaw to_rpy(const Quat& attitude) {
 
 SampledTrajectory read_trajectory_csv(const std::filesystem::path& path) {
     const std::string file = path.string();
-    const std::string bytes = detail::read_file_bytes(path);
+    const std::string bytes = detail::read_bounded_file(path, "trajectory file", kMaxFileBytes);
     std::string_view text = bytes;
     std::vector<TrajectorySample> samples;
     bool have_header = false;

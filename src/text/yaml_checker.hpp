@@ -5,14 +5,16 @@
 
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <initializer_list>
-#include <sstream>
 #include <string>
+#include <string_view>
+#include <system_error>
 #include <vector>
 
 #include "beamtrace/core/error.hpp"
 #include "beamtrace/core/vec3.hpp"
+#include "text/file_bytes.hpp"
+#include "text/quote.hpp"
 
 namespace beamtrace::detail {
 
@@ -29,27 +31,65 @@ class YamlChecker {
     }
     [[nodiscard]] const std::vector<std::string>& errors() const { return errors_; }
 
-    /// Complains about keys of `map` that are not in `known`.
-    /// Reports every key of `map` not in `known`; `owner` (e.g. "a rotating scanner"), when
-    /// given, says whose keys these are.
-    void only_keys(const YAML::Node& map, const std::string& key,
-                   std::initializer_list<const char*> known, const std::string& owner = {}) {
+    /// Reports every key of `map` not in `known` (and every key that is not a name, such as a
+    /// list); `owner` (e.g. "a rotating scanner"), when given, says whose keys these are. Keys
+    /// are quoted clipped (quote.hpp). Does nothing when `map` is not a map (its parser says so).
+    template <typename Names>
+    void only_keys_of(const YAML::Node& map, const std::string& key, const Names& known,
+                      const std::string& owner = {}) {
+        if (!map.IsMap()) {
+            return;
+        }
+        const std::string prefix = key.empty() ? "" : key + ".";
         for (const auto& kv : map) {
-            const auto name = kv.first.as<std::string>();
+            if (!kv.first.IsScalar()) {
+                error(
+                    kv.first, key.empty() ? "key" : key,
+                    "a key must be a name, not a " + std::string(kv.first.IsMap()        ? "map"
+                                                                 : kv.first.IsSequence() ? "list"
+                                                                                         : "null"));
+                continue;
+            }
+            const std::string& name = kv.first.Scalar();
             bool ok = false;
-            for (const char* k : known) {
-                ok = ok || name == k;
+            for (const auto& k : known) {
+                ok = ok || name == std::string_view(k);
             }
             if (!ok) {
                 std::string list;
-                for (const char* k : known) {
+                for (const auto& k : known) {
                     list += (list.empty() ? "" : ", ") + std::string(k);
                 }
-                error(kv.first, key.empty() ? name : key + "." + name,
+                error(kv.first, prefix + clip_value(name),
                       "unknown key" + (owner.empty() ? "" : " for " + owner) +
                           " (expected one of: " + list + ")");
             }
         }
+    }
+
+    void only_keys(const YAML::Node& map, const std::string& key,
+                   std::initializer_list<const char*> known, const std::string& owner = {}) {
+        only_keys_of(map, key, known, owner);
+    }
+
+    /// Checks that `path` (named by `node` at `key`) exists, without throwing: a name too
+    /// long, a loop of links or a folder that cannot be searched is an error like a missing file.
+    /// Names the file by its path when the name as written is short, else quotes it clipped.
+    bool existing_file(const YAML::Node& node, const std::string& key,
+                       const std::filesystem::path& path) {
+        const std::string written = node.IsScalar() ? node.Scalar() : path.string();
+        const std::string name =
+            written.size() <= kQuoteMaxChars ? path.string() : quote_value(written);
+        std::error_code ec;
+        const bool exists = std::filesystem::exists(path, ec);
+        if (ec) {
+            error(node, key, "cannot check the file " + name + ": " + ec.message());
+            return false;
+        }
+        if (!exists) {
+            error(node, key, "file not found: " + name);
+        }
+        return exists;
     }
 
     bool number(const YAML::Node& node, const std::string& key, double& out) {
@@ -66,7 +106,7 @@ class YamlChecker {
             out = v;
             return true;
         } catch (const YAML::Exception&) {
-            error(node, key, "expected a number, got '" + node.Scalar() + "'");
+            error(node, key, "expected a number, got " + quote_value(node.Scalar()));
             return false;
         }
     }
@@ -139,22 +179,17 @@ class YamlChecker {
                                            const std::filesystem::path& source) {
     try {
         return YAML::Load(text);
-    } catch (const YAML::ParserException& e) {
-        throw ConfigError(source.string() + ":" + std::to_string(e.mark.line + 1) +
-                          ": not valid YAML: " + e.msg);
+    } catch (const YAML::Exception& e) {
+        const std::string line = e.mark.is_null() ? "" : ":" + std::to_string(e.mark.line + 1);
+        throw ConfigError(source.string() + line + ": not valid YAML: " + clip_value(e.msg));
     }
 }
 
-/// The whole text of a config file; InputError naming it (and `what` it is) when unreadable.
+/// The whole text of a config file (the `what`, e.g. "scene file"): a regular file of at most
+/// kMaxConfigFileBytes; InputError naming it (and the limit) otherwise.
 [[nodiscard]] inline std::string read_config_text(const std::filesystem::path& path,
                                                   const std::string& what) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) {
-        throw InputError(path.string(), "cannot open the " + what);
-    }
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
+    return read_bounded_file(path, what, kMaxConfigFileBytes);
 }
 
 }  // namespace beamtrace::detail
