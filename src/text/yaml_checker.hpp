@@ -15,6 +15,7 @@
 #include "beamtrace/core/vec3.hpp"
 #include "text/file_bytes.hpp"
 #include "text/quote.hpp"
+#include "text/yaml_node_count.hpp"
 
 namespace beamtrace::detail {
 
@@ -152,9 +153,9 @@ class YamlChecker {
         return true;
     }
 
-    /// Throws ConfigError listing every problem, if there are any: a single problem as its own
+    /// Throws ConfigError listing the problems, if there are any: a single problem as its own
     /// line (`file:line: key: what`), so the CLI's one-line message names the file; several
-    /// under a count, one line each.
+    /// under a count, one line each, the first kMaxListedProblems of them.
     void throw_if_any(const std::string& what) const {
         if (errors_.empty()) {
             return;
@@ -163,21 +164,32 @@ class YamlChecker {
             throw ConfigError(errors_.front());
         }
         std::string msg = std::to_string(errors_.size()) + " problem(s) in the " + what + ":";
-        for (const auto& e : errors_) {
-            msg += "\n  " + e;
+        for (std::size_t i = 0; i < errors_.size() && i < kMaxListedProblems; ++i) {
+            msg += "\n  " + errors_[i];
+        }
+        if (errors_.size() > kMaxListedProblems) {
+            msg += "\n  ... and " + std::to_string(errors_.size() - kMaxListedProblems) + " more";
         }
         throw ConfigError(msg);
     }
+
+    /// The most problems throw_if_any lists.
+    static constexpr std::size_t kMaxListedProblems = 50;
 
   private:
     std::filesystem::path source_;
     std::vector<std::string> errors_;
 };
 
-/// Parses YAML text; a syntax error becomes a ConfigError naming `source` and the line.
+/// Parses YAML text; a syntax error becomes a ConfigError naming `source` and the line, and so
+/// does a text of more than kMaxYamlNodes nodes (refused before any node is built).
 [[nodiscard]] inline YAML::Node parse_yaml(const std::string& text,
                                            const std::filesystem::path& source) {
     try {
+        if (count_yaml_nodes(text, kMaxYamlNodes) > kMaxYamlNodes) {
+            throw ConfigError(source.string() + ": more than " + std::to_string(kMaxYamlNodes) +
+                              " YAML nodes (values, lists and maps), the limit for a config file");
+        }
         return YAML::Load(text);
     } catch (const YAML::Exception& e) {
         const std::string line = e.mark.is_null() ? "" : ":" + std::to_string(e.mark.line + 1);

@@ -136,6 +136,21 @@ std::vector<Hostile> hostile_inputs() {
              return (dir / "survey.yaml").string() +
                     ": the survey file is larger than the limit of 64 MiB";
          }},
+        {"a million waypoints",
+         [](const fs::path& dir, const fs::path& out) {
+             std::string survey =
+                 "scene: demo\nscanner: {type: line, duration_s: 0.1}\n"
+                 "platform: {type: legs, waypoints_m: [";
+             for (int i = 0; i < 1000000; ++i) {
+                 survey += "[0,0,0],";
+             }
+             survey += "]}\n";
+             test::write_file(dir / "survey.yaml", survey);
+             return survey_args(dir / "survey.yaml", out);
+         },
+         [](const fs::path& dir) {
+             return (dir / "survey.yaml").string() + ": more than 200000 YAML nodes";
+         }},
         {"/dev/zero as the survey file",
          [](const fs::path&, const fs::path& out) { return survey_args("/dev/zero", out); },
          [](const fs::path&) { return std::string("/dev/zero: "); }},

@@ -2,6 +2,7 @@
 // inflate memory (issue 15, findings 1, 3, 5): each is a ConfigError naming the file, line, key.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <string>
 
@@ -77,6 +78,30 @@ TEST(SceneYamlHostile, CopyCountsAreLimitedBeforeAnythingIsAllocated) {
     // At the limit: accepted.
     const SceneSpec ok = parse_scene_spec("parts:\n" + part("[1000, 1000, 1]"), "s.yaml");
     EXPECT_EQ(ok.parts.at(0).array.copies(), 1000000u);
+}
+
+TEST(SceneYamlHostile, ManyProblemsAreListedUpToFifty) {
+    std::string yaml = "parts:\n";
+    for (int i = 0; i < 1000; ++i) {
+        yaml += "  - {sphere: {radius_m: -1}}\n";
+    }
+    const std::string msg = config_error(yaml, "s.yaml");
+    EXPECT_EQ(msg.rfind("1000 problem(s) in the scene file:", 0), 0u) << msg.substr(0, 200);
+    EXPECT_EQ(std::count(msg.begin(), msg.end(), '\n'), 51) << msg;
+    EXPECT_NE(msg.find("\n  ... and 950 more"), std::string::npos) << msg;
+}
+
+TEST(SceneYamlHostile, TextsOfTooManyNodesAreRefusedBeforeBuildingThem) {
+    std::string yaml = "parts:\n  - {plane: {size_m: 1}}\nmaterials: [";
+    for (int i = 0; i < 200000; ++i) {
+        yaml += "1,";
+    }
+    yaml += "]\n";
+    EXPECT_EQ(config_error(yaml, "s.yaml"),
+              "s.yaml: more than 200000 YAML nodes (values, lists and maps), the limit for a "
+              "config file");
+    // Syntax errors are still reported with their line.
+    EXPECT_EQ(config_error("parts:\n  - [\n", "s.yaml").rfind("s.yaml:", 0), 0u);
 }
 
 TEST(SceneYamlHostile, LongValuesAreQuotedClipped) {
