@@ -24,14 +24,15 @@ namespace {
 
 constexpr std::size_t kFields = 6;
 constexpr std::string_view kHeader = "ox,oy,oz,dx,dy,dz";
-/// The read buffer, which is also the longest line a rays file may have (docs/survey.md).
 constexpr std::size_t kChunkBytes = std::size_t{1} << 20;
+/// The longest line a rays file may have (docs/formats.md), to which the read buffer may grow.
+constexpr std::size_t kMaxLineBytes = std::size_t{16} << 20;
 constexpr std::size_t kMaxRowBytes =
     std::size_t{6} * 25;  // shortest doubles are at most 24 characters
 
 /// Reads a file line by line through one reused buffer, so that memory stays small however
-/// large the file is. Lines exclude the '\n'; one longer than the buffer (kChunkBytes) is an
-/// error, so that a file without line ends (/dev/zero) is refused with little memory.
+/// large the file is. Lines exclude the '\n'; one longer than kMaxLineBytes is an error, so
+/// that a file without line ends (/dev/zero) is refused with little memory.
 class LineReader {
   public:
     explicit LineReader(const std::filesystem::path& path)
@@ -73,10 +74,13 @@ class LineReader {
         std::memmove(buffer_.data(), buffer_.data() + begin_, end_ - begin_);
         end_ -= begin_;
         begin_ = 0;
-        if (end_ == buffer_.size()) {
-            throw InputError(path_, line_ + 1,
-                             "line longer than " + std::to_string(buffer_.size() >> 20) +
-                                 " MiB, the limit for a line of a rays file");
+        if (end_ == buffer_.size()) {  // a line longer than the buffer
+            if (buffer_.size() >= kMaxLineBytes) {
+                throw InputError(path_, line_ + 1,
+                                 "line longer than " + std::to_string(kMaxLineBytes >> 20) +
+                                     " MiB, the limit for a line of a rays file");
+            }
+            buffer_.resize(2 * buffer_.size());
         }
         const std::size_t wanted = buffer_.size() - end_;
         const std::size_t got = std::fread(buffer_.data() + end_, 1, wanted, file_);
@@ -98,8 +102,12 @@ class LineReader {
     long line_ = 0;
 };
 
-/// Counts the lines of a regular file (an upper bound on its rays) so that the batch is
-/// allocated once; 0 when that is not possible — the real read then reports any error.
+/// The shortest line that can hold a ray: "0,0,0,0,0,1".
+constexpr std::size_t kMinRowBytes = 11;
+
+/// Counts the lines of a regular file long enough to hold a ray (an upper bound on its rays)
+/// so that the batch is allocated once, and a file of empty lines allocates nothing; 0 when
+/// that is not possible — the real read then reports any error.
 std::size_t count_lines(const std::filesystem::path& path) {
     std::error_code ec;
     if (!std::filesystem::is_regular_file(path, ec)) {
@@ -110,13 +118,22 @@ std::size_t count_lines(const std::filesystem::path& path) {
         return 0;
     }
     std::vector<char> buffer(kChunkBytes);
-    std::size_t lines = 1;
+    std::size_t lines = 0;
+    std::size_t length = 0;  // of the line being read
     std::size_t got = 0;
     while ((got = std::fread(buffer.data(), 1, buffer.size(), file)) > 0) {
-        lines += std::size_t(std::count(buffer.data(), buffer.data() + got, '\n'));
+        const char* p = buffer.data();
+        const char* const end = p + got;
+        while (const void* eol = std::memchr(p, '\n', std::size_t(end - p))) {
+            length += std::size_t(static_cast<const char*>(eol) - p);
+            lines += length >= kMinRowBytes ? 1 : 0;
+            length = 0;
+            p = static_cast<const char*>(eol) + 1;
+        }
+        length += std::size_t(end - p);
     }
     std::fclose(file);
-    return lines;
+    return lines + (length >= kMinRowBytes ? 1 : 0);
 }
 
 [[nodiscard]] bool is_blank(char c) {

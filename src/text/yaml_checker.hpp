@@ -68,6 +68,7 @@ class YamlChecker {
         }
     }
 
+    /// only_keys_of for a list of names written in place.
     void only_keys(const YAML::Node& map, const std::string& key,
                    std::initializer_list<const char*> known, const std::string& owner = {}) {
         only_keys_of(map, key, known, owner);

@@ -169,12 +169,20 @@ std::vector<Hostile> hostile_inputs() {
          [](const fs::path&) { return std::string("/dev/zero:"); }},
         {"a rays file of one endless line",
          [](const fs::path& dir, const fs::path& out) {
-             test::write_file(dir / "rays.csv", std::string(std::size_t{3} << 20, '1'));
+             test::write_file(dir / "rays.csv", std::string(std::size_t{17} << 20, '1'));
              return std::vector<std::string>{"scan",    "--demo",   "--pattern",
                                              "rays",    "--rays",   (dir / "rays.csv").string(),
                                              "--quiet", "--output", out.string()};
          },
          [](const fs::path& dir) { return (dir / "rays.csv").string() + ":1: line longer"; }},
+        {"a rays file of 60 million empty lines",
+         [](const fs::path& dir, const fs::path& out) {
+             test::write_file(dir / "rays.csv", std::string(std::size_t{60} << 20, '\n'));
+             return std::vector<std::string>{"scan",    "--demo",   "--pattern",
+                                             "rays",    "--rays",   (dir / "rays.csv").string(),
+                                             "--quiet", "--output", out.string()};
+         },
+         [](const fs::path& dir) { return (dir / "rays.csv").string() + ": no rays found"; }},
         {"a folder as the scene file",
          [](const fs::path& dir, const fs::path& out) {
              fs::create_directory(dir / "folder.yaml");
