@@ -233,6 +233,23 @@ TEST(HostileInput, EveryReproducerExitsTwoWithOneLineNamingTheFile) {
     }
 }
 
+#ifndef BEAMTRACE_SANITIZED  // the sanitizers reserve terabytes of address space
+/// Memory reserved but never touched does not show in the peak RSS: under a 1 GB address-space
+/// limit, a rays file of empty lines must not reserve room for a ray per line (it used to
+/// reserve 3 GB here).
+TEST(HostileInput, RaysFileOfEmptyLinesReservesNothing) {
+    test::TempDir dir;
+    test::write_file(dir / "rays.csv", std::string(std::size_t{60} << 20, '\n'));
+    const test::RunResult r =
+        test::run_command("ulimit -v 1000000; '" + std::string(BEAMTRACE_CLI_PATH) +
+                          "' scan --demo --pattern rays --rays '" + (dir / "rays.csv").string() +
+                          "' --quiet --output '" + (dir / "out").string() + "'");
+    EXPECT_EQ(r.exit_code, 2) << r.out;
+    EXPECT_EQ(r.out, "beamtrace: error: " + (dir / "rays.csv").string() +
+                         ": no rays found (expected lines ox,oy,oz,dx,dy,dz)\n");
+}
+#endif
+
 /// Values far longer than a message should quote (1 MiB each), in every kind of place that
 /// echoes a value: each is quoted clipped to 80 characters and "...".
 TEST(HostileInput, LongValuesAreQuotedClipped) {
