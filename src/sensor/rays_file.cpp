@@ -16,6 +16,7 @@
 
 #include "beamtrace/core/error.hpp"
 #include "sensor/detail/scan_pattern_types.hpp"
+#include "text/quote.hpp"
 #include "text/row_writer.hpp"
 
 namespace beamtrace {
@@ -249,13 +250,13 @@ RayBatch read_rays_csv(const std::filesystem::path& path) {
                     file, line_no,
                     std::string(error == std::errc::result_out_of_range ? "number out of range"
                                                                         : "malformed number") +
-                        " '" + std::string(fields[k]) + "' in field " + std::to_string(k + 1) +
-                        " (" + std::string(kHeader.substr(3 * k, 2)) + ")");
+                        " " + detail::quote_value(fields[k]) + " in field " +
+                        std::to_string(k + 1) + " (" + std::string(kHeader.substr(3 * k, 2)) + ")");
             }
             if (!std::isfinite(v[k])) {
                 throw InputError(file, line_no,
-                                 "non-finite value '" + std::string(fields[k]) + "' in field " +
-                                     std::to_string(k + 1) + " (" +
+                                 "non-finite value " + detail::quote_value(fields[k]) +
+                                     " in field " + std::to_string(k + 1) + " (" +
                                      std::string(kHeader.substr(3 * k, 2)) + ")");
             }
         }

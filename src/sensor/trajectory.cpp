@@ -10,6 +10,7 @@
 #include "beamtrace/core/error.hpp"
 #include "beamtrace/sensor/scan_pattern.hpp"
 #include "text/file_bytes.hpp"
+#include "text/quote.hpp"
 #include "text/row_writer.hpp"
 #include "text/text_scan.hpp"
 
@@ -329,12 +330,12 @@ SampledTrajectory read_trajectory_csv(const std::filesystem::path& path) {
             if (!detail::parse_number(fields[c], v[c]) || !std::isfinite(v[c])) {
                 throw InputError(file, line_no,
                                  "field '" + std::string(kColumns[c]) +
-                                     "' is not a finite number: '" + std::string(fields[c]) + "'");
+                                     "' is not a finite number: " + detail::quote_value(fields[c]));
             }
         }
         if (!samples.empty() && !(v[0] > samples.back().time_s)) {
             throw InputError(file, line_no,
-                             "time " + std::string(fields[0]) +
+                             "time " + detail::clip_value(fields[0]) +
                                  " is not after the previous sample's (times must increase "
                                  "strictly)");
         }
