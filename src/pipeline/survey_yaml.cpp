@@ -122,8 +122,12 @@ void parse_platform(YamlChecker& c, const YAML::Node& n, SurveySpec& s) {
     }
 }
 
-/// The `mount:` block: the scanner's lever arm and boresight on the platform.
+/// The `mount:` block: the scanner's lever arm and boresight on the platform (an empty block,
+/// null in YAML, keeps the defaults).
 void parse_mount(YamlChecker& c, const YAML::Node& m, SurveySpec& s) {
+    if (m.IsNull()) {
+        return;
+    }
     if (!m.IsMap()) {
         c.error(m, "mount", "expected a map with lever_arm_m, boresight_deg");
         return;
@@ -140,8 +144,11 @@ void parse_mount(YamlChecker& c, const YAML::Node& m, SurveySpec& s) {
 }
 
 /// The `output:` block: the LAS point format, the trajectory rate, and one `<key>: true|false`
-/// per switchable sink of the registry.
+/// per switchable sink of the registry (an empty block, null in YAML, keeps the defaults).
 void parse_output(YamlChecker& c, const YAML::Node& o, SurveySpec& s) {
+    if (o.IsNull()) {
+        return;
+    }
     if (!o.IsMap()) {
         c.error(o, "output",
                 "expected a map (point_format, trajectory_rate_hz, a switch per sink)");

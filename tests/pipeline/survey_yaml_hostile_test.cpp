@@ -62,6 +62,11 @@ TEST(SurveyYamlHostile, MountAndOutputMustBeMaps) {
     }
 }
 
+TEST(SurveyYamlHostile, EmptyMountAndOutputBlocksKeepTheDefaults) {
+    const SurveySpec s = parse_survey_spec(kBase + "mount:\noutput:\n", "s.yaml");
+    EXPECT_EQ(s.point_format, SurveySpec{}.point_format);
+}
+
 TEST(SurveyYamlHostile, NamesTheFileSystemRefusesAreConfigErrors) {
     test::TempDir dir;
     std::filesystem::create_symlink("loop", dir / "loop");
