@@ -1,4 +1,5 @@
 #include <algorithm>
+#include <cmath>
 #include <array>
 #include <limits>
 
@@ -198,8 +199,14 @@ class SplitFinder {
         return s;
     }
 
+    /// The bin of centroid coordinate `c`, clamped; a NaN position goes to bin 0 rather than
+    /// being cast to int (undefined behaviour).
     [[nodiscard]] int bin_of(float c, float lo, float scale) const {
-        return std::clamp(static_cast<int>((c - lo) * scale), 0, bins_ - 1);
+        const float t = (c - lo) * scale;
+        if (!(t > 0.0f)) {
+            return 0;
+        }
+        return t < static_cast<float>(bins_) ? static_cast<int>(t) : bins_ - 1;
     }
 
     std::vector<PrimInfo>& prims_;
@@ -252,8 +259,14 @@ void build_subtree(const SplitFinder& finder, const Range& root, std::vector<Bvh
     }
 }
 
-/// Builds over prepared primitives (box, centroid, id), which it reorders.
+/// Builds over prepared primitives (box, centroid, id), which it reorders. Primitives whose box
+/// is not finite (a NaN or infinite vertex: no ray can hit them) are left out.
 Bvh build_over(std::vector<PrimInfo>& prims, const BvhBuildConfig& config, ThreadPool& pool) {
+    std::erase_if(prims, [](const PrimInfo& p) {
+        return !(std::isfinite(p.box.lo.x) && std::isfinite(p.box.lo.y) &&
+                 std::isfinite(p.box.lo.z) && std::isfinite(p.box.hi.x) &&
+                 std::isfinite(p.box.hi.y) && std::isfinite(p.box.hi.z));
+    });
     Bvh bvh;
     const std::size_t n = prims.size();
     if (n == 0) {

@@ -13,6 +13,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <system_error>
 #include <vector>
 
 #include "beamtrace/core/error.hpp"
@@ -208,6 +209,50 @@ void copy_block(const std::vector<unsigned char>& buffer, const SampleType& type
     }
 }
 
+/// Refuses, before the raster is allocated, more than kMaxRasterCells cells, and strips or tiles
+/// that lie outside the file or, uncompressed, hold fewer bytes than the samples: a small file
+/// cannot claim a huge raster.
+void check_claimed_size(TIFF* tif, const std::string& path, std::uint32_t width,
+                        std::uint32_t height, const SampleType& type) {
+    const std::uint64_t cells = std::uint64_t{width} * height;
+    const std::string size = "ImageWidth x ImageLength = " + std::to_string(width) + " x " +
+                             std::to_string(height) + " = " + std::to_string(cells) + " cells";
+    if (cells > kMaxRasterCells) {
+        throw InputError(path, size + " is above the limit of " + std::to_string(kMaxRasterCells) +
+                                   " cells per raster");
+    }
+    std::error_code ec;
+    const std::uintmax_t file_size = std::filesystem::file_size(path, ec);
+    if (ec) {
+        throw InputError(path, "cannot read the file's size (" + ec.message() + ")");
+    }
+    const bool tiled = TIFFIsTiled(tif) != 0;
+    const std::uint32_t n = tiled ? TIFFNumberOfTiles(tif) : TIFFNumberOfStrips(tif);
+    std::uint64_t stored = 0;
+    for (std::uint32_t i = 0; i < n; ++i) {
+        int err = 0;
+        const std::uint64_t offset = TIFFGetStrileOffsetWithErr(tif, i, &err);
+        const std::uint64_t count = TIFFGetStrileByteCountWithErr(tif, i, &err);
+        if (err != 0 || offset > file_size || count > file_size - offset) {
+            throw InputError(path, std::string(tiled ? "tile " : "strip ") + std::to_string(i) +
+                                       ": its " + std::to_string(count) + " bytes at byte " +
+                                       std::to_string(offset) + " lie outside the file (" +
+                                       std::to_string(file_size) + " bytes)");
+        }
+        stored += count;
+    }
+    std::uint16_t compression = COMPRESSION_NONE;
+    TIFFGetFieldDefaulted(tif, TIFFTAG_COMPRESSION, &compression);
+    const std::uint64_t samples = cells * type.bytes();
+    if (compression == COMPRESSION_NONE && (stored < samples || samples > file_size)) {
+        throw InputError(path, size + " of " + std::to_string(type.bytes()) + " bytes need " +
+                                   std::to_string(samples) + " bytes, but the uncompressed " +
+                                   (tiled ? "tiles" : "strips") + " hold only " +
+                                   std::to_string(stored) + " (the file has " +
+                                   std::to_string(file_size) + ")");
+    }
+}
+
 }  // namespace
 
 Raster load_geotiff(const std::filesystem::path& path) {
@@ -249,13 +294,8 @@ Raster load_geotiff(const std::filesystem::path& path) {
                                 std::to_string(type.bits) +
                                 " is not supported (expected float32/64 or (u)int8/16/32)");
     }
+    check_claimed_size(tif.get(), p, width, height, type);
     const std::size_t cells = static_cast<std::size_t>(width) * height;
-    if (width > static_cast<std::uint32_t>(std::numeric_limits<int>::max()) ||
-        height > static_cast<std::uint32_t>(std::numeric_limits<int>::max()) ||
-        cells >= std::numeric_limits<std::uint32_t>::max()) {
-        throw InputError(
-            p, std::to_string(width) + " x " + std::to_string(height) + " cells is too large");
-    }
     Raster r;
     r.cols = static_cast<int>(width);
     r.rows = static_cast<int>(height);

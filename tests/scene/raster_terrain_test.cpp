@@ -455,6 +455,51 @@ RasterAllowance tiff_allowance(const std::string& tiff, std::size_t offset) {
     return {};
 }
 
+/// A one-strip int16 TIFF of `pixels` whose header claims `width` x `height` cells.
+[[nodiscard]] std::string tiff_claiming(std::uint32_t width, std::uint32_t height,
+                                        const std::string& pixels) {
+    return make_tiff({shorts(258, {16}), shorts(259, {1}), shorts(262, {1}), shorts(277, {1}),
+                      shorts(339, {2})},
+                     width, height, pixels);
+}
+
+TEST_F(RasterTerrainTest, TiffClaimingMoreCellsThanTheFileOrTheLimitIsRefusedUpFront) {
+    const std::string pixels(12, '\1');
+    // 65536 x 65536 int16 cells (8 GiB, 16 GiB as floats) claimed by a 124-byte file.
+    const std::string huge = tiff_claiming(65536, 65536, pixels);
+    EXPECT_LT(huge.size(), 200u);
+    test::expect_input_error(load_geotiff, write("huge.tif", huge),
+                             "ImageWidth x ImageLength = 65536 x 65536 = 4294967296 cells is "
+                             "above the limit of 268435456 cells per raster");
+    // Under the limit, but 10000 x 10000 uncompressed samples cannot lie in the file.
+    test::expect_input_error(load_geotiff, write("big.tif", tiff_claiming(10000, 10000, pixels)),
+                             "10000 x 10000 = 100000000 cells of 2 bytes need 200000000 bytes, "
+                             "but the uncompressed strips hold only");
+    // A strip that lies past the end of the file.
+    std::string cut = small_int16_tiff();
+    const auto ifd = le_at<std::uint32_t>(cut, 4);
+    const auto entries = le_at<std::uint16_t>(cut, ifd);
+    for (std::size_t e = 0; e < entries; ++e) {
+        if (le_at<std::uint16_t>(cut, ifd + 2 + 12 * e) == 273) {
+            const std::uint32_t past = static_cast<std::uint32_t>(cut.size()) - 4;
+            std::memcpy(cut.data() + ifd + 2 + 12 * e + 8, &past, 4);
+        }
+    }
+    test::expect_input_error(load_geotiff, write("past.tif", cut), "lie outside the file");
+    // The same header over samples the file holds loads.
+    EXPECT_EQ(load_geotiff(write("ok.tif", tiff_claiming(3, 2, pixels))).z.size(), 6u);
+}
+
+TEST_F(RasterTerrainTest, AsciiGridClaimingMoreCellsThanTheFileOrTheLimitIsRefusedUpFront) {
+    // 61 bytes claiming 65536 x 65536 cells.
+    const std::string huge = "ncols 65536\nnrows 65536\nxllcorner 0\nyllcorner 0\ncellsize 1\n1\n";
+    EXPECT_EQ(huge.size(), 61u);
+    expect_asc_error(huge, "broken.asc:6: ncols x nrows = 4294967296 cells is above the limit of "
+                           "268435456 cells per raster");
+    expect_asc_error("ncols 10000\nnrows 10000\nxllcorner 0\nyllcorner 0\ncellsize 1\n1 2 3\n",
+                     "ncols x nrows = 100000000 values cannot fit in the 6 bytes after the header");
+}
+
 TEST_F(RasterTerrainTest, TruncatedTiffsAreRefused) {
     const std::string tiff = small_int16_tiff();
     const auto path = dir_ / "cut.tif";
