@@ -1,6 +1,6 @@
 #include <algorithm>
-#include <cmath>
 #include <array>
+#include <cmath>
 #include <limits>
 
 #include "beamtrace/accel/bvh.hpp"
@@ -259,6 +259,16 @@ void build_subtree(const SplitFinder& finder, const Range& root, std::vector<Bvh
     }
 }
 
+[[nodiscard]] bool finite_face(const TriangleMesh& mesh, std::size_t f) {
+    for (const std::uint32_t v : mesh.faces[f]) {
+        const Vec3f& p = mesh.vertices[v];
+        if (!(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z))) {
+            return false;
+        }
+    }
+    return true;
+}
+
 /// Builds over prepared primitives (box, centroid, id), which it reorders. Primitives whose box
 /// is not finite (a NaN or infinite vertex: no ray can hit them) are left out.
 Bvh build_over(std::vector<PrimInfo>& prims, const BvhBuildConfig& config, ThreadPool& pool) {
@@ -324,7 +334,9 @@ Bvh build_bvh(const TriangleMesh& mesh, const BvhBuildConfig& config, ThreadPool
     std::vector<PrimInfo> prims(n);
     pool.parallel_for(n, 1 << 14, [&](std::size_t b, std::size_t e) {
         for (std::size_t i = b; i < e; ++i) {
-            prims[i].box = mesh.triangle_bounds(i);
+            // min/max drop a NaN coordinate from the bounds: a face with a non-finite vertex
+            // gets an empty (infinite) box instead, so that build_over leaves it out.
+            prims[i].box = finite_face(mesh, i) ? mesh.triangle_bounds(i) : Aabb{};
             prims[i].centroid = prims[i].box.center();
             prims[i].id = static_cast<std::uint32_t>(i);
         }

@@ -187,9 +187,11 @@ std::vector<std::uint32_t> finite_faces(const TriangleMesh& mesh) {
     std::vector<std::uint32_t> faces;
     faces.reserve(mesh.triangle_count());
     for (std::size_t i = 0; i < mesh.triangle_count(); ++i) {
-        const Aabb b = mesh.triangle_bounds(i);
-        if (std::isfinite(b.lo.x) && std::isfinite(b.lo.y) && std::isfinite(b.lo.z) &&
-            std::isfinite(b.hi.x) && std::isfinite(b.hi.y) && std::isfinite(b.hi.z)) {
+        const Face& face = mesh.faces[i];
+        if (std::all_of(face.begin(), face.end(), [&](std::uint32_t v) {
+                const Vec3f& p = mesh.vertices[v];
+                return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z);
+            })) {
             faces.push_back(static_cast<std::uint32_t>(i));
         }
     }
@@ -208,7 +210,11 @@ KdTree build_kdtree(const TriangleMesh& mesh, const KdTreeBuildConfig& config) {
     tree.bounds = mesh.bounds();
     tree.nodes.emplace_back();
     std::vector<std::uint32_t> faces = finite_faces(mesh);
-    if (faces.size() < mesh.triangle_count()) {  // some left out: the bounds of the rest
+    const Aabb& b = tree.bounds;
+    const bool finite = std::isfinite(b.lo.x) && std::isfinite(b.lo.y) && std::isfinite(b.lo.z) &&
+                        std::isfinite(b.hi.x) && std::isfinite(b.hi.y) && std::isfinite(b.hi.z);
+    if (faces.size() < mesh.triangle_count() || (!finite && !faces.empty())) {
+        // some left out (or a stray vertex): the bounds of the faces kept
         tree.bounds = Aabb{};
         for (const auto f : faces) {
             tree.bounds.extend(mesh.triangle_bounds(f));

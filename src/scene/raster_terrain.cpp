@@ -134,9 +134,8 @@ void check_ascii_count(std::size_t count, std::size_t data_bytes, const std::str
     }
     if (count > data_bytes) {
         throw InputError(path, line,
-                         "ncols x nrows = " + std::to_string(count) +
-                             " values cannot fit in the " + std::to_string(data_bytes) +
-                             " bytes after the header");
+                         "ncols x nrows = " + std::to_string(count) + " values cannot fit in the " +
+                             std::to_string(data_bytes) + " bytes after the header");
     }
 }
 

@@ -98,7 +98,8 @@ void check_copies(const PartSpec& p, const SceneSpec& spec, const TriangleMesh& 
     }
     for (const Affine3* t : {&copies.front(), &copies.back()}) {
         for (int c = 0; c < 8; ++c) {
-            const Vec3d corner((c & 1) != 0 ? box.hi.x : box.lo.x, (c & 2) != 0 ? box.hi.y : box.lo.y,
+            const Vec3d corner((c & 1) != 0 ? box.hi.x : box.lo.x,
+                               (c & 2) != 0 ? box.hi.y : box.lo.y,
                                (c & 4) != 0 ? box.hi.z : box.lo.z);
             const Vec3d w = t->apply_point(corner);
             if (!fits_float(corner) || !fits_float(w)) {

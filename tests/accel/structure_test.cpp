@@ -3,8 +3,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <cstring>
+#include <limits>
 
 #include "beamtrace/accel/bvh.hpp"
 #include "beamtrace/accel/kdtree.hpp"
@@ -145,9 +145,8 @@ struct PoisonedGrid {
         mesh.vertices[300].z = std::numeric_limits<float>::infinity();
         for (std::size_t f = 0; f < mesh.triangle_count(); ++f) {
             const Face& face = mesh.faces[f];
-            finite.push_back(std::none_of(face.begin(), face.end(), [](std::uint32_t v) {
-                return v == 40u || v == 300u;
-            }));
+            finite.push_back(std::none_of(face.begin(), face.end(),
+                                          [](std::uint32_t v) { return v == 40u || v == 300u; }));
         }
     }
     /// Every finite face exactly once in `prim_ids`, no other.

@@ -21,8 +21,7 @@ class SceneFloatRange : public test::TempDirTest {
         const auto path =
             write("scene.yaml", "parts:\n  - plane: {size_m: 10}\n    name: ground\n" + parts);
         const std::string message =
-            test::expect_input_error([](const auto& p) { return load_scene_file(p); }, path,
-                                     what);
+            test::expect_input_error([](const auto& p) { return load_scene_file(p); }, path, what);
         EXPECT_NE(message.find("is not finite in float"), std::string::npos) << message;
         EXPECT_EQ(message.find('\n'), std::string::npos) << message;
     }
@@ -33,9 +32,10 @@ TEST_F(SceneFloatRange, SphereCentreAndRadiusBeyondFloatAreRefused) {
                    "part 'far': center_m (1e+300, 0, 0)");
     expect_refused("  - sphere: {radius_m: 1e39}\n    name: huge\n", "part 'huge': radius_m");
     // An exact sphere too.
-    expect_refused("  - sphere: {center_m: [0, 0, -1e40], radius_m: 1, exact: true}\n"
-                   "    name: exact\n",
-                   "part 'exact': center_m");
+    expect_refused(
+        "  - sphere: {center_m: [0, 0, -1e40], radius_m: 1, exact: true}\n"
+        "    name: exact\n",
+        "part 'exact': center_m");
 }
 
 TEST_F(SceneFloatRange, TransformsThatOverflowFloatAreRefused) {
@@ -45,19 +45,22 @@ TEST_F(SceneFloatRange, TransformsThatOverflowFloatAreRefused) {
         "  - mesh: tri.obj\n    name: moved\n    transform: {translate_m: [0, 5e38, 0]}\n",
         "part 'moved': translate_m");
     // Each number fits, the vertex does not: 1 m scaled by 1e20 and then by 1e20 again.
-    expect_refused("  - mesh: tri.obj\n    name: scaled\n    transform: {scale: 1e20}\n"
-                   "  - sphere: {center_m: [0, 0, 0], radius_m: 1e20}\n    name: ball\n"
-                   "    transform: {scale: 1e20}\n",
-                   "part 'ball': vertex");
+    expect_refused(
+        "  - mesh: tri.obj\n    name: scaled\n    transform: {scale: 1e20}\n"
+        "  - sphere: {center_m: [0, 0, 0], radius_m: 1e20}\n    name: ball\n"
+        "    transform: {scale: 1e20}\n",
+        "part 'ball': vertex");
 }
 
 TEST_F(SceneFloatRange, ArraysAndSharedMeshesThatOverflowFloatAreRefused) {
-    expect_refused("  - mesh: tri.obj\n    name: row\n"
-                   "    array: {count: [10, 1, 1], step_m: [1e38, 0, 0]}\n",
-                   "part 'row': the last array copy's offset");
-    expect_refused("  - mesh: tri.obj\n    name: a\n"
-                   "  - mesh: tri.obj\n    name: b\n    transform: {translate_m: [3.4e38, 0, 0]}\n",
-                   "part 'b': a copy's corner");
+    expect_refused(
+        "  - mesh: tri.obj\n    name: row\n"
+        "    array: {count: [10, 1, 1], step_m: [1e38, 0, 0]}\n",
+        "part 'row': the last array copy's offset");
+    expect_refused(
+        "  - mesh: tri.obj\n    name: a\n"
+        "  - mesh: tri.obj\n    name: b\n    transform: {translate_m: [3e38, 0, 0], scale: 1e38}\n",
+        "part 'b': a copy's corner");
 }
 
 TEST_F(SceneFloatRange, LargeButFloatSizedPartsBuild) {
