@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <cstring>
 #include <limits>
+#include <optional>
 #include <random>
 #include <set>
 #include <string>
@@ -66,18 +67,27 @@ struct TiffEntry {
     return {tag, 2, static_cast<std::uint32_t>(text.size() + 1), text + '\0'};
 }
 
-/// One strip of `pixels` right after the header; `entries` must not hold the strip tags.
+/// One strip of `pixels` right after the header (or, given `tile` = {width, length}, one tile);
+/// `entries` must not hold the strip or tile tags.
 [[nodiscard]] std::string make_tiff(std::vector<TiffEntry> entries, std::uint32_t width,
-                                    std::uint32_t height, const std::string& pixels) {
+                                    std::uint32_t height, const std::string& pixels,
+                                    std::optional<std::array<std::uint32_t, 2>> tile = {}) {
     std::string padded = pixels;
     if (padded.size() % 2 != 0) {
         padded.push_back('\0');
     }
     entries.push_back(longs(256, width));
     entries.push_back(longs(257, height));
-    entries.push_back(longs(273, 8));
-    entries.push_back(longs(278, height));
-    entries.push_back(longs(279, static_cast<std::uint32_t>(pixels.size())));
+    if (tile) {
+        entries.push_back(longs(322, (*tile)[0]));
+        entries.push_back(longs(323, (*tile)[1]));
+        entries.push_back(longs(324, 8));
+        entries.push_back(longs(325, static_cast<std::uint32_t>(pixels.size())));
+    } else {
+        entries.push_back(longs(273, 8));
+        entries.push_back(longs(278, height));
+        entries.push_back(longs(279, static_cast<std::uint32_t>(pixels.size())));
+    }
     std::sort(entries.begin(), entries.end(),
               [](const TiffEntry& a, const TiffEntry& b) { return a.tag < b.tag; });
     std::string out = "II";
@@ -486,6 +496,16 @@ TEST_F(RasterTerrainTest, TiffClaimingMoreCellsThanTheFileOrTheLimitIsRefusedUpF
         }
     }
     test::expect_input_error(load_geotiff, write("past.tif", cut), "lie outside the file");
+    // A tile far larger than the raster: its buffer is not allocated.
+    const std::vector<TiffEntry> int16{shorts(258, {16}), shorts(259, {1}), shorts(262, {1}),
+                                       shorts(277, {1}), shorts(339, {2})};
+    test::expect_input_error(
+        load_geotiff, write("tile.tif", make_tiff(int16, 3, 2, pixels, {{65536, 65536}})),
+        "TileWidth x TileLength = 65536 x 65536 is larger than the raster (3 x 2) and than "
+        "1048576 cells");
+    const Raster tiled = load_geotiff(
+        write("tiled.tif", make_tiff(int16, 3, 2, std::string(512, '\1'), {{16, 16}})));
+    EXPECT_EQ(tiled.z, std::vector<float>(6, 257.0f));
     // The same header over samples the file holds loads.
     EXPECT_EQ(load_geotiff(write("ok.tif", tiff_claiming(3, 2, pixels))).z.size(), 6u);
 }
