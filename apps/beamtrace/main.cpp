@@ -3,9 +3,24 @@
 #include <cstdio>
 #include <exception>
 #include <new>
+#include <string>
 
 #include "beamtrace/core/error.hpp"
 #include "commands.hpp"
+
+namespace {
+
+/// The command that ran, for an "out of memory" line: argv after the program name, cut to about
+/// 80 characters.
+std::string command_line(int argc, char** argv) {
+    std::string text;
+    for (int i = 1; i < argc; ++i) {
+        text += (i > 1 ? " " : "") + std::string(argv[i]);
+    }
+    return text.size() > 80 ? text.substr(0, 77) + "..." : text;
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
     CLI::App app{"beamtrace " BEAMTRACE_VERSION " - LiDAR simulator and ray tracer", "beamtrace"};
@@ -57,7 +72,8 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "beamtrace: error: %s\n", e.what());
         return 2;
     } catch (const std::bad_alloc&) {
-        std::fprintf(stderr, "beamtrace: error: out of memory\n");
+        std::fprintf(stderr, "beamtrace: error: out of memory running '%s'\n",
+                     command_line(argc, argv).c_str());
         return 2;
     } catch (const std::exception& e) {
         std::fprintf(stderr, "beamtrace: internal error: %s\n", e.what());

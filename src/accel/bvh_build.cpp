@@ -1,5 +1,6 @@
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <limits>
 
 #include "beamtrace/accel/bvh.hpp"
@@ -198,8 +199,14 @@ class SplitFinder {
         return s;
     }
 
+    /// The bin of centroid coordinate `c`, clamped; a NaN position goes to bin 0 rather than
+    /// being cast to int (undefined behaviour).
     [[nodiscard]] int bin_of(float c, float lo, float scale) const {
-        return std::clamp(static_cast<int>((c - lo) * scale), 0, bins_ - 1);
+        const float t = (c - lo) * scale;
+        if (!(t > 0.0f)) {
+            return 0;
+        }
+        return t < static_cast<float>(bins_) ? static_cast<int>(t) : bins_ - 1;
     }
 
     std::vector<PrimInfo>& prims_;
@@ -252,8 +259,24 @@ void build_subtree(const SplitFinder& finder, const Range& root, std::vector<Bvh
     }
 }
 
-/// Builds over prepared primitives (box, centroid, id), which it reorders.
+[[nodiscard]] bool finite_face(const TriangleMesh& mesh, std::size_t f) {
+    for (const std::uint32_t v : mesh.faces[f]) {
+        const Vec3f& p = mesh.vertices[v];
+        if (!(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z))) {
+            return false;
+        }
+    }
+    return true;
+}
+
+/// Builds over prepared primitives (box, centroid, id), which it reorders. Primitives whose box
+/// is not finite (a NaN or infinite vertex: no ray can hit them) are left out.
 Bvh build_over(std::vector<PrimInfo>& prims, const BvhBuildConfig& config, ThreadPool& pool) {
+    std::erase_if(prims, [](const PrimInfo& p) {
+        return !(std::isfinite(p.box.lo.x) && std::isfinite(p.box.lo.y) &&
+                 std::isfinite(p.box.lo.z) && std::isfinite(p.box.hi.x) &&
+                 std::isfinite(p.box.hi.y) && std::isfinite(p.box.hi.z));
+    });
     Bvh bvh;
     const std::size_t n = prims.size();
     if (n == 0) {
@@ -311,7 +334,9 @@ Bvh build_bvh(const TriangleMesh& mesh, const BvhBuildConfig& config, ThreadPool
     std::vector<PrimInfo> prims(n);
     pool.parallel_for(n, 1 << 14, [&](std::size_t b, std::size_t e) {
         for (std::size_t i = b; i < e; ++i) {
-            prims[i].box = mesh.triangle_bounds(i);
+            // min/max drop a NaN coordinate from the bounds: a face with a non-finite vertex
+            // gets an empty (infinite) box instead, so that build_over leaves it out.
+            prims[i].box = finite_face(mesh, i) ? mesh.triangle_bounds(i) : Aabb{};
             prims[i].centroid = prims[i].box.center();
             prims[i].id = static_cast<std::uint32_t>(i);
         }

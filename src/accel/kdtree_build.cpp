@@ -143,8 +143,12 @@ class KdBuilder {
             }
             std::array<std::uint32_t, kMaxBins> starts{}, ends{};
             const float scale = static_cast<float>(bins) / ext[a];
-            const auto bin_of = [&](float x) {
-                return std::clamp(static_cast<int>((x - bounds.lo[a]) * scale), 0, bins - 1);
+            const auto bin_of = [&](float x) {  // NaN to bin 0, not cast to int (UB)
+                const float t = (x - bounds.lo[a]) * scale;
+                if (!(t > 0.0f)) {
+                    return 0;
+                }
+                return t < static_cast<float>(bins) ? static_cast<int>(t) : bins - 1;
             };
             for (auto f : faces) {
                 ++starts[static_cast<std::size_t>(bin_of(boxes_[f].lo[a]))];
@@ -177,6 +181,23 @@ class KdBuilder {
     std::vector<float> coords_;
 };
 
+/// The faces whose bounds are finite: one with a NaN or infinite vertex (which no ray can hit)
+/// is left out of the tree.
+std::vector<std::uint32_t> finite_faces(const TriangleMesh& mesh) {
+    std::vector<std::uint32_t> faces;
+    faces.reserve(mesh.triangle_count());
+    for (std::size_t i = 0; i < mesh.triangle_count(); ++i) {
+        const Face& face = mesh.faces[i];
+        if (std::all_of(face.begin(), face.end(), [&](std::uint32_t v) {
+                const Vec3f& p = mesh.vertices[v];
+                return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z);
+            })) {
+            faces.push_back(static_cast<std::uint32_t>(i));
+        }
+    }
+    return faces;
+}
+
 }  // namespace
 
 KdTree build_kdtree(const TriangleMesh& mesh, const KdTreeBuildConfig& config) {
@@ -188,9 +209,16 @@ KdTree build_kdtree(const TriangleMesh& mesh, const KdTreeBuildConfig& config) {
     KdTree tree;
     tree.bounds = mesh.bounds();
     tree.nodes.emplace_back();
-    std::vector<std::uint32_t> faces(mesh.triangle_count());
-    for (std::size_t i = 0; i < faces.size(); ++i) {
-        faces[i] = static_cast<std::uint32_t>(i);
+    std::vector<std::uint32_t> faces = finite_faces(mesh);
+    const Aabb& b = tree.bounds;
+    const bool finite = std::isfinite(b.lo.x) && std::isfinite(b.lo.y) && std::isfinite(b.lo.z) &&
+                        std::isfinite(b.hi.x) && std::isfinite(b.hi.y) && std::isfinite(b.hi.z);
+    if (faces.size() < mesh.triangle_count() || (!finite && !faces.empty())) {
+        // some left out (or a stray vertex): the bounds of the faces kept
+        tree.bounds = Aabb{};
+        for (const auto f : faces) {
+            tree.bounds.extend(mesh.triangle_bounds(f));
+        }
     }
     if (faces.empty()) {
         return tree;

@@ -302,6 +302,10 @@ void LasReader::parse_header(std::uint64_t file_size) {
         fail("header: point data offset " + std::to_string(h.offset_to_point_data) +
              " is inside the header (size " + std::to_string(h.header_size) + ")");
     }
+    if (h.offset_to_point_data > file_size) {
+        fail("header: point data offset " + std::to_string(h.offset_to_point_data) +
+             " lies past the end of the file (" + std::to_string(file_size) + " bytes)");
+    }
     const std::size_t standard_record = las_point_record_size(h.point_format);
     if (h.point_record_length < standard_record) {
         fail("header: point record length " + std::to_string(h.point_record_length) +

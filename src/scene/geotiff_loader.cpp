@@ -9,10 +9,12 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <functional>
 #include <limits>
 #include <memory>
 #include <optional>
 #include <string>
+#include <system_error>
 #include <vector>
 
 #include "beamtrace/core/error.hpp"
@@ -28,6 +30,7 @@ constexpr ttag_t kGeoKeyDirectoryTag = 34735;
 constexpr ttag_t kGdalNodataTag = 42113;
 constexpr std::uint16_t kGTRasterTypeGeoKey = 1025;
 constexpr std::uint16_t kRasterPixelIsPoint = 2;
+constexpr std::uint64_t kMaxTileCells = std::uint64_t{1} << 20;
 
 /// libtiff's messages for this file, collected by per-handle handlers (no global state).
 struct TiffMessages {
@@ -208,6 +211,107 @@ void copy_block(const std::vector<unsigned char>& buffer, const SampleType& type
     }
 }
 
+/// Makes the InputError for `what`, adding libtiff's last message.
+using FailFn = std::function<InputError(const std::string&)>;
+
+/// Reads every tile into `r` (sized already).
+void read_tiles(TIFF* tif, const std::string& p, const FailFn& fail, const SampleType& type,
+                std::uint32_t width, std::uint32_t height, Raster& r) {
+    std::uint32_t tile_w = 0, tile_h = 0;
+    TIFFGetField(tif, TIFFTAG_TILEWIDTH, &tile_w);
+    TIFFGetField(tif, TIFFTAG_TILELENGTH, &tile_h);
+    if (tile_w == 0 || tile_h == 0) {
+        throw InputError(p, "TileWidth " + std::to_string(tile_w) + " / TileLength " +
+                                std::to_string(tile_h) + " is not valid");
+    }
+    // A tile may overhang a small raster, but not by more than 2^20 cells (one tile's buffer).
+    const std::uint64_t tile_cells = std::uint64_t{tile_w} * tile_h;
+    if (tile_cells > std::max<std::uint64_t>(std::uint64_t{width} * height, kMaxTileCells)) {
+        throw InputError(p, "TileWidth x TileLength = " + std::to_string(tile_w) + " x " +
+                                std::to_string(tile_h) + " is larger than the raster (" +
+                                std::to_string(width) + " x " + std::to_string(height) +
+                                ") and than " + std::to_string(kMaxTileCells) + " cells");
+    }
+    const auto tile_bytes = static_cast<std::size_t>(TIFFTileSize64(tif));
+    if (tile_bytes < std::size_t{tile_w} * tile_h * type.bytes()) {
+        throw fail("tile size " + std::to_string(tile_bytes) + " bytes is too small");
+    }
+    std::vector<unsigned char> buffer(tile_bytes);
+    for (std::uint32_t y = 0; y < height; y += tile_h) {
+        for (std::uint32_t x = 0; x < width; x += tile_w) {
+            const ttile_t tile = TIFFComputeTile(tif, x, y, 0, 0);
+            if (TIFFReadEncodedTile(tif, tile, buffer.data(), static_cast<tmsize_t>(tile_bytes)) <
+                0) {
+                throw fail("cannot read tile " + std::to_string(tile));
+            }
+            copy_block(buffer, type, tile_w, x, y, tile_w, tile_h, r);
+        }
+    }
+}
+
+/// Reads every strip into `r` (sized already).
+void read_strips(TIFF* tif, const FailFn& fail, const SampleType& type, std::uint32_t width,
+                 std::uint32_t height, Raster& r) {
+    std::uint32_t rows_per_strip = 0;
+    TIFFGetFieldDefaulted(tif, TIFFTAG_ROWSPERSTRIP, &rows_per_strip);
+    rows_per_strip = std::max<std::uint32_t>(1, std::min(rows_per_strip, height));
+    const std::size_t row_bytes = std::size_t{width} * type.bytes();
+    std::vector<unsigned char> buffer(row_bytes * rows_per_strip);
+    for (std::uint32_t y = 0; y < height; y += rows_per_strip) {
+        const std::uint32_t n = std::min(rows_per_strip, height - y);
+        const tstrip_t strip = TIFFComputeStrip(tif, y, 0);
+        const tmsize_t want = static_cast<tmsize_t>(row_bytes * n);
+        if (TIFFReadEncodedStrip(tif, strip, buffer.data(), want) < want) {
+            throw fail("cannot read strip " + std::to_string(strip));
+        }
+        copy_block(buffer, type, width, 0, y, width, n, r);
+    }
+}
+
+/// Refuses, before the raster is allocated, more than kMaxRasterCells cells, and strips or tiles
+/// that lie outside the file or, uncompressed, hold fewer bytes than the samples: a small file
+/// cannot claim a huge raster.
+void check_claimed_size(TIFF* tif, const std::string& path, std::uint32_t width,
+                        std::uint32_t height, const SampleType& type) {
+    const std::uint64_t cells = std::uint64_t{width} * height;
+    const std::string size = "ImageWidth x ImageLength = " + std::to_string(width) + " x " +
+                             std::to_string(height) + " = " + std::to_string(cells) + " cells";
+    if (cells > kMaxRasterCells) {
+        throw InputError(path, size + " is above the limit of " + std::to_string(kMaxRasterCells) +
+                                   " cells per raster");
+    }
+    std::error_code ec;
+    const std::uintmax_t file_size = std::filesystem::file_size(path, ec);
+    if (ec) {
+        throw InputError(path, "cannot read the file's size (" + ec.message() + ")");
+    }
+    const bool tiled = TIFFIsTiled(tif) != 0;
+    const std::uint32_t n = tiled ? TIFFNumberOfTiles(tif) : TIFFNumberOfStrips(tif);
+    std::uint64_t stored = 0;
+    for (std::uint32_t i = 0; i < n; ++i) {
+        int err = 0;
+        const std::uint64_t offset = TIFFGetStrileOffsetWithErr(tif, i, &err);
+        const std::uint64_t count = TIFFGetStrileByteCountWithErr(tif, i, &err);
+        if (err != 0 || offset > file_size || count > file_size - offset) {
+            throw InputError(path, std::string(tiled ? "tile " : "strip ") + std::to_string(i) +
+                                       ": its " + std::to_string(count) + " bytes at byte " +
+                                       std::to_string(offset) + " lie outside the file (" +
+                                       std::to_string(file_size) + " bytes)");
+        }
+        stored += count;
+    }
+    std::uint16_t compression = COMPRESSION_NONE;
+    TIFFGetFieldDefaulted(tif, TIFFTAG_COMPRESSION, &compression);
+    const std::uint64_t samples = cells * type.bytes();
+    if (compression == COMPRESSION_NONE && (stored < samples || samples > file_size)) {
+        throw InputError(path, size + " of " + std::to_string(type.bytes()) + " bytes need " +
+                                   std::to_string(samples) + " bytes, but the uncompressed " +
+                                   (tiled ? "tiles" : "strips") + " hold only " +
+                                   std::to_string(stored) + " (the file has " +
+                                   std::to_string(file_size) + ")");
+    }
+}
+
 }  // namespace
 
 Raster load_geotiff(const std::filesystem::path& path) {
@@ -226,7 +330,7 @@ Raster load_geotiff(const std::filesystem::path& path) {
         throw InputError(p, "a tag's data runs past the end of the file (" + messages.lost_tag +
                                 "): the file is truncated or damaged");
     }
-    auto fail = [&](const std::string& what) -> InputError {
+    const FailFn fail = [&](const std::string& what) -> InputError {
         return InputError(
             p, messages.last_error.empty() ? what : what + " (" + messages.last_error + ")");
     };
@@ -249,55 +353,16 @@ Raster load_geotiff(const std::filesystem::path& path) {
                                 std::to_string(type.bits) +
                                 " is not supported (expected float32/64 or (u)int8/16/32)");
     }
+    check_claimed_size(tif.get(), p, width, height, type);
     const std::size_t cells = static_cast<std::size_t>(width) * height;
-    if (width > static_cast<std::uint32_t>(std::numeric_limits<int>::max()) ||
-        height > static_cast<std::uint32_t>(std::numeric_limits<int>::max()) ||
-        cells >= std::numeric_limits<std::uint32_t>::max()) {
-        throw InputError(
-            p, std::to_string(width) + " x " + std::to_string(height) + " cells is too large");
-    }
     Raster r;
     r.cols = static_cast<int>(width);
     r.rows = static_cast<int>(height);
     r.z.assign(cells, 0.0f);
     if (TIFFIsTiled(tif.get())) {
-        std::uint32_t tile_w = 0, tile_h = 0;
-        TIFFGetField(tif.get(), TIFFTAG_TILEWIDTH, &tile_w);
-        TIFFGetField(tif.get(), TIFFTAG_TILELENGTH, &tile_h);
-        if (tile_w == 0 || tile_h == 0) {
-            throw InputError(p, "TileWidth " + std::to_string(tile_w) + " / TileLength " +
-                                    std::to_string(tile_h) + " is not valid");
-        }
-        const auto tile_bytes = static_cast<std::size_t>(TIFFTileSize64(tif.get()));
-        if (tile_bytes < std::size_t{tile_w} * tile_h * type.bytes()) {
-            throw fail("tile size " + std::to_string(tile_bytes) + " bytes is too small");
-        }
-        std::vector<unsigned char> buffer(tile_bytes);
-        for (std::uint32_t y = 0; y < height; y += tile_h) {
-            for (std::uint32_t x = 0; x < width; x += tile_w) {
-                const ttile_t tile = TIFFComputeTile(tif.get(), x, y, 0, 0);
-                if (TIFFReadEncodedTile(tif.get(), tile, buffer.data(),
-                                        static_cast<tmsize_t>(tile_bytes)) < 0) {
-                    throw fail("cannot read tile " + std::to_string(tile));
-                }
-                copy_block(buffer, type, tile_w, x, y, tile_w, tile_h, r);
-            }
-        }
+        read_tiles(tif.get(), p, fail, type, width, height, r);
     } else {
-        std::uint32_t rows_per_strip = 0;
-        TIFFGetFieldDefaulted(tif.get(), TIFFTAG_ROWSPERSTRIP, &rows_per_strip);
-        rows_per_strip = std::max<std::uint32_t>(1, std::min(rows_per_strip, height));
-        const std::size_t row_bytes = std::size_t{width} * type.bytes();
-        std::vector<unsigned char> buffer(row_bytes * rows_per_strip);
-        for (std::uint32_t y = 0; y < height; y += rows_per_strip) {
-            const std::uint32_t n = std::min(rows_per_strip, height - y);
-            const tstrip_t strip = TIFFComputeStrip(tif.get(), y, 0);
-            const tmsize_t want = static_cast<tmsize_t>(row_bytes * n);
-            if (TIFFReadEncodedStrip(tif.get(), strip, buffer.data(), want) < want) {
-                throw fail("cannot read strip " + std::to_string(strip));
-            }
-            copy_block(buffer, type, width, 0, y, width, n, r);
-        }
+        read_strips(tif.get(), fail, type, width, height, r);
     }
     read_georeferencing(tif.get(), p, r);
     r.nodata = read_nodata(tif.get());

@@ -121,6 +121,24 @@ void set_header_value(AsciiHeader& h, std::string_view key, std::string_view val
     return text.size();
 }
 
+/// Refuses, before anything is allocated, ncols x nrows = `count` cells above kMaxRasterCells or
+/// more than the `data_bytes` after the header can hold (at least a byte each), so the values
+/// take at most 4 bytes per byte of the file.
+void check_ascii_count(std::size_t count, std::size_t data_bytes, const std::string& path,
+                       long line) {
+    if (count > kMaxRasterCells) {
+        throw InputError(path, line,
+                         "ncols x nrows = " + std::to_string(count) +
+                             " cells is above the limit of " + std::to_string(kMaxRasterCells) +
+                             " cells per raster");
+    }
+    if (count > data_bytes) {
+        throw InputError(path, line,
+                         "ncols x nrows = " + std::to_string(count) + " values cannot fit in the " +
+                             std::to_string(data_bytes) + " bytes after the header");
+    }
+}
+
 }  // namespace
 
 Raster load_esri_ascii_grid(const std::filesystem::path& path) {
@@ -161,10 +179,7 @@ Raster load_esri_ascii_grid(const std::filesystem::path& path) {
     r.nodata = h.nodata;
 
     const std::size_t count = static_cast<std::size_t>(r.cols) * static_cast<std::size_t>(r.rows);
-    if (count > std::numeric_limits<std::uint32_t>::max()) {
-        throw InputError(p, data_line,
-                         "ncols * nrows = " + std::to_string(count) + " is too large");
-    }
+    check_ascii_count(count, bytes.size() - data_pos, p, data_line);
     r.z.resize(count);
     const char* const begin = bytes.data();
     const char* const end = begin + bytes.size();

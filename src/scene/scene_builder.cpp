@@ -1,5 +1,9 @@
 #include "beamtrace/scene/scene_builder.hpp"
 
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <limits>
 #include <map>
 
 #include "beamtrace/core/error.hpp"
@@ -23,6 +27,86 @@ TriangleMesh part_mesh(const PartSpec& p, const SceneSpec& spec) {
             return make_square(p.point_m, p.normal, p.size_m);
     }
     return {};
+}
+
+[[nodiscard]] bool fits_float(double v) {
+    return std::isfinite(v) && std::fabs(v) <= std::numeric_limits<float>::max();
+}
+
+[[nodiscard]] bool fits_float(const Vec3d& v) {
+    return fits_float(v.x) && fits_float(v.y) && fits_float(v.z);
+}
+
+[[nodiscard]] std::string show(const Vec3d& v) {
+    std::array<char, 96> text{};
+    std::snprintf(text.data(), text.size(), "(%g, %g, %g)", v.x, v.y, v.z);
+    return text.data();
+}
+
+/// The error for part `p` whose `what` does not fit in float.
+[[nodiscard]] InputError not_float(const PartSpec& p, const SceneSpec& spec,
+                                   const std::string& what) {
+    return InputError(spec.source.string(), "part '" + p.name + "': " + what +
+                                                " is not finite in float (magnitude at most " +
+                                                "3.4e38 m)");
+}
+
+/// Refuses a part whose coordinates, radius, size, scale or array step are not finite once
+/// converted to float (a sphere at 1e300), naming the part and the setting.
+void check_part_numbers(const PartSpec& p, const SceneSpec& spec) {
+    const auto vec = [&](const char* key, const Vec3d& v) {
+        if (!fits_float(v)) {
+            throw not_float(p, spec, std::string(key) + " " + show(v));
+        }
+    };
+    const auto num = [&](const char* key, double v) { vec(key, {v, 0.0, 0.0}); };
+    if (p.kind == PartKind::sphere) {
+        vec("center_m", p.center_m);
+        num("radius_m", p.radius_m);
+    } else if (p.kind == PartKind::plane) {
+        vec("point_m", p.point_m);
+        vec("normal", p.normal);
+        num("size_m", p.size_m);
+    }
+    vec("translate_m", p.transform.translate_m);
+    vec("scale", p.transform.scale);
+    vec("array step_m", p.array.step_m);
+    const Vec3d last(static_cast<double>(p.array.count[0] - 1) * p.array.step_m.x,
+                     static_cast<double>(p.array.count[1] - 1) * p.array.step_m.y,
+                     static_cast<double>(p.array.count[2] - 1) * p.array.step_m.z);
+    vec("the last array copy's offset", p.transform.translate_m + last);
+}
+
+/// The part's vertices in scene coordinates; refuses any that is not finite in float.
+void to_scene(const PartSpec& p, const SceneSpec& spec, TriangleMesh& local) {
+    for (std::size_t i = 0; i < local.vertices.size(); ++i) {
+        const Vec3d v = p.transform.apply(Vec3d(local.vertices[i]));
+        if (!fits_float(v)) {
+            throw not_float(p, spec, "vertex " + std::to_string(i) + " at " + show(v));
+        }
+        local.vertices[i] = Vec3f(v);
+    }
+}
+
+/// Refuses an instanced part whose mesh, moved by its first or last copy's transform (the
+/// extremes of the grid), leaves float range.
+void check_copies(const PartSpec& p, const SceneSpec& spec, const TriangleMesh& mesh,
+                  const std::vector<Affine3>& copies) {
+    const Aabb box = mesh.bounds();
+    if (mesh.vertices.empty() || copies.empty()) {
+        return;
+    }
+    for (const Affine3* t : {&copies.front(), &copies.back()}) {
+        for (int c = 0; c < 8; ++c) {
+            const Vec3d corner((c & 1) != 0 ? box.hi.x : box.lo.x,
+                               (c & 2) != 0 ? box.hi.y : box.lo.y,
+                               (c & 4) != 0 ? box.hi.z : box.lo.z);
+            const Vec3d w = t->apply_point(corner);
+            if (!fits_float(corner) || !fits_float(w)) {
+                throw not_float(p, spec, "a copy's corner at " + show(w));
+            }
+        }
+    }
 }
 
 /// The transforms of every copy of an arrayed part, x fastest.
@@ -111,6 +195,7 @@ Scene build_scene(const SceneSpec& spec) {
     }
     std::map<std::filesystem::path, std::uint32_t> stored;  // file -> SceneGeometry mesh index
     for (const auto& p : spec.parts) {
+        check_part_numbers(p, spec);
         ScenePart meta;
         add_analytic_copies(p, meta, scene);
         meta.name = p.name;
@@ -128,9 +213,7 @@ Scene build_scene(const SceneSpec& spec) {
         const bool shared_file = p.kind == PartKind::mesh && uses[p.file] > 1;
         if (!shared_file && p.array.copies() == 1) {
             TriangleMesh local = part_mesh(p, spec);
-            for (auto& v : local.vertices) {
-                v = Vec3f(p.transform.apply(Vec3d(v)));
-            }
+            to_scene(p, spec, local);
             scene.add_part(std::move(meta), local);
             continue;
         }
@@ -144,7 +227,9 @@ Scene build_scene(const SceneSpec& spec) {
                 stored.emplace(p.file, mesh);
             }
         }
-        scene.add_instanced_part(std::move(meta), mesh, copy_transforms(p));
+        std::vector<Affine3> copies = copy_transforms(p);
+        check_copies(p, spec, scene.geometry.meshes[mesh], copies);
+        scene.add_instanced_part(std::move(meta), mesh, std::move(copies));
     }
     return scene;
 }

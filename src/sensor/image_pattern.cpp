@@ -29,6 +29,12 @@ std::vector<std::string> ImagePatternConfig::validate() const {
                        static_cast<double>(image.height) >
                    9.0e15) {
         p.push_back("frames x width x height must be below 9e15 pulses");
+    } else if (frames == 1 && image.width >= 1 && image.height >= 1 &&
+               std::uint64_t(image.width) * std::uint64_t(image.height) > kMaxImagePixels) {
+        p.push_back("width x height of one frame (" + std::to_string(image.width) + " x " +
+                    std::to_string(image.height) + ") must be at most " +
+                    std::to_string(kMaxImagePixels) +
+                    " pixels, the limit of the range and label images");
     }
     if (!std::isfinite(start_time_s)) {
         p.push_back("start_time_s must be finite");

@@ -2,7 +2,9 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
+#include <limits>
 
 #include "beamtrace/accel/bvh.hpp"
 #include "beamtrace/accel/kdtree.hpp"
@@ -132,6 +134,62 @@ TEST(KdTree, RejectsImpossibleSettings) {
     cfg.max_leaf_size = 2;
     cfg.max_depth = 100;
     EXPECT_THROW((void)build_kdtree(mesh, cfg), ConfigError);
+}
+
+/// A grid with a NaN vertex and an infinite one, and which faces touch neither.
+struct PoisonedGrid {
+    TriangleMesh mesh = test::make_grid(30);
+    std::vector<bool> finite;
+    PoisonedGrid() {
+        mesh.vertices[40].x = std::numeric_limits<float>::quiet_NaN();
+        mesh.vertices[300].z = std::numeric_limits<float>::infinity();
+        for (std::size_t f = 0; f < mesh.triangle_count(); ++f) {
+            const Face& face = mesh.faces[f];
+            finite.push_back(std::none_of(face.begin(), face.end(),
+                                          [](std::uint32_t v) { return v == 40u || v == 300u; }));
+        }
+    }
+    /// Every finite face exactly once in `prim_ids`, no other.
+    void expect_exactly_the_finite_faces(const std::vector<std::uint32_t>& prim_ids) const {
+        std::vector<int> seen(mesh.triangle_count(), 0);
+        for (const auto f : prim_ids) {
+            ++seen[f];
+        }
+        std::size_t left_out = 0;
+        for (std::size_t f = 0; f < seen.size(); ++f) {
+            EXPECT_EQ(seen[f] > 0, finite[f]) << "face " << f;
+            left_out += finite[f] ? 0 : 1;
+        }
+        EXPECT_GE(left_out, 6u);
+    }
+};
+
+TEST(Bvh, FacesWithNonFiniteVerticesAreLeftOut) {
+    const PoisonedGrid grid;
+    ThreadPool pool(2);
+    const Bvh bvh = build_bvh(grid.mesh, {}, pool);
+    grid.expect_exactly_the_finite_faces(bvh.prim_ids);
+    for (const BvhNode& n : bvh.nodes) {
+        for (std::size_t a = 0; a < 3; ++a) {
+            EXPECT_TRUE(std::isfinite(n.lo[a]) && std::isfinite(n.hi[a]));
+        }
+    }
+}
+
+TEST(KdTree, FacesWithNonFiniteVerticesAreLeftOut) {
+    const PoisonedGrid grid;
+    for (const KdSplitRule rule : {KdSplitRule::sah, KdSplitRule::report}) {
+        KdTreeBuildConfig config;
+        config.rule = rule;
+        const KdTree tree = build_kdtree(grid.mesh, config);
+        std::vector<std::uint32_t> ids(tree.prim_ids.begin(), tree.prim_ids.end());
+        std::sort(ids.begin(), ids.end());
+        ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+        grid.expect_exactly_the_finite_faces(ids);
+        for (std::size_t a = 0; a < 3; ++a) {
+            EXPECT_TRUE(std::isfinite(tree.bounds.lo[a]) && std::isfinite(tree.bounds.hi[a]));
+        }
+    }
 }
 
 }  // namespace

@@ -515,6 +515,19 @@ TEST_F(LasReaderBroken, TruncatedPointsNameBothCounts) {
     expect_error(b, "header says 18446744073709551615 points");
 }
 
+TEST_F(LasReaderBroken, PointDataOffsetPastTheEndIsRefusedEvenWithNoPoints) {
+    std::string b = good_;
+    patch<std::uint32_t>(b, 107, 0);  // legacy count
+    patch<std::uint64_t>(b, 247, 0);  // 64-bit count
+    patch<std::uint32_t>(b, 96, static_cast<std::uint32_t>(good_.size() + 1000));
+    expect_error(b, "point data offset " + std::to_string(good_.size() + 1000) +
+                        " lies past the end of the file (" + std::to_string(good_.size()) +
+                        " bytes)");
+    // Right at the end, with no points, is an empty file's layout and reads.
+    patch<std::uint32_t>(b, 96, static_cast<std::uint32_t>(good_.size()));
+    EXPECT_EQ(LasReader(write("end.las", b)).header().point_count, 0u);
+}
+
 TEST_F(LasReaderBroken, EvlrOutsideTheFile) {
     std::string b = good_ + std::string(20, 'e');
     patch<std::uint32_t>(b, 243, 1);

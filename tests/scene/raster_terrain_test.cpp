@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <cstring>
 #include <limits>
+#include <optional>
 #include <random>
 #include <set>
 #include <string>
@@ -66,18 +67,27 @@ struct TiffEntry {
     return {tag, 2, static_cast<std::uint32_t>(text.size() + 1), text + '\0'};
 }
 
-/// One strip of `pixels` right after the header; `entries` must not hold the strip tags.
+/// One strip of `pixels` right after the header (or, given `tile` = {width, length}, one tile);
+/// `entries` must not hold the strip or tile tags.
 [[nodiscard]] std::string make_tiff(std::vector<TiffEntry> entries, std::uint32_t width,
-                                    std::uint32_t height, const std::string& pixels) {
+                                    std::uint32_t height, const std::string& pixels,
+                                    std::optional<std::array<std::uint32_t, 2>> tile = {}) {
     std::string padded = pixels;
     if (padded.size() % 2 != 0) {
         padded.push_back('\0');
     }
     entries.push_back(longs(256, width));
     entries.push_back(longs(257, height));
-    entries.push_back(longs(273, 8));
-    entries.push_back(longs(278, height));
-    entries.push_back(longs(279, static_cast<std::uint32_t>(pixels.size())));
+    if (tile) {
+        entries.push_back(longs(322, (*tile)[0]));
+        entries.push_back(longs(323, (*tile)[1]));
+        entries.push_back(longs(324, 8));
+        entries.push_back(longs(325, static_cast<std::uint32_t>(pixels.size())));
+    } else {
+        entries.push_back(longs(273, 8));
+        entries.push_back(longs(278, height));
+        entries.push_back(longs(279, static_cast<std::uint32_t>(pixels.size())));
+    }
     std::sort(entries.begin(), entries.end(),
               [](const TiffEntry& a, const TiffEntry& b) { return a.tag < b.tag; });
     std::string out = "II";
@@ -455,6 +465,62 @@ RasterAllowance tiff_allowance(const std::string& tiff, std::size_t offset) {
     return {};
 }
 
+/// A one-strip int16 TIFF of `pixels` whose header claims `width` x `height` cells.
+[[nodiscard]] std::string tiff_claiming(std::uint32_t width, std::uint32_t height,
+                                        const std::string& pixels) {
+    return make_tiff(
+        {shorts(258, {16}), shorts(259, {1}), shorts(262, {1}), shorts(277, {1}), shorts(339, {2})},
+        width, height, pixels);
+}
+
+TEST_F(RasterTerrainTest, TiffClaimingMoreCellsThanTheFileOrTheLimitIsRefusedUpFront) {
+    const std::string pixels(12, '\1');
+    // 65536 x 65536 int16 cells (8 GiB, 16 GiB as floats) claimed by a 124-byte file.
+    const std::string huge = tiff_claiming(65536, 65536, pixels);
+    EXPECT_LT(huge.size(), 200u);
+    test::expect_input_error(load_geotiff, write("huge.tif", huge),
+                             "ImageWidth x ImageLength = 65536 x 65536 = 4294967296 cells is "
+                             "above the limit of 268435456 cells per raster");
+    // Under the limit, but 10000 x 10000 uncompressed samples cannot lie in the file (libtiff
+    // cuts the single strip into strips of a row, the first of which already runs past the end).
+    test::expect_input_error(load_geotiff, write("big.tif", tiff_claiming(10000, 10000, pixels)),
+                             "strip 0: its 20000 bytes at byte 8 lie outside the file (146 bytes)");
+    // A strip that lies past the end of the file.
+    std::string cut = small_int16_tiff();
+    const auto ifd = le_at<std::uint32_t>(cut, 4);
+    const auto entries = le_at<std::uint16_t>(cut, ifd);
+    for (std::size_t e = 0; e < entries; ++e) {
+        if (le_at<std::uint16_t>(cut, ifd + 2 + 12 * e) == 273) {
+            const std::uint32_t past = static_cast<std::uint32_t>(cut.size()) - 4;
+            std::memcpy(cut.data() + ifd + 2 + 12 * e + 8, &past, 4);
+        }
+    }
+    test::expect_input_error(load_geotiff, write("past.tif", cut), "lie outside the file");
+    // A tile far larger than the raster: its buffer is not allocated.
+    const std::vector<TiffEntry> int16{shorts(258, {16}), shorts(259, {1}), shorts(262, {1}),
+                                       shorts(277, {1}), shorts(339, {2})};
+    test::expect_input_error(
+        load_geotiff, write("tile.tif", make_tiff(int16, 3, 2, pixels, {{65536, 65536}})),
+        "TileWidth x TileLength = 65536 x 65536 is larger than the raster (3 x 2) and than "
+        "1048576 cells");
+    const Raster tiled = load_geotiff(
+        write("tiled.tif", make_tiff(int16, 3, 2, std::string(512, '\1'), {{16, 16}})));
+    EXPECT_EQ(tiled.z, std::vector<float>(6, 257.0f));
+    // The same header over samples the file holds loads.
+    EXPECT_EQ(load_geotiff(write("ok.tif", tiff_claiming(3, 2, pixels))).z.size(), 6u);
+}
+
+TEST_F(RasterTerrainTest, AsciiGridClaimingMoreCellsThanTheFileOrTheLimitIsRefusedUpFront) {
+    // 61 bytes claiming 65536 x 65536 cells.
+    const std::string huge = "ncols 65536\nnrows 65536\nxllcorner 0\nyllcorner 0\ncellsize 1\n1\n";
+    EXPECT_EQ(huge.size(), 61u);
+    expect_asc_error(huge,
+                     "broken.asc:6: ncols x nrows = 4294967296 cells is above the limit of "
+                     "268435456 cells per raster");
+    expect_asc_error("ncols 10000\nnrows 10000\nxllcorner 0\nyllcorner 0\ncellsize 1\n1 2 3\n",
+                     "ncols x nrows = 100000000 values cannot fit in the 6 bytes after the header");
+}
+
 TEST_F(RasterTerrainTest, TruncatedTiffsAreRefused) {
     const std::string tiff = small_int16_tiff();
     const auto path = dir_ / "cut.tif";
@@ -475,7 +541,9 @@ TEST_F(RasterTerrainTest, TiffByteFlipsAreRefusedOrChangeOnlyWhatTheyHit) {
     };
     const Raster want = load(tiff);
     std::mt19937 rng(11);
-    test::check_random_byte_flips(tiff, rng, 400, load,
+    // 2000 flips, about a second: a flipped ImageWidth or ImageLength byte is refused before
+    // anything is allocated (the samples must lie in the file), so none allocates gigabytes.
+    test::check_random_byte_flips(tiff, rng, 2000, load,
                                   [&](const Raster& got, const test::ByteFlip& flip) {
                                       expect_within(got, want, tiff_allowance(tiff, flip.offset));
                                   });

@@ -151,5 +151,24 @@ TEST(ImagePattern, ValidationListsEveryProblem) {
     EXPECT_THROW(ImagePattern{wide}, ConfigError);
 }
 
+TEST(ImagePattern, OneFrameAboveThePixelLimitIsRefusedNamingTheSettingAndTheLimit) {
+    ImagePatternConfig c = config(ImageProjection::scan);
+    c.image.width = 40'000;
+    c.image.height = 40'000;
+    const auto problems = c.validate();
+    ASSERT_EQ(problems.size(), 1u);
+    EXPECT_EQ(problems[0],
+              "width x height of one frame (40000 x 40000) must be at most 67108864 pixels, the "
+              "limit of the range and label images");
+    EXPECT_THROW(ImagePattern{c}, ConfigError);
+    c.image.width = 8192;  // the limit itself
+    c.image.height = 8192;
+    EXPECT_TRUE(c.validate().empty());
+    c.image.width = 40'000;  // several frames write no images
+    c.image.height = 40'000;
+    c.frames = 2;
+    EXPECT_TRUE(c.validate().empty());
+}
+
 }  // namespace
 }  // namespace beamtrace

@@ -34,10 +34,17 @@ struct Raster {
     }
 };
 
+/// The most cells (columns x rows) a raster may have: 2^28 = 268435456, e.g. 16384 x 16384 (1 GiB
+/// of elevations, about 10 GiB once triangulated). The loaders refuse a larger header before
+/// allocating anything (docs/scene-file.md).
+inline constexpr std::size_t kMaxRasterCells = std::size_t{1} << 28;
+
 /// ESRI ASCII grid (.asc): header keys ncols, nrows, xllcorner|xllcenter, yllcorner|yllcenter,
 /// cellsize (or dx and dy), optional NODATA_value (case-insensitive, any order), then nrows
 /// lines of ncols values from the top row. Throws InputError naming the file and line for a
-/// malformed or incomplete header, a malformed value, or too few or too many values.
+/// malformed or incomplete header, a malformed value, or too few or too many values, and, before
+/// allocating, for ncols x nrows above kMaxRasterCells or more values than the rest of the file
+/// can hold (at least a byte each).
 [[nodiscard]] Raster load_esri_ascii_grid(const std::filesystem::path& path);
 
 /// GeoTIFF with one band of float32/float64/int8/uint8/int16/uint16/int32/uint32 samples, in
@@ -45,7 +52,9 @@ struct Raster {
 /// (33550) and ModelTiepointTag (33922), honouring GTRasterTypeGeoKey PixelIsPoint, or from
 /// ModelTransformationTag (34264) without rotation; unit cells with the top-left corner at the
 /// origin when there is none. Nodata from GDAL_NODATA (42113). Throws InputError naming the file
-/// and the offending tag value for unsupported layouts.
+/// and the offending tag value for unsupported layouts, and, before allocating the raster, for
+/// more than kMaxRasterCells cells or strips/tiles that do not lie inside the file (or, when
+/// uncompressed, hold fewer bytes than their samples).
 [[nodiscard]] Raster load_geotiff(const std::filesystem::path& path);
 
 /// Chooses by extension: .asc, .tif or .tiff (case-insensitive).

@@ -31,6 +31,10 @@ namespace beamtrace {
 /// The two projections, which are the scan pattern registry's "pinhole" and "scan" types.
 enum class ImageProjection { pinhole, scan };
 
+/// The most pixels (width x height) of a pattern firing one frame, whose range and label images
+/// a survey holds whole: 2^26 = 67108864, e.g. 8192 x 8192 (about 1 GiB with the images).
+inline constexpr std::uint64_t kMaxImagePixels = std::uint64_t{1} << 26;
+
 struct ImagePatternConfig {
     ImageSensorConfig image;  ///< size, fields of view, orientation
     ImageProjection projection = ImageProjection::pinhole;
@@ -39,7 +43,8 @@ struct ImagePatternConfig {
     double start_time_s = 0.0;     ///< time of pulse 0
 
     /// Every problem with these settings (the image's included); empty when valid. Heights
-    /// above 65536 rows are refused (the row is the 16-bit channel).
+    /// above 65536 rows are refused (the row is the 16-bit channel), and one frame of more than
+    /// kMaxImagePixels pixels (its images would not fit in memory).
     [[nodiscard]] std::vector<std::string> validate() const;
 };
 

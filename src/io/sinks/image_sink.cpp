@@ -2,6 +2,8 @@
 // pulse's first point is pixel (row v, column u) of pulse u * height + v; pixels without a
 // point are 0.
 #include <future>
+#include <new>
+#include <string>
 #include <system_error>
 
 #include "beamtrace/core/error.hpp"
@@ -120,7 +122,15 @@ class ImageSink final : public PointSink {
 }  // namespace
 
 std::unique_ptr<PointSink> make_image_sink(const SinkFacts& facts) {
-    return std::make_unique<ImageSink>(facts);
+    try {
+        return std::make_unique<ImageSink>(facts);
+    } catch (const std::bad_alloc&) {
+        // The images are held whole (ImagePatternConfig::validate bounds their size).
+        throw OutputError((facts.output_dir / "range.npy").string() + ": out of memory for the " +
+                          std::to_string(facts.image->width) + " x " +
+                          std::to_string(facts.image->height) +
+                          " range and label images (the scanner's width x height)");
+    }
 }
 
 }  // namespace beamtrace
