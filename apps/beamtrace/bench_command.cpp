@@ -8,6 +8,7 @@
 #include "beamtrace/core/error.hpp"
 #include "commands.hpp"
 #include "harness/throughput_bench.hpp"
+#include "interrupt.hpp"
 
 namespace beamtrace::cli {
 namespace {
@@ -39,6 +40,8 @@ int run(BenchCommand& o) {
             c.surveys.emplace_back(s);
         }
     }
+    c.cancel = &interrupt_token();
+    catch_interrupts();
     const ThroughputReport report = run_throughput_bench(c, [&](const std::string& line) {
         if (!o.quiet) {
             std::fprintf(stderr, "bench: %s\n", line.c_str());

@@ -7,6 +7,7 @@
 
 #include "beamtrace/core/error.hpp"
 #include "commands.hpp"
+#include "interrupt.hpp"
 
 namespace {
 
@@ -68,6 +69,10 @@ int main(int argc, char** argv) {
         if (app.got_subcommand("bench")) {
             return run_bench();
         }
+    } catch (const beamtrace::Interrupted& e) {
+        // SIGINT/SIGTERM (interrupt.hpp): the temporaries are gone; 130 or 143.
+        std::fprintf(stderr, "beamtrace: %s\n", e.what());
+        return beamtrace::cli::interrupted_exit_code(e);
     } catch (const beamtrace::Error& e) {
         std::fprintf(stderr, "beamtrace: error: %s\n", e.what());
         return 2;

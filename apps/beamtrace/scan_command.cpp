@@ -8,6 +8,7 @@
 #include "beamtrace/core/vec3_text.hpp"
 #include "beamtrace/pipeline/scan_job.hpp"
 #include "commands.hpp"
+#include "interrupt.hpp"
 #include "progress_bar.hpp"
 
 namespace beamtrace::cli {
@@ -25,6 +26,8 @@ struct ScanCommand {
 int run(ScanCommand& cmd) {
     ScanJobConfig& c = cmd.job;
     c.apply(cmd.sensor);
+    c.cancel = &interrupt_token();
+    catch_interrupts();
     const ScanCommand& o = cmd;
     ProgressBar bar("tracing", !o.quiet && (o.progress || stderr_is_terminal()));
     const ScanResult r =

@@ -6,6 +6,7 @@
 #include "beamtrace/core/memory_usage.hpp"
 #include "beamtrace/pipeline/survey.hpp"
 #include "commands.hpp"
+#include "interrupt.hpp"
 #include "progress_bar.hpp"
 
 namespace beamtrace::cli {
@@ -22,8 +23,11 @@ struct SurveyCommand {
 int run(const SurveyCommand& o) {
     const SurveySpec spec = load_survey_spec(o.file);
     ProgressBar bar("surveying", !o.quiet && (o.progress || stderr_is_terminal()));
+    SurveyRunConfig run = o.run;
+    run.cancel = &interrupt_token();
+    catch_interrupts();
     const SurveyResult r = run_survey(
-        spec, o.run, [&](std::size_t done, std::size_t total) { bar.update(done, total); });
+        spec, run, [&](std::size_t done, std::size_t total) { bar.update(done, total); });
     bar.finish();
     if (!o.quiet) {
         const std::string spheres =

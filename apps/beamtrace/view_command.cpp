@@ -11,6 +11,7 @@
 #include "beamtrace/heightfield/view_job.hpp"
 #include "beamtrace/io/mp4_writer.hpp"
 #include "commands.hpp"
+#include "interrupt.hpp"
 #include "progress_bar.hpp"
 #include "view_window.hpp"
 
@@ -105,7 +106,10 @@ void run_frames(const ViewCommand& c, ViewSession& session, const std::vector<Ca
                         f.image->depth.size(), f.file.string().c_str());
         }
     };
-    const ViewFramesResult r = run_view_frames(c.job, session, poses, hooks);
+    ViewJobConfig job = c.job;
+    job.cancel = &interrupt_token();
+    catch_interrupts();
+    const ViewFramesResult r = run_view_frames(job, session, poses, hooks);
     if (c.quiet) {
         return;
     }

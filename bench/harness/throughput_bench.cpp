@@ -179,11 +179,19 @@ MemoryRun memory_run_here(const SurveySpec& spec, const SurveyRunConfig& run,
 /// The survey in a forked child: its peak RSS is the child's.
 MemoryRun memory_run_in_child(const SurveySpec& spec, const SurveyRunConfig& run,
                               const std::string& name) {
-    const detail::ChildRun child = detail::run_in_child([&] {
-        const SurveyResult sr = run_checked(spec, run, name);
-        MemoryRun m{sr.pulses, sr.points, sr.survey_s, 0};
-        return std::string(reinterpret_cast<const char*>(&m), sizeof m);
-    });
+    detail::ChildRun child;
+    try {
+        child = detail::run_in_child([&] {
+            const SurveyResult sr = run_checked(spec, run, name);
+            MemoryRun m{sr.pulses, sr.points, sr.survey_s, 0};
+            return std::string(reinterpret_cast<const char*>(&m), sizeof m);
+        });
+    } catch (...) {
+        // The child's own Interrupted comes back as another error (or the child dies by the
+        // signal): the token of this process says what happened.
+        throw_if_cancelled(run.cancel, "bench");
+        throw;
+    }
     MemoryRun m;
     if (child.payload.size() != sizeof m) {
         throw std::runtime_error("bench: " + name + ": the memory run's child sent " +
@@ -199,7 +207,8 @@ MemoryRun memory_run_in_child(const SurveySpec& spec, const SurveyRunConfig& run
 ThroughputReport run_throughput_bench(const ThroughputBenchConfig& config,
                                       const std::function<void(const std::string&)>& log) {
     throw_if_problems("bench settings", config.validate());
-    const auto say = [&](const std::string& s) {
+    const auto say = [&](const std::string& s) {  // before each step
+        throw_if_cancelled(config.cancel, "bench");
         if (log) {
             log(s);
         }
@@ -278,6 +287,7 @@ ThroughputReport run_throughput_bench(const ThroughputBenchConfig& config,
         run.output_dir = scratch / res.name;
         run.seed = config.seed;
         run.max_pulses = config.max_pulses;
+        run.cancel = config.cancel;
         return run;
     };
 
@@ -393,6 +403,7 @@ ThroughputReport run_throughput_bench(const ThroughputBenchConfig& config,
                     fig.survey_points_per_s = static_cast<double>(sr.points) / sr.survey_s;
                 }
                 for (std::size_t k = 0; k < tracers.size(); ++k) {
+                    throw_if_cancelled(config.cancel, "bench");
                     const double rate = best_rate(rays.size(), 1, config.min_time_s,
                                                   [&] { (void)tracers[k].trace(pool); });
                     fig.trace[k].rays_per_s = std::max(fig.trace[k].rays_per_s, rate);

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "beamtrace/accel/backend.hpp"
+#include "beamtrace/core/cancel.hpp"
 
 namespace beamtrace {
 
@@ -24,6 +25,9 @@ struct ThroughputBenchConfig {
     /// at the end.
     std::filesystem::path scratch_dir;
     std::uint64_t seed = 1;
+    /// Checked between steps and by the surveys (SurveyRunConfig::cancel): once requested, the
+    /// benchmark stops, removes its scratch files and throws Interrupted. Null: runs to the end.
+    const CancelToken* cancel = nullptr;
 
     /// Every problem (empty when usable).
     [[nodiscard]] std::vector<std::string> validate() const;
@@ -69,7 +73,7 @@ struct ThroughputReport {
 
 /// Runs the benchmark; `log` (optional) gets a line per step. Throws ConfigError for bad
 /// settings or survey files, and std::runtime_error when a check fails (tracers disagree on the
-/// hits, the survey's LAS file does not hold its points).
+/// hits, the survey's LAS file does not hold its points), and Interrupted (config.cancel).
 [[nodiscard]] ThroughputReport run_throughput_bench(
     const ThroughputBenchConfig& config, const std::function<void(const std::string&)>& log = {});
 

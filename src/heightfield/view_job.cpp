@@ -6,12 +6,14 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
+#include <optional>
 #include <utility>
 
 #include "beamtrace/core/error.hpp"
 #include "beamtrace/heightfield/camera_path.hpp"
 #include "beamtrace/io/mp4_writer.hpp"
 #include "beamtrace/io/png_writer.hpp"
+#include "core/created_dirs.hpp"
 
 namespace beamtrace {
 namespace {
@@ -93,24 +95,35 @@ std::vector<CameraPose> ViewJobConfig::poses() const {
     return {};
 }
 
-ViewFramesResult run_view_frames(const ViewJobConfig& job, ViewSession& session,
-                                 const std::vector<CameraPose>& poses,
-                                 const ViewFrameHooks& hooks) {
+namespace {
+
+/// Frame i's PNG: job.output (one camera) or frame_NNNNN.png in it (a path).
+std::filesystem::path frame_file(const ViewJobConfig& job, std::size_t i) {
+    std::filesystem::path file = job.output;
     if (!job.path.empty()) {
-        std::error_code ec;
-        std::filesystem::create_directories(job.output, ec);
-        if (ec) {
-            throw OutputError(job.output.string() + ": cannot create directory: " + ec.message());
-        }
+        char name[32];
+        std::snprintf(name, sizeof name, "frame_%05zu.png", i);
+        file /= name;
     }
-    std::unique_ptr<Mp4Writer> video;
-    if (!job.mp4.empty()) {
-        video = std::make_unique<Mp4Writer>(job.mp4, job.camera.width, job.camera.height, job.fps);
-    }
+    return file;
+}
+
+/// What the frames of one run_view_frames share: the session, the camera, the image buffers
+/// (reused frame after frame), the video and the files written so far.
+struct FrameLoop {
+    const ViewJobConfig& job;
+    ViewSession& session;
+    const std::vector<CameraPose>& poses;
+    const ViewFrameHooks& hooks;
+    Mp4Writer* video = nullptr;
+    ViewCamera camera;
+    ViewImage image;
     ViewFramesResult result;
-    ViewCamera camera = job.camera;
-    ViewImage image;  // its buffers are reused frame after frame
-    for (std::size_t i = 0; i < poses.size(); ++i) {
+    std::vector<std::filesystem::path> written;
+
+    /// Loads, renders and writes frame i (checking job.cancel between the steps).
+    void run(std::size_t i) {
+        throw_if_cancelled(job.cancel, "view");
         camera.set_pose(poses[i]);
         ViewFrame frame;
         frame.index = i;
@@ -125,18 +138,16 @@ ViewFramesResult run_view_frames(const ViewJobConfig& job, ViewSession& session,
         if (i + 1 < poses.size() && job.prefetch) {
             session.prefetch(poses[i + 1].position);  // loads on the loader thread meanwhile
         }
+        throw_if_cancelled(job.cancel, "view");
         const auto start = std::chrono::steady_clock::now();
         session.render(camera, job.render, image);
         result.render_s +=
             std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-        frame.file = job.output;
-        if (!job.path.empty()) {
-            char name[32];
-            std::snprintf(name, sizeof name, "frame_%05zu.png", i);
-            frame.file /= name;
-        }
+        frame.file = frame_file(job, i);
+        throw_if_cancelled(job.cancel, "view");
         write_png_rgb8(frame.file, image.width, image.height, image.rgb);
-        if (video) {
+        written.push_back(frame.file);
+        if (video != nullptr) {
             video->write(image.rgb);
         }
         frame.image = &image;
@@ -145,11 +156,49 @@ ViewFramesResult run_view_frames(const ViewJobConfig& job, ViewSession& session,
             hooks.written(frame);
         }
     }
+};
+
+}  // namespace
+
+ViewFramesResult run_view_frames(const ViewJobConfig& job, ViewSession& session,
+                                 const std::vector<CameraPose>& poses,
+                                 const ViewFrameHooks& hooks) {
+    throw_if_cancelled(job.cancel, "view");
+    std::optional<CreatedDirs> created;  // removed again when a failure leaves it empty
+    if (!job.path.empty()) {
+        created.emplace(job.output);
+        std::error_code ec;
+        std::filesystem::create_directories(job.output, ec);
+        if (ec) {
+            throw OutputError(job.output.string() + ": cannot create directory: " + ec.message());
+        }
+    }
+    std::unique_ptr<Mp4Writer> video;  // removes its temporary file unless committed
+    if (!job.mp4.empty()) {
+        video = std::make_unique<Mp4Writer>(job.mp4, job.camera.width, job.camera.height, job.fps);
+    }
+    FrameLoop loop{job, session, poses, hooks, video.get(), job.camera, {}, {}, {}};
+    try {
+        for (std::size_t i = 0; i < poses.size(); ++i) {
+            loop.run(i);
+        }
+        throw_if_cancelled(job.cancel, "view");
+    } catch (const Interrupted&) {
+        for (const auto& f : loop.written) {  // an interrupted view writes nothing
+            std::error_code ignored;
+            std::filesystem::remove(f, ignored);
+        }
+        throw;
+    }
+    ViewFramesResult result = loop.result;
     result.frames = poses.size();
     if (video) {
         video->commit();
         result.mp4_frames = video->frames();
         result.mp4_codec = video->codec();
+    }
+    if (created) {
+        created->keep();
     }
     return result;
 }

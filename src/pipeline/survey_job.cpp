@@ -6,10 +6,12 @@
 #include <optional>
 #include <system_error>
 
+#include "beamtrace/core/cancel.hpp"
 #include "beamtrace/core/error.hpp"
 #include "beamtrace/pipeline/survey.hpp"
 #include "beamtrace/scene/demo_scene.hpp"
 #include "beamtrace/scene/scene_builder.hpp"
+#include "core/created_dirs.hpp"
 #include "pipeline/detail/ordered_blocks.hpp"
 #include "pipeline/detail/survey_block.hpp"
 #include "pipeline/detail/survey_materials.hpp"
@@ -91,15 +93,18 @@ struct BlockStages {
 };
 
 /// Runs every block through `stages` on the pool and writes them to `sinks` in block order,
-/// with at most `window` blocks in flight; returns the number of points written.
+/// with at most `window` blocks in flight; returns the number of points written. Checks `cancel`
+/// before each block is taken and written: Interrupted stops every thread.
 std::uint64_t stream_blocks(const BlockStages& stages, detail::SinkSet& sinks, std::size_t window,
-                            ThreadPool& pool, const ProgressFn& progress) {
+                            ThreadPool& pool, const ProgressFn& progress,
+                            const CancelToken* cancel) {
     const std::uint64_t pulses = stages.pulses;
     const auto blocks =
         static_cast<std::size_t>((pulses + detail::kBlockPulses - 1) / detail::kBlockPulses);
     const std::size_t progress_every = std::max<std::size_t>(1, window / 4);
     std::uint64_t points = 0;
     detail::OrderedBlocks ordered(blocks, window, [&](std::size_t k, detail::BlockOutput& out) {
+        throw_if_cancelled(cancel, "survey");  // on the writer: finish() rethrows it
         sinks.write(out);
         points += out.points;
         if (progress && ((k + 1) % progress_every == 0 || k + 1 == blocks)) {
@@ -111,6 +116,10 @@ std::uint64_t stream_blocks(const BlockStages& stages, detail::SinkSet& sinks, s
     detail::WorkShelf shelf;
     pool.parallel_for(blocks, 1, [&](std::size_t kb, std::size_t ke) {
         for (std::size_t k = kb; k < ke; ++k) {
+            if (cancel != nullptr && cancel->requested()) {
+                ordered.abort();
+                throw_if_cancelled(cancel, "survey");
+            }
             detail::BlockOutput* out = ordered.acquire(k);
             if (out == nullptr) {
                 return;  // the writer failed, or another block did: finish() or parallel_for says
@@ -179,6 +188,7 @@ SurveyResult run_survey(const SurveySpec& spec, const SurveyRunConfig& run,
     if (run.output_dir.empty()) {
         throw ConfigError("no output directory");
     }
+    throw_if_cancelled(run.cancel, "survey");
     SurveyResult result;
     ThreadPool pool(run.threads);
     // Inputs first: nothing is written before the scene, pattern and trajectory are all valid.
@@ -201,6 +211,10 @@ SurveyResult run_survey(const SurveySpec& spec, const SurveyRunConfig& run,
     const auto backend = make_backend(run.backend, in.scene.geometry, pool);
     result.build_s = seconds_since(t0);
 
+    throw_if_cancelled(run.cancel, "survey");
+    // Declared before the sinks: on an error or interrupt the sinks remove their temporaries
+    // first, then the folders this run created go if empty.
+    CreatedDirs created(run.output_dir);
     create_output_dir(run.output_dir);
     detail::SinkSet sinks = detail::open_survey_sinks(
         spec, detail::survey_sink_facts(spec, run, in.scene, *in.pattern, *in.trajectory,
@@ -223,8 +237,10 @@ SurveyResult run_survey(const SurveySpec& spec, const SurveyRunConfig& run,
     const std::size_t window =
         (std::max<std::size_t>(1, run.chunk_pulses) + detail::kBlockPulses - 1) /
         detail::kBlockPulses;
-    result.points = stream_blocks(stages, sinks, window, pool, progress);
+    result.points = stream_blocks(stages, sinks, window, pool, progress, run.cancel);
+    throw_if_cancelled(run.cancel, "survey");
     result.outputs = sinks.commit();
+    created.keep();
     result.survey_s = seconds_since(t0);
     return result;
 }

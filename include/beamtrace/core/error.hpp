@@ -37,4 +37,17 @@ class OutputError : public Error {
     using Error::Error;
 };
 
+/// A call was stopped by its CancelToken (core/cancel.hpp) before it finished. Nothing it was
+/// writing was written: its temporary files are removed as the exception unwinds.
+class Interrupted : public Error {
+  public:
+    /// `what`: the call ("survey", "scan"...); `reason`: the token's (the CLI: the signal).
+    Interrupted(const std::string& what, int reason)
+        : Error(what + ": interrupted; nothing was written"), reason_(reason) {}
+    [[nodiscard]] int reason() const { return reason_; }
+
+  private:
+    int reason_ = 0;
+};
+
 }  // namespace beamtrace

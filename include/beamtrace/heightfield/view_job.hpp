@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "beamtrace/core/camera_pose.hpp"
+#include "beamtrace/core/cancel.hpp"
 #include "beamtrace/heightfield/view_camera.hpp"
 #include "beamtrace/heightfield/view_renderer.hpp"
 #include "beamtrace/heightfield/view_session.hpp"
@@ -32,6 +33,10 @@ struct ViewJobConfig {
     std::filesystem::path mp4;         ///< path: also encode the frames into this MP4
     double fps = 25.0;                 ///< frame rate of the MP4
     bool prefetch = true;  ///< path: load the next frame's sections while this one renders
+    /// Checked before each frame loads, renders and is written: once requested,
+    /// run_view_frames removes the frames it wrote and the MP4's temporary file and throws
+    /// Interrupted. Null: runs to the end. The token must outlive the call.
+    const CancelToken* cancel = nullptr;
 
     /// Every problem with how the modes combine, in the order the CLI reports them; empty
     /// when valid (the camera and height field are checked by their own validate()).
@@ -68,7 +73,8 @@ struct ViewFramesResult {
 /// Renders `poses` (job.pose: one PNG at job.output; job.path: frame_NNNNN.png into the folder
 /// job.output, created, and the MP4 job.mp4 when given). Before frame i renders, frame i + 1's
 /// sections start loading in the background (job.prefetch); every frame is the same as without.
-/// Throws OutputError, ConfigError.
+/// Throws OutputError, ConfigError, and Interrupted (job.cancel; the frames written are removed,
+/// and the folder if this call created it).
 ViewFramesResult run_view_frames(const ViewJobConfig& job, ViewSession& session,
                                  const std::vector<CameraPose>& poses,
                                  const ViewFrameHooks& hooks = {});

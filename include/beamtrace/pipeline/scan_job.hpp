@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "beamtrace/accel/backend.hpp"
+#include "beamtrace/core/cancel.hpp"
 #include "beamtrace/core/progress.hpp"
 #include "beamtrace/pipeline/face_filter.hpp"
 #include "beamtrace/scene/scene.hpp"
@@ -50,6 +51,9 @@ struct ScanJobConfig {
     unsigned threads = 0;          ///< 0 = all hardware threads
     std::filesystem::path output_dir;
     std::vector<FaceRange> exclude_faces;  ///< hits on these faces are left out of points.ply
+    /// Checked between chunks of rays (tracing and writing): once requested, run_scan stops,
+    /// removes its temporary files and throws Interrupted. Null: runs to the end.
+    const CancelToken* cancel = nullptr;
 
     /// Sets `sensor` (from the demo's sensor when `demo`), or for a rays file the image size,
     /// from the options given. Call after `demo` and `pattern` are set.

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "beamtrace/accel/backend.hpp"
+#include "beamtrace/core/cancel.hpp"
 #include "beamtrace/core/progress.hpp"
 #include "beamtrace/core/ray_batch.hpp"
 #include "beamtrace/core/thread_pool.hpp"
@@ -70,6 +71,10 @@ struct SurveyRunConfig {
     std::size_t chunk_pulses = std::size_t{1} << 16;
     /// Stop after this many pulses (the first ones; previews and benchmarks). 0: all of them.
     std::uint64_t max_pulses = 0;
+    /// Checked between blocks: once requested, run_survey stops, removes its temporary files
+    /// (and the output directory, if it created it and it is empty) and throws Interrupted.
+    /// Null: the survey runs to the end. The token must outlive the call.
+    const CancelToken* cancel = nullptr;
 };
 
 struct SurveyResult {
@@ -87,6 +92,8 @@ struct SurveyResult {
                                    std::uint64_t max_pulses, ThreadPool& pool);
 
 /// Runs the survey: memory stays bounded by the chunk size whatever the number of pulses.
+/// Throws Interrupted when run.cancel is requested before the outputs are committed; the
+/// output directory is then left as it was.
 [[nodiscard]] SurveyResult run_survey(const SurveySpec& spec, const SurveyRunConfig& run,
                                       const ProgressFn& progress = {});
 
