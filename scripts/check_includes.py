@@ -1,11 +1,11 @@
 #!/usr/bin/env python3
-"""Checks every #include "..." of src/, include/, apps/, bench/ and examples/ against the module
-graph declared in cmake/modules.txt (the file CMake makes its library targets from).
+"""Checks every #include "..." of src/, include/, apps/, bench/, examples/ and fuzz/ against the
+module graph declared in cmake/modules.txt (the file CMake makes its library targets from).
 
 Each file belongs to a module: include/beamtrace/<m>/ and src/<m>/ to library module <m>,
-bench/harness/ to `harness`, bench/ to `bench`, apps/ to `apps`, examples/ to `examples`. An
-include is resolved as the compiler does (next to the including file, then include/, src/,
-bench/) and is a violation when
+bench/harness/ to `harness`, bench/ to `bench`, apps/, examples/ and fuzz/ to `apps`, `examples`
+and `fuzz`. An include is resolved as the compiler does (next to the including file, then
+include/, src/, bench/) and is a violation when
   - its module is not the including file's module nor reachable from it in the graph (an include
     that runs back up, or sideways to a module not declared as a dependency);
   - it is another module's private header (src/<m>/detail/);
@@ -21,7 +21,7 @@ import re
 import sys
 from pathlib import Path
 
-SCANNED = ("src", "include", "apps", "bench", "examples")
+SCANNED = ("src", "include", "apps", "bench", "examples", "fuzz")
 EXTENSIONS = {".hpp", ".cpp", ".h", ".inl"}
 SEARCH_PATH = ("include", "src", "bench")  # the -I folders of the build, in order
 INCLUDE = re.compile(r'^\s*#\s*include\s*"([^"]+)"')
@@ -74,7 +74,7 @@ def classify(rel):
         return parts[1], False, "detail" in parts[2:-1]
     if parts[0] == "bench":
         return ("harness" if len(parts) > 2 and parts[1] == "harness" else "bench"), False, False
-    if parts[0] in ("apps", "examples"):
+    if parts[0] in ("apps", "examples", "fuzz"):
         return parts[0], False, False
     return None, False, False
 

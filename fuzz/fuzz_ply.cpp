@@ -1,0 +1,11 @@
+// libFuzzer target: the PLY, ascii and binary (load_ply) mesh loader, on a file holding the input.
+#include <cstddef>
+#include <cstdint>
+
+#include "beamtrace/scene/mesh_loader.hpp"
+#include "fuzz_input.hpp"
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+    const auto path = beamtrace::fuzz::write_input(data, size, "input.ply");
+    return beamtrace::fuzz::run_guarded([&] { (void)beamtrace::load_ply(path); });
+}
