@@ -15,10 +15,12 @@
 
 #include <csignal>
 #include <cstddef>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace beamtrace::test {
@@ -54,6 +56,29 @@ inline ChildPeak run_measuring_peak_rss(const std::vector<std::string>& argv,
         args.push_back(const_cast<char*>(a.c_str()));
     }
     args.push_back(nullptr);
+    // The child's environment; LeakSanitizer cannot run under ptrace, so a sanitized child
+    // gets detect_leaks=0 (its leaks are checked by the tests that run it without ptrace).
+    std::vector<std::string> env_text;
+    for (char** e = environ; *e != nullptr; ++e) {
+        const std::string_view v(*e);
+        if (v.substr(0, 13) != "ASAN_OPTIONS=") {
+            env_text.emplace_back(v);
+        }
+    }
+#ifdef BEAMTRACE_SANITIZED
+    const char* asan = std::getenv("ASAN_OPTIONS");
+    env_text.push_back(std::string("ASAN_OPTIONS=") + (asan != nullptr ? asan : "") +
+                       (asan != nullptr && *asan != '\0' ? ":" : "") + "detect_leaks=0");
+#else
+    if (const char* asan = std::getenv("ASAN_OPTIONS")) {
+        env_text.push_back(std::string("ASAN_OPTIONS=") + asan);
+    }
+#endif
+    std::vector<char*> env;
+    for (auto& e : env_text) {
+        env.push_back(e.data());
+    }
+    env.push_back(nullptr);
     const int out = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
     if (out < 0) {
         result.error = "cannot create " + log.string();
@@ -66,7 +91,7 @@ inline ChildPeak run_measuring_peak_rss(const std::vector<std::string>& argv,
         if (::ptrace(PTRACE_TRACEME, 0, nullptr, nullptr) != 0) {
             ::_exit(126);
         }
-        ::execv(args[0], args.data());
+        ::execve(args[0], args.data(), env.data());
         ::_exit(127);
     }
     ::close(out);
