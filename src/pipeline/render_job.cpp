@@ -6,8 +6,8 @@
 
 #include "beamtrace/core/error.hpp"
 #include "beamtrace/core/thread_pool.hpp"
-#include "beamtrace/render/render_options.hpp"
 #include "beamtrace/pipeline/demo_sensor.hpp"
+#include "beamtrace/render/render_options.hpp"
 #include "beamtrace/scene/demo_scene.hpp"
 #include "beamtrace/scene/scene_builder.hpp"
 

@@ -12,8 +12,8 @@
 #include "beamtrace/core/error.hpp"
 #include "beamtrace/core/rotation.hpp"
 #include "beamtrace/heightfield/view_camera.hpp"
-#include "beamtrace/render/camera.hpp"
 #include "beamtrace/pipeline/render_job.hpp"
+#include "beamtrace/render/camera.hpp"
 
 namespace beamtrace {
 namespace {

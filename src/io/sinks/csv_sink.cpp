@@ -4,8 +4,8 @@
 #include <charconv>
 #include <string>
 
-#include "beamtrace/core/atomic_file.hpp"
 #include "beamtrace/io/point_sink.hpp"
+#include "io/sinks/byte_file_sink.hpp"
 
 namespace beamtrace {
 
@@ -47,12 +47,11 @@ void append_csv_row(std::string& out, const BlockPoint& p, bool physics) {
     out.append(row, static_cast<std::size_t>(c - row));
 }
 
-class CsvSink final : public PointSink {
+class CsvSink final : public detail::ByteFileSink {
   public:
     explicit CsvSink(const SinkFacts& facts)
-        : physics_(facts.physics),
-          file_(std::make_unique<AtomicFile>(facts.output_dir / "points.csv")) {
-        file_->write(
+        : ByteFileSink(facts.output_dir / "points.csv"), physics_(facts.physics) {
+        file().write(
             std::string(
                 "x,y,z,gps_time,range_m,classification,point_source_id,beam,scan_angle_deg") +
             (physics_ ? ",intensity,return_number,number_of_returns" : "") + "\n");
@@ -63,18 +62,9 @@ class CsvSink final : public PointSink {
             append_csv_row(bytes, p, physics_);
         }
     }
-    void write(const SinkBuffer& encoded) override {
-        file_->write(static_cast<const ByteBuffer&>(encoded).bytes);
-    }
-    std::vector<std::filesystem::path> commit() override {
-        file_->commit();
-        return {file_->path()};
-    }
-    void abort() noexcept override { file_.reset(); }
 
   private:
     bool physics_;
-    std::unique_ptr<AtomicFile> file_;
 };
 
 }  // namespace

@@ -3,8 +3,8 @@
 // and the samples as float32 (docs/formats.md).
 #include <cstring>
 
-#include "beamtrace/core/atomic_file.hpp"
 #include "beamtrace/io/point_sink.hpp"
+#include "io/sinks/byte_file_sink.hpp"
 
 namespace beamtrace {
 
@@ -15,17 +15,17 @@ void append(std::string& out, const T& value) {
     out.append(reinterpret_cast<const char*>(&value), sizeof value);
 }
 
-class WaveformSink final : public PointSink {
+class WaveformSink final : public detail::ByteFileSink {
   public:
     explicit WaveformSink(const SinkFacts& facts)
-        : file_(std::make_unique<AtomicFile>(facts.output_dir / "waveforms.bin")) {
+        : ByteFileSink(facts.output_dir / "waveforms.bin") {
         std::string header = "BTWAVE01";
         const std::uint32_t version = 1, reserved = 0;
         append(header, version);
         append(header, reserved);
         append(header, facts.waveform->bin_ns);
         append(header, facts.waveform->pulse_fwhm_ns);
-        file_->write(header);
+        file().write(header);
     }
     void encode(const PointBlock& block, SinkBuffer& out) const override {
         std::string& bytes = static_cast<ByteBuffer&>(out).bytes;
@@ -40,17 +40,6 @@ class WaveformSink final : public PointSink {
                          4 * std::size_t{w.count});
         }
     }
-    void write(const SinkBuffer& encoded) override {
-        file_->write(static_cast<const ByteBuffer&>(encoded).bytes);
-    }
-    std::vector<std::filesystem::path> commit() override {
-        file_->commit();
-        return {file_->path()};
-    }
-    void abort() noexcept override { file_.reset(); }
-
-  private:
-    std::unique_ptr<AtomicFile> file_;
 };
 
 }  // namespace
