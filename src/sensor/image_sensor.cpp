@@ -1,15 +1,28 @@
 #include "beamtrace/sensor/image_sensor.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <numbers>
+#include <string>
 
 #include "beamtrace/core/error.hpp"
+#include "beamtrace/sensor/image_pattern.hpp"
 
 namespace beamtrace {
 namespace {
 
+/// Checks settings for casting one whole image of rays, which is held in memory at once.
 void check(const ImageSensorConfig& c, bool scanning) {
-    const auto problems = c.validate(scanning);
+    auto problems = c.validate(scanning);
+    const std::uint64_t pixels =
+        std::uint64_t(std::max(c.width, 0)) * std::uint64_t(std::max(c.height, 0));
+    if (pixels > kMaxImagePixels) {
+        problems.push_back("width x height (" + std::to_string(c.width) + " x " +
+                           std::to_string(c.height) + ") must be at most " +
+                           std::to_string(kMaxImagePixels) +
+                           " rays (e.g. 8192 x 8192), the limit of one image");
+    }
     if (!problems.empty()) {
         std::string msg = "invalid sensor settings:";
         for (const auto& p : problems) {

@@ -25,7 +25,8 @@ namespace {
 
 constexpr std::size_t kFields = 6;
 constexpr std::string_view kHeader = "ox,oy,oz,dx,dy,dz";
-constexpr std::size_t kChunkBytes = std::size_t{1} << 20;
+/// Read chunk: large enough for fast reads, small enough that a tiny file costs little.
+constexpr std::size_t kChunkBytes = std::size_t{64} << 10;
 /// The longest line a rays file may have (docs/formats.md), to which the read buffer may grow.
 constexpr std::size_t kMaxLineBytes = std::size_t{16} << 20;
 constexpr std::size_t kMaxRowBytes =

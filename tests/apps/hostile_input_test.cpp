@@ -183,6 +183,15 @@ std::vector<Hostile> hostile_inputs() {
                                              "--quiet", "--output", out.string()};
          },
          [](const fs::path& dir) { return (dir / "rays.csv").string() + ": no rays found"; }},
+        {"a scan image of 40000 x 40000 rays",
+         [](const fs::path&, const fs::path& out) {
+             return std::vector<std::string>{"scan",    "--demo",   "--width",
+                                             "40000",   "--height", "40000",
+                                             "--quiet", "--output", out.string()};
+         },
+         [](const fs::path&) {
+             return std::string("width x height (40000 x 40000) must be at most 67108864 rays");
+         }},
         {"a folder as the scene file",
          [](const fs::path& dir, const fs::path& out) {
              fs::create_directory(dir / "folder.yaml");
