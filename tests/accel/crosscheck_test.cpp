@@ -379,14 +379,14 @@ TEST(CrossCheck, BunnyRandomRays) {
     const auto path = test::shared_data("meshes/small/stanford-bunny.obj");
     BEAMTRACE_REQUIRE_FILE(path);
     const TriangleMesh mesh = load_mesh(path);
-    expect_agreement(mesh, random_rays(mesh, test::heavy_scale(60000), 1), "bunny");
+    expect_agreement(mesh, random_rays(mesh, test::heavy_scale(20000), 1), "bunny");
 }
 
 TEST(CrossCheck, TerrainRandomRays) {
     const auto path = test::shared_data("meshes/terrain/dem_hd_sub_heightfield.obj");
     BEAMTRACE_REQUIRE_FILE(path);
     const TriangleMesh mesh = load_mesh(path);
-    expect_agreement(mesh, random_rays(mesh, test::heavy_scale(60000), 2), "terrain");
+    expect_agreement(mesh, random_rays(mesh, test::heavy_scale(30000), 2), "terrain");
 }
 
 /// Rays aimed at vertices and edges (checked to be that) against brute force.
