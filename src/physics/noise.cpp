@@ -24,17 +24,18 @@ std::vector<std::string> NoiseConfig::validate() const {
     check(range_sigma_m, "range_sigma_m");
     check(range_sigma_per_m, "range_sigma_per_m");
     check(angle_jitter_rad, "angle_jitter_rad");
-    check(position_sigma_m, "position_sigma_m");
-    check(attitude_sigma_rad, "attitude_sigma_rad");
     if (!(dropout_probability >= 0 && dropout_probability <= 1)) {
         p.emplace_back("noise: dropout_probability must be in [0, 1]");
+    }
+    for (auto& problem : georeferencing.validate()) {
+        p.push_back(std::move(problem));
     }
     return p;
 }
 
 bool NoiseConfig::none() const {
     return range_sigma_m == 0 && range_sigma_per_m == 0 && angle_jitter_rad == 0 &&
-           position_sigma_m == 0 && attitude_sigma_rad == 0 && dropout_probability == 0;
+           dropout_probability == 0 && georeferencing.none();
 }
 
 double range_sigma_m(const NoiseConfig& config, double range_m) {
@@ -76,28 +77,6 @@ Vec3d jitter_direction(const NoiseConfig& config, std::uint64_t seed, std::uint6
     }
     const Vec3d towards = (e1 * a + e2 * b) * (1.0 / tilt);
     return normalize(axis * std::cos(tilt) + towards * std::sin(tilt));
-}
-
-Pose perturb_pose(const NoiseConfig& config, std::uint64_t seed, std::uint64_t pulse_index,
-                  const Pose& pose) {
-    Pose out = pose;
-    if (config.position_sigma_m > 0) {
-        CounterRng rng(seed, pulse_index, 0, RngStream::position_noise);
-        const double dx = rng.normal(), dy = rng.normal(), dz = rng.normal();
-        out.position_m += Vec3d{dx, dy, dz} * config.position_sigma_m;
-    }
-    if (config.attitude_sigma_rad > 0) {
-        CounterRng rng(seed, pulse_index, 0, RngStream::attitude_noise);
-        const double rx = rng.normal(), ry = rng.normal(), rz = rng.normal();
-        const Vec3d r = Vec3d{rx, ry, rz} * config.attitude_sigma_rad;
-        const double angle = length(r);
-        if (angle > 0) {
-            // A body-frame error: applied before the attitude.
-            out.attitude =
-                (pose.attitude * Quat::from_axis_angle(r * (1.0 / angle), angle)).normalized();
-        }
-    }
-    return out;
 }
 
 }  // namespace beamtrace

@@ -71,9 +71,13 @@ PulseSimulator::PulseSimulator(PhysicsConfig config) : config_(std::move(config)
         beamtrace::extinction_per_m(config_.atmosphere, config_.radiometry.wavelength_nm);
 }
 
-Pose PulseSimulator::perturb_pose(std::uint64_t seed, std::uint64_t pulse_index,
-                                  const Pose& pose) const {
-    return beamtrace::perturb_pose(config_.noise, seed, pulse_index, pose);
+Pose PulseSimulator::measured_pose(std::uint64_t seed, std::uint64_t pulse_index, double time_s,
+                                   const Pose& platform, const Pose& mount) const {
+    const GeoreferencingConfig& g = config_.noise.georeferencing;
+    PoseError e;
+    PlatformErrorScratch scratch;
+    platform_errors(g, seed, pulse_index, {&time_s, 1}, {&e, 1}, scratch);
+    return measured_sensor_pose(g, platform, mount, e);
 }
 
 void PulseSimulator::sub_ray_directions(std::uint64_t seed, std::uint64_t pulse_index,

@@ -51,6 +51,37 @@ YAML::Node section(YamlChecker& c, const YAML::Node& n, const char* key) {
     return s;
 }
 
+/// The georeferencing keys of the `noise:` section (physics/georeferencing.hpp): the random
+/// pose errors, their correlation time and the fixed lever-arm and boresight errors.
+void parse_georeferencing(YamlChecker& c, const YAML::Node& z, const std::string& q,
+                          GeoreferencingConfig& g) {
+    number(c, z, q, "position_sigma_m", g.position_sigma_m);
+    number(c, z, q, "attitude_sigma_deg", g.attitude_sigma_rad, kDeg);
+    number(c, z, q, "correlation_time_s", g.correlation_time_s);
+    if (z["lever_arm_error_m"]) {
+        c.vec3(z["lever_arm_error_m"], q + "lever_arm_error_m", g.lever_arm_error_m);
+    }
+    Vec3d bore;
+    if (z["boresight_error_deg"] &&
+        c.vec3(z["boresight_error_deg"], q + "boresight_error_deg", bore)) {
+        g.boresight_error = {bore.x * kDeg, bore.y * kDeg, bore.z * kDeg};
+    }
+}
+
+/// The `noise:` section.
+void parse_noise(YamlChecker& c, const YAML::Node& z, NoiseConfig& k) {
+    c.only_keys(z, "physics.noise",
+                {"range_sigma_m", "range_sigma_per_m", "angle_jitter_mrad", "position_sigma_m",
+                 "attitude_sigma_deg", "correlation_time_s", "lever_arm_error_m",
+                 "boresight_error_deg", "dropout_probability"});
+    const std::string q = "physics.noise.";
+    number(c, z, q, "range_sigma_m", k.range_sigma_m);
+    number(c, z, q, "range_sigma_per_m", k.range_sigma_per_m);
+    number(c, z, q, "angle_jitter_mrad", k.angle_jitter_rad, 1e-3);
+    number(c, z, q, "dropout_probability", k.dropout_probability);
+    parse_georeferencing(c, z, q, k.georeferencing);
+}
+
 }  // namespace
 
 void parse_physics_block(YamlChecker& c, const YAML::Node& n, PhysicsConfig& out) {
@@ -97,17 +128,7 @@ void parse_physics_block(YamlChecker& c, const YAML::Node& n, PhysicsConfig& out
         }
     }
     if (const auto z = section(c, n, "noise")) {
-        c.only_keys(z, "physics.noise",
-                    {"range_sigma_m", "range_sigma_per_m", "angle_jitter_mrad", "position_sigma_m",
-                     "attitude_sigma_deg", "dropout_probability"});
-        const std::string q = p + "noise.";
-        NoiseConfig& k = out.noise;
-        number(c, z, q, "range_sigma_m", k.range_sigma_m);
-        number(c, z, q, "range_sigma_per_m", k.range_sigma_per_m);
-        number(c, z, q, "angle_jitter_mrad", k.angle_jitter_rad, 1e-3);
-        number(c, z, q, "position_sigma_m", k.position_sigma_m);
-        number(c, z, q, "attitude_sigma_deg", k.attitude_sigma_rad, kDeg);
-        number(c, z, q, "dropout_probability", k.dropout_probability);
+        parse_noise(c, z, out.noise);
     }
     if (const auto w = section(c, n, "waveform")) {
         c.only_keys(w, "physics.waveform", {"pulse_fwhm_ns", "bin_ns", "keep"});

@@ -22,7 +22,8 @@ void SurveyPhysics::run(BlockWork& w) const {
             const Vec3d d{w.rays.dx[h], w.rays.dy[h], w.rays.dz[h]};
             const double t = w.hits.t[h];
             const ScenePart& part = scene.parts[scene.part_of_face(w.hits.face[h])];
-            const Vec3d at = w.origin[k] + d * t;
+            // The true ray's origin: w.origin is the measured one (georeferencing errors).
+            const Vec3d at = Vec3d{w.rays.ox[h], w.rays.oy[h], w.rays.oz[h]} + d * t;
             w.sub[j] = make_sub_ray_hit(materials_[part.material],
                                         scene.pattern_frame(part, w.hits.face[h]), t, at,
                                         scene.geometry.normal_at(w.hits.face[h], at), d);

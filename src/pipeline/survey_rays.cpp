@@ -49,71 +49,113 @@ float las_scan_angle_deg(const Vec3d& dir, const Vec3d& forward) {
     return scan_angle_about(dir, right_of(forward));
 }
 
-void SurveyRaySource::generate(const PulseBatch& pulses, std::uint64_t first, RayBatch& rays,
-                               std::size_t ray_offset, Vec3d* origin, Vec3d* axis,
-                               float* scan_angle, Scratch& scratch) const {
-    const std::size_t n_sub = sub_rays();
-    std::vector<Vec3d>& dirs = scratch.dirs;
-    dirs.resize(n_sub);
-    scratch.platform.resize(pulses.time_s.size());
-    trajectory->poses_at(pulses.time_s, scratch.platform);
-    const Pose& mount = spec->mount.sensor_to_platform;
-    // What depends on the platform's attitude alone, kept while the attitude stays the same
-    // (a straight leg, a tripod): the sensor's attitude, the lever arm in the world and the scan
-    // angle's axis. Reused only for bit-identical attitudes, so nothing depends on it.
-    bool have_frame = false;
+namespace {
+
+/// What depends on the platform's attitude alone, kept while the attitude stays the same (a
+/// straight leg, a tripod): the sensor's attitude, the lever arm in the world and the scan
+/// angle's axis. Reused only for bit-identical attitudes, so nothing depends on it.
+struct AttitudeFrame {
+    bool valid = false;
     Quat platform_attitude, sensor_attitude;
     Mat3 sensor_rotation;  // sensor_attitude as a matrix: 15 flops a direction instead of 30
     Vec3d lever_world, right;
+
+    void update(const Quat& q, const Pose& mount) {
+        if (valid && q.w == platform_attitude.w && q.x == platform_attitude.x &&
+            q.y == platform_attitude.y && q.z == platform_attitude.z) {
+            return;
+        }
+        valid = true;
+        platform_attitude = q;
+        sensor_attitude = q * mount.attitude;
+        sensor_rotation = sensor_attitude.to_matrix();
+        lever_world = q.rotate(mount.position_m);
+        right = right_of(q.rotate({1, 0, 0}));
+    }
+};
+
+/// The pulse's origin, beam axis and LAS scan angle (about `right`) into its slots.
+void store_beam(const Vec3d& o, const Vec3d& d, const Vec3d& right, Vec3d& origin, Vec3d& axis,
+                float& scan_angle) {
+    // Field by field: a Vec3d copied whole here was read back from the stack as 16 bytes right
+    // after being stored as 8-byte halves, which stalls store forwarding (a third of the
+    // generator's time).
+    const double ox = o.x, oy = o.y, oz = o.z;
+    const double dx = d.x, dy = d.y, dz = d.z;
+    origin.x = ox;
+    origin.y = oy;
+    origin.z = oz;
+    axis.x = dx;
+    axis.y = dy;
+    axis.z = dz;
+    scan_angle = scan_angle_about({dx, dy, dz}, right);
+}
+
+}  // namespace
+
+void SurveyRaySource::generate(const PulseBatch& pulses, std::uint64_t first, RayBatch& rays,
+                               std::size_t ray_offset, Vec3d* origin, Vec3d* axis,
+                               float* scan_angle, Scratch& scratch) const {
+    scratch.platform.resize(pulses.time_s.size());
+    trajectory->poses_at(pulses.time_s, scratch.platform);
+    if (sim) {
+        generate_physics(pulses, first, rays, ray_offset, origin, axis, scan_angle, scratch);
+        return;
+    }
+    const Pose& mount = spec->mount.sensor_to_platform;
+    AttitudeFrame frame;
     for (std::size_t i = 0; i < pulses.time_s.size(); ++i) {
         const Pose& platform = scratch.platform[i];
-        const Quat& q = platform.attitude;
-        if (!have_frame || q.w != platform_attitude.w || q.x != platform_attitude.x ||
-            q.y != platform_attitude.y || q.z != platform_attitude.z) {
-            have_frame = true;
-            platform_attitude = q;
-            sensor_attitude = q * mount.attitude;
-            sensor_rotation = sensor_attitude.to_matrix();
-            lever_world = q.rotate(mount.position_m);
-            right = right_of(q.rotate({1, 0, 0}));
-        }
+        frame.update(platform.attitude, mount);
         // platform * mount, term by term.
-        Pose pose{platform.position_m + lever_world, sensor_attitude};
-        Vec3d dir;
-        if (sim) {
-            pose = sim->perturb_pose(seed, first + i, pose);
-            dir = pose.attitude.to_matrix() * pulses.direction[i];
+        const Vec3d o = platform.position_m + frame.lever_world;
+        const Vec3d d = frame.sensor_rotation * pulses.direction[i];
+        store_beam(o, d, frame.right, origin[i], axis[i], scan_angle[i]);
+        const std::size_t r = ray_offset + i;
+        rays.ox[r] = o.x;
+        rays.oy[r] = o.y;
+        rays.oz[r] = o.z;
+        rays.dx[r] = d.x;
+        rays.dy[r] = d.y;
+        rays.dz[r] = d.z;
+        rays.tmin[r] = spec->range_min_m;
+        rays.tmax[r] = spec->range_max_m;
+    }
+}
+
+void SurveyRaySource::generate_physics(const PulseBatch& pulses, std::uint64_t first,
+                                       RayBatch& rays, std::size_t ray_offset, Vec3d* origin,
+                                       Vec3d* axis, float* scan_angle, Scratch& scratch) const {
+    const std::size_t n_sub = sub_rays();
+    std::vector<Vec3d>& dirs = scratch.dirs;
+    dirs.resize(n_sub);
+    const Pose& mount = spec->mount.sensor_to_platform;
+    // The rays leave the TRUE pose; the point is placed with the MEASURED one (georeferencing).
+    const GeoreferencingConfig& geo = sim->config().noise.georeferencing;
+    const bool measured_differs = !geo.none();
+    const Pose mount_measured = measured_mount(geo, mount);
+    if (measured_differs) {
+        scratch.errors.resize(pulses.time_s.size());
+        platform_errors(geo, seed, first, pulses.time_s, scratch.errors, scratch.georeferencing);
+    }
+    AttitudeFrame frame;
+    for (std::size_t i = 0; i < pulses.time_s.size(); ++i) {
+        const Pose& platform = scratch.platform[i];
+        frame.update(platform.attitude, mount);
+        const Vec3d o = platform.position_m + frame.lever_world;
+        const Vec3d d = frame.sensor_rotation * pulses.direction[i];
+        if (measured_differs) {
+            const Pose measured = measured_platform_pose(platform, scratch.errors[i]);
+            const Pose sensor = measured * mount_measured;
+            store_beam(sensor.position_m, sensor.attitude.to_matrix() * pulses.direction[i],
+                       right_of(measured.attitude.rotate({1, 0, 0})), origin[i], axis[i],
+                       scan_angle[i]);
         } else {
-            dir = sensor_rotation * pulses.direction[i];
+            store_beam(o, d, frame.right, origin[i], axis[i], scan_angle[i]);
         }
-        // Field by field: a Vec3d copied whole here was read back from the stack as 16 bytes
-        // right after being stored as 8-byte halves, which stalls store forwarding (a third
-        // of this function's time).
-        const double ox = pose.position_m.x, oy = pose.position_m.y, oz = pose.position_m.z;
-        const double dx = dir.x, dy = dir.y, dz = dir.z;
-        origin[i].x = ox;
-        origin[i].y = oy;
-        origin[i].z = oz;
-        axis[i].x = dx;
-        axis[i].y = dy;
-        axis[i].z = dz;
-        scan_angle[i] = scan_angle_about({dx, dy, dz}, right);
-        if (!sim) {
-            const std::size_t r = ray_offset + i;
-            rays.ox[r] = ox;
-            rays.oy[r] = oy;
-            rays.oz[r] = oz;
-            rays.dx[r] = dx;
-            rays.dy[r] = dy;
-            rays.dz[r] = dz;
-            rays.tmin[r] = spec->range_min_m;
-            rays.tmax[r] = spec->range_max_m;
-            continue;
-        }
-        sim->sub_ray_directions(seed, first + i, dir, dirs);
+        sim->sub_ray_directions(seed, first + i, d, dirs);
         for (std::size_t j = 0; j < n_sub; ++j) {
-            rays.set(ray_offset + i * n_sub + j, pose.position_m, dirs[j], spec->range_min_m,
-                     spec->range_max_m);
+            rays.set(ray_offset + i * n_sub + j, o, dirs[j], spec->range_min_m, spec->range_max_m);
         }
     }
 }

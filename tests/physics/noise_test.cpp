@@ -138,36 +138,5 @@ TEST(PhysicsNoise, AngularJitterHasTheRightSpread) {
     EXPECT_EQ(jitter_direction(c, 2, 0, axis), axis);
 }
 
-TEST(PhysicsNoise, PlatformPoseNoise) {
-    NoiseConfig c;
-    c.position_sigma_m = 0.05;
-    c.attitude_sigma_rad = 2e-4;
-    Pose pose;
-    pose.position_m = {100, 200, 300};
-    pose.attitude = Quat::from_rpy({0.1, -0.2, 0.3});
-    constexpr int kN = 50'000;
-    std::vector<double> dx, dz, roll_err;
-    double angle_sq = 0;
-    for (int i = 0; i < kN; ++i) {
-        const Pose p = perturb_pose(c, 4, static_cast<std::uint64_t>(i), pose);
-        dx.push_back(p.position_m.x - 100);
-        dz.push_back(p.position_m.z - 300);
-        // The body-frame error rotation: pose^-1 * p.
-        const Quat err = pose.attitude.conjugate() * p.attitude;
-        const double ang = 2 * std::acos(std::min(1.0, std::abs(err.w)));
-        angle_sq += ang * ang;
-        roll_err.push_back(2 * err.x * (err.w < 0 ? -1 : 1));
-    }
-    EXPECT_NEAR(stats(dx).std, 0.05, 0.03 * 0.05);
-    EXPECT_NEAR(stats(dz).std, 0.05, 0.03 * 0.05);
-    EXPECT_NEAR(stats(dx).mean, 0.0, 4 * 0.05 / std::sqrt(kN));
-    EXPECT_NEAR(std::sqrt(angle_sq / kN), std::sqrt(3.0) * 2e-4, 0.03 * std::sqrt(3.0) * 2e-4);
-    EXPECT_NEAR(stats(roll_err).std, 2e-4, 0.03 * 2e-4);
-    c = {};
-    const Pose same = perturb_pose(c, 4, 0, pose);
-    EXPECT_EQ(same.position_m, pose.position_m);
-    EXPECT_EQ(same.attitude.w, pose.attitude.w);
-}
-
 }  // namespace
 }  // namespace beamtrace

@@ -49,8 +49,8 @@ TEST(PhysicsYaml, EveryKeyIsRead) {
     EXPECT_EQ(p.noise.range_sigma_m, 0.02);
     EXPECT_EQ(p.noise.range_sigma_per_m, 1e-4);
     EXPECT_DOUBLE_EQ(p.noise.angle_jitter_rad, 1e-4);
-    EXPECT_EQ(p.noise.position_sigma_m, 0.03);
-    EXPECT_NEAR(p.noise.attitude_sigma_rad, 0.01 * 3.14159265358979 / 180, 1e-12);
+    EXPECT_EQ(p.noise.georeferencing.position_sigma_m, 0.03);
+    EXPECT_NEAR(p.noise.georeferencing.attitude_sigma_rad, 0.01 * 3.14159265358979 / 180, 1e-12);
     EXPECT_EQ(p.noise.dropout_probability, 0.05);
     EXPECT_EQ(p.waveform.pulse_fwhm_ns, 5);
     EXPECT_EQ(p.waveform.bin_ns, 1);

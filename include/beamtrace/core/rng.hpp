@@ -27,6 +27,8 @@ enum class RngStream : std::uint32_t {
     attitude_noise = 4,
     dropout = 5,
     waveform_noise = 6,
+    gauss_markov_position = 7,  ///< white input of the position Gauss-Markov grid (per node)
+    gauss_markov_attitude = 8,  ///< white input of the attitude Gauss-Markov grid (per node)
     user = 1000,  ///< first value free for callers outside the physics module
 };
 

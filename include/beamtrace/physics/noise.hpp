@@ -7,10 +7,9 @@
 // - Angular jitter: the beam axis is tilted by a 2-D Gaussian offset of angle_jitter_rad per
 //   axis, perpendicular to it (key: sub-ray 0, stream angle_jitter) before the sub-rays are laid
 //   around it.
-// - Platform noise: position offset N(0, position_sigma_m) per world axis and an attitude error
-//   of small rotations N(0, attitude_sigma_rad) about the body's x, y, z axes (streams
-//   position_noise and attitude_noise). Draw it per pulse (GNSS/INS error is really correlated
-//   over time; white noise per pulse is the simple bound).
+// - Platform (georeferencing) errors: georeferencing.hpp. The beam is traced from the true pose
+//   and the point placed with the measured one (GNSS/INS error, white or Gauss-Markov in time,
+//   plus fixed lever-arm and boresight errors).
 // - Dropouts: each pulse is lost with probability dropout_probability (stream dropout).
 #pragma once
 
@@ -18,18 +17,17 @@
 #include <string>
 #include <vector>
 
-#include "beamtrace/core/quat.hpp"
 #include "beamtrace/core/vec3.hpp"
+#include "beamtrace/physics/georeferencing.hpp"
 
 namespace beamtrace {
 
 struct NoiseConfig {
-    double range_sigma_m = 0.0;        ///< constant part a of sigma = a + b R
-    double range_sigma_per_m = 0.0;    ///< range-proportional part b (e.g. 1e-4: 1 cm at 100 m)
-    double angle_jitter_rad = 0.0;     ///< std of the beam axis tilt, per perpendicular axis
-    double position_sigma_m = 0.0;     ///< std of the platform position, per world axis
-    double attitude_sigma_rad = 0.0;   ///< std of the platform roll/pitch/yaw error
-    double dropout_probability = 0.0;  ///< chance a pulse gives no return at all, [0, 1]
+    double range_sigma_m = 0.0;           ///< constant part a of sigma = a + b R
+    double range_sigma_per_m = 0.0;       ///< range-proportional part b (e.g. 1e-4: 1 cm at 100 m)
+    double angle_jitter_rad = 0.0;        ///< std of the beam axis tilt, per perpendicular axis
+    double dropout_probability = 0.0;     ///< chance a pulse gives no return at all, [0, 1]
+    GeoreferencingConfig georeferencing;  ///< errors of the measured pose (none by default)
 
     /// Every problem with these settings; empty when valid.
     [[nodiscard]] std::vector<std::string> validate() const;
@@ -52,9 +50,5 @@ struct NoiseConfig {
 /// The unit beam axis `axis` tilted by the pulse's angular jitter (axis itself if none).
 [[nodiscard]] Vec3d jitter_direction(const NoiseConfig& config, std::uint64_t seed,
                                      std::uint64_t pulse_index, const Vec3d& axis);
-
-/// `pose` with the pulse's position and attitude noise applied (pose itself if none).
-[[nodiscard]] Pose perturb_pose(const NoiseConfig& config, std::uint64_t seed,
-                                std::uint64_t pulse_index, const Pose& pose);
 
 }  // namespace beamtrace

@@ -1,16 +1,18 @@
 // One LiDAR pulse from the sub-ray hits to its returns: the entry point of the physics module.
 //
 // The caller owns the tracing. Per pulse i of a survey with seed S:
-//   1. pose = sim.perturb_pose(S, i, platform_pose * mount)          (position/attitude noise)
+//   1. pose = platform_pose * mount (the TRUE pose)
 //   2. axis = pose.apply_direction(pattern_direction)
 //      sim.sub_ray_directions(S, i, axis, dirs)                       (jitter + divergence cone)
 //   3. trace origin pose.position_m along every dirs[j]; fill hits[j] (make_sub_ray_hit, or
 //      SubRayHit{} for a miss) with the range, cos incidence and material at the hit point
 //   4. sim.simulate(S, i, hits, response)                             (range equation, waveform,
 //      echoes, return mode, range noise, dropout)
-//   5. each response.returns[r] is a point at origin + range_m * axis (the beam's axis, as real
-//      sensors report it); returns[r].sub_ray names the sub-ray that dominated the echo, so its
-//      face/part/label can be attached; intensity is the LAS uint16 of range_equation.hpp.
+//   5. measured = sim.measured_pose(S, i, t_i, platform_pose, mount)  (georeferencing errors)
+//      each response.returns[r] is a point at measured.position_m + range_m * measured axis (the
+//      beam's axis, as real sensors report it, placed with the pose the system measured);
+//      returns[r].sub_ray names the sub-ray that dominated the echo, so its face/part/label can
+//      be attached; intensity is the LAS uint16 of range_equation.hpp.
 // Every method is const and pure: call it from any thread, in any order; results depend only on
 // (config, seed, pulse index, hits). Reuse one PulseResponse per thread to avoid allocations.
 //
@@ -119,9 +121,12 @@ class PulseSimulator {
     /// The extinction coefficient in use [1/m].
     [[nodiscard]] double extinction_per_m() const { return alpha_per_m_; }
 
-    /// The platform/sensor pose of pulse `pulse_index` with position and attitude noise.
-    [[nodiscard]] Pose perturb_pose(std::uint64_t seed, std::uint64_t pulse_index,
-                                    const Pose& pose) const;
+    /// The sensor pose the system records for pulse `pulse_index` fired at `time_s` from the
+    /// true `platform` pose with the sensor-to-platform `mount`: the georeferencing errors of
+    /// config().noise.georeferencing applied (georeferencing.hpp). One pulse at a time (it
+    /// evaluates the Gauss-Markov nodes afresh); blocks use platform_errors() with a scratch.
+    [[nodiscard]] Pose measured_pose(std::uint64_t seed, std::uint64_t pulse_index, double time_s,
+                                     const Pose& platform, const Pose& mount) const;
     /// The world directions of the pulse's sub-rays around the unit beam `axis` (jittered);
     /// out.size() must equal sub_ray_count(). out[j] belongs to pattern()[j].
     void sub_ray_directions(std::uint64_t seed, std::uint64_t pulse_index, const Vec3d& axis,

@@ -1,6 +1,7 @@
 // The rays of a survey's pulses, exactly as run_survey traces them: the platform's pose at each
-// pulse's time, the mount, the physics' pose noise and sub-ray pattern. Shared by run_survey and
-// the throughput benchmark (which traces the same rays with raw Embree).
+// pulse's time, the mount, the physics' sub-ray pattern; and the beam each pulse reports, placed
+// with the MEASURED pose (the physics' georeferencing errors, physics/georeferencing.hpp). Shared
+// by run_survey and the throughput benchmark (which traces the same rays with raw Embree).
 #pragma once
 
 #include <cstddef>
@@ -8,6 +9,7 @@
 #include <vector>
 
 #include "beamtrace/core/ray_batch.hpp"
+#include "beamtrace/physics/georeferencing.hpp"
 #include "beamtrace/physics/pulse.hpp"
 #include "beamtrace/pipeline/survey.hpp"
 
@@ -21,7 +23,7 @@ namespace beamtrace::detail {
 struct SurveyRaySource {
     const SurveySpec* spec = nullptr;
     const Trajectory* trajectory = nullptr;
-    const PulseSimulator* sim = nullptr;  ///< null: one ray per pulse, no pose noise
+    const PulseSimulator* sim = nullptr;  ///< null: one ray per pulse, no pose errors
     std::uint64_t seed = 1;
 
     [[nodiscard]] std::size_t sub_rays() const { return sim ? sim->sub_ray_count() : 1; }
@@ -30,14 +32,24 @@ struct SurveyRaySource {
     struct Scratch {
         std::vector<Vec3d> dirs;
         std::vector<Pose> platform;
+        std::vector<PoseError> errors;
+        PlatformErrorScratch georeferencing;
     };
 
     /// Rays of pulses[i] (global pulse index first + i) into rays[ray_offset + i * sub_rays(),
-    /// ... + sub_rays()); each pulse's origin, beam axis and LAS scan angle into origin[i],
-    /// axis[i], scan_angle[i]. `rays` must be large enough; `dirs` is scratch space.
+    /// ... + sub_rays()), traced from the TRUE sensor pose; each pulse's origin, beam axis and
+    /// LAS scan angle as the system MEASURES them (the pose with the georeferencing errors: the
+    /// points go at origin + axis * range) into origin[i], axis[i], scan_angle[i]. Without
+    /// errors (or without physics) origin/axis are the ray's. `rays` must be large enough.
     void generate(const PulseBatch& pulses, std::uint64_t first, RayBatch& rays,
                   std::size_t ray_offset, Vec3d* origin, Vec3d* axis, float* scan_angle,
                   Scratch& scratch) const;
+
+  private:
+    /// generate() with physics: sub-rays, jitter and the measured beam.
+    void generate_physics(const PulseBatch& pulses, std::uint64_t first, RayBatch& rays,
+                          std::size_t ray_offset, Vec3d* origin, Vec3d* axis, float* scan_angle,
+                          Scratch& scratch) const;
 };
 
 }  // namespace beamtrace::detail
