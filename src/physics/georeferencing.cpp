@@ -47,12 +47,13 @@ void one_kind(double sigma, double tau_s, RngStream white_stream, RngStream gm_s
     }
     const GaussMarkovGrid grid(sigma, tau_s, gm_stream);
     if (!time_s.empty()) {
-        // Every node the block needs at once, unless the pulses are sparse on the grid (then
-        // at() evaluates the two nodes of each pulse). Either way each node is the same sum.
+        // Every node the block needs at once (K + span normals instead of K + 2 per pulse),
+        // unless the pulses are too sparse on the grid for that range to stay small: then at()
+        // evaluates the two nodes of each pulse. Either way each node is the same sum.
         const auto [lo_t, hi_t] = std::minmax_element(time_s.begin(), time_s.end());
         const double lo = std::floor(*lo_t / grid.step_s()), hi = std::floor(*hi_t / grid.step_s());
         if (std::isfinite(lo) && std::isfinite(hi) &&
-            hi - lo <= 2.0 * static_cast<double>(time_s.size()) + 16) {
+            hi - lo <= 4.0 * static_cast<double>(time_s.size()) + 1024) {
             grid.fill(seed, static_cast<std::int64_t>(lo), static_cast<std::int64_t>(hi) + 1,
                       cache);
         }

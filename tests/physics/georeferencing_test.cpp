@@ -155,6 +155,13 @@ TEST(Georeferencing, GaussMarkovValueDoesNotDependOnTheBlocks) {
         const std::size_t i = (kN - 1) / 97 * 97 - 97 * k;
         EXPECT_EQ(std::memcmp(&se[k], &whole[i], sizeof(PoseError)), 0) << i;
     }
+    // Two pulses 100 s apart (80 000 grid steps: the per-pulse path) are still the same.
+    const std::vector<double> far{t[100], t[100] + 100.0};
+    std::vector<PoseError> fe(2), alone(1);
+    platform_errors(c, 3, 100, far, fe, scratch);
+    EXPECT_EQ(std::memcmp(&fe[0], &whole[100], sizeof(PoseError)), 0);
+    platform_errors(c, 3, 7, std::span(far).subspan(1), alone, scratch);
+    EXPECT_EQ(std::memcmp(&fe[1], &alone[0], sizeof(PoseError)), 0);
     // The single-pulse call of the simulator gives the same measured pose.
     PhysicsConfig pc;
     pc.noise.georeferencing = c;

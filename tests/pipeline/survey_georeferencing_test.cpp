@@ -84,6 +84,23 @@ TEST(SurveyGeoreferencing, AttitudeNoiseMovesPointsByHeightTimesSigma) {
     EXPECT_LT(s.z, 2e-3);
 }
 
+// The beam is traced from the TRUE pose (range H whatever the error) and the point placed with
+// the measured one: at a large attitude error sigma the points lie H from the scanner, on a
+// sphere, E[H (1 - cos theta)] = H sigma^2 above the floor (two tilt axes). Tracing from the
+// noisy pose would put them on the floor at ranges H / cos(theta).
+TEST(SurveyGeoreferencing, RaysLeaveTheTruePoseAndPointsTheMeasuredOne) {
+    const double sigma = 2.0 * kDeg;
+    const auto points = run_nadir(20'000, "{attitude_sigma_deg: 2}");
+    ASSERT_EQ(points.size(), 20'000u);
+    double lift = 0;
+    for (const auto& p : points) {
+        EXPECT_NEAR(std::sqrt(p.x * p.x + p.y * p.y + p.z * p.z), kHeight_m, 2e-3);
+        lift += p.z + kHeight_m;
+    }
+    lift /= static_cast<double>(points.size());
+    EXPECT_NEAR(lift, kHeight_m * sigma * sigma, 0.05 * kHeight_m * sigma * sigma);
+}
+
 // Acceptance: a position error sigma moves the points by sigma in x, y and z.
 TEST(SurveyGeoreferencing, PositionNoiseMovesPointsBySigmaPerAxis) {
     const auto points = run_nadir(100'000, "{position_sigma_m: 0.05}");
