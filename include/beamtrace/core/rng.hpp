@@ -29,7 +29,7 @@ enum class RngStream : std::uint32_t {
     waveform_noise = 6,
     gauss_markov_position = 7,  ///< white input of the position Gauss-Markov grid (per node)
     gauss_markov_attitude = 8,  ///< white input of the attitude Gauss-Markov grid (per node)
-    user = 1000,  ///< first value free for callers outside the physics module
+    user = 1000,                ///< first value free for callers outside the physics module
 };
 
 /// One Philox-4x32-10 block: four 32-bit words from a 128-bit counter and a 64-bit key.
