@@ -107,17 +107,26 @@ void SurveyRaySource::generate(const PulseBatch& pulses, std::uint64_t first, Ra
     for (std::size_t i = 0; i < pulses.time_s.size(); ++i) {
         const Pose& platform = scratch.platform[i];
         frame.update(platform.attitude, mount);
-        // platform * mount, term by term.
+        // platform * mount, term by term; written out (not store_beam) to keep every value in
+        // a register: this loop is the whole cost of a survey's rays without physics.
         const Vec3d o = platform.position_m + frame.lever_world;
-        const Vec3d d = frame.sensor_rotation * pulses.direction[i];
-        store_beam(o, d, frame.right, origin[i], axis[i], scan_angle[i]);
+        const Vec3d dir = frame.sensor_rotation * pulses.direction[i];
+        const double ox = o.x, oy = o.y, oz = o.z;
+        const double dx = dir.x, dy = dir.y, dz = dir.z;
+        origin[i].x = ox;
+        origin[i].y = oy;
+        origin[i].z = oz;
+        axis[i].x = dx;
+        axis[i].y = dy;
+        axis[i].z = dz;
+        scan_angle[i] = scan_angle_about({dx, dy, dz}, frame.right);
         const std::size_t r = ray_offset + i;
-        rays.ox[r] = o.x;
-        rays.oy[r] = o.y;
-        rays.oz[r] = o.z;
-        rays.dx[r] = d.x;
-        rays.dy[r] = d.y;
-        rays.dz[r] = d.z;
+        rays.ox[r] = ox;
+        rays.oy[r] = oy;
+        rays.oz[r] = oz;
+        rays.dx[r] = dx;
+        rays.dy[r] = dy;
+        rays.dz[r] = dz;
         rays.tmin[r] = spec->range_min_m;
         rays.tmax[r] = spec->range_max_m;
     }
