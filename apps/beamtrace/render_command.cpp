@@ -63,7 +63,7 @@ void add_camera_options(CLI::App* cmd, RenderJobConfig& job) {
         ->default_str(std::to_string(cam.width) + "x" + std::to_string(cam.height));
 }
 
-/// --light, --ambient, --background, --exposure, --gamma, --no-shadows.
+/// --light, --ambient, --background, --exposure, --gamma, --no-shadows, --brdf.
 void add_light_options(CLI::App* cmd, RenderJobConfig& job) {
     RenderConfig& r = job.render;
     cmd->add_option_function<std::vector<std::string>>(
@@ -84,6 +84,10 @@ void add_light_options(CLI::App* cmd, RenderJobConfig& job) {
         ->capture_default_str();
     cmd->add_flag_callback(
         "--no-shadows", [&r] { r.shadows = false; }, "Do not trace shadow rays");
+    cmd->add_option_function<std::string>(
+           "--brdf", [&r](const std::string& s) { r.brdf = parse_brdf(s); },
+           "Specular lobe: " + brdf_choices() + " (docs/render.md)")
+        ->default_str(std::string(to_string(r.brdf)));
 }
 
 }  // namespace

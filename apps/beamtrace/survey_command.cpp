@@ -35,6 +35,17 @@ int run(const SurveyCommand& o) {
         std::printf("scene: %zu triangles%s; pulses: %llu; points: %llu\n", r.triangles,
                     spheres.c_str(), static_cast<unsigned long long>(r.pulses),
                     static_cast<unsigned long long>(r.points));
+        if (r.intensity_reference_range_m) {
+            std::printf("intensity: reference range %.2f m", *r.intensity_reference_range_m);
+            if (r.intensity_reference_auto) {
+                if (r.nominal_range_m) {
+                    std::printf(" (auto: half the nominal range %.2f m)", *r.nominal_range_m);
+                } else {
+                    std::printf(" (auto: the pilot hit nothing)");
+                }
+            }
+            std::printf("\n");
+        }
         std::printf("time: build %.3f s, survey %.3f s (%.2f M pulses/s, %.2f M points/s)\n",
                     r.build_s, r.survey_s,
                     r.survey_s > 0 ? static_cast<double>(r.pulses) / r.survey_s / 1e6 : 0.0,

@@ -2,15 +2,34 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
+
+#include "beamtrace/core/name_table.hpp"
 
 namespace beamtrace {
 namespace {
+
+constexpr NameTable<Brdf, 2> kBrdfs{
+    "brdf",
+    {{{Brdf::normalized_phong, "normalized_phong"}, {Brdf::phenomenological, "phenomenological"}}}};
 
 bool unit_interval(double v) {
     return v >= 0.0 && v <= 1.0;
 }
 
 }  // namespace
+
+std::string_view to_string(Brdf brdf) {
+    return kBrdfs.to_string(brdf);
+}
+
+Brdf parse_brdf(std::string_view name) {
+    return kBrdfs.parse(name);
+}
+
+std::string brdf_choices() {
+    return std::string(kBrdfs.choices());
+}
 
 std::vector<std::string> Material::validate() const {
     std::vector<std::string> p;
@@ -52,6 +71,47 @@ double phenomenological_reflectance(double cos_i, double cos_e, double cos_g,
         lobe = c > 0.0 ? std::pow(std::min(c, 1.0), specular_exponent) : 0.0;
     }
     return specular_weight * lobe + (1.0 - specular_weight) * cos_i;
+}
+
+namespace {
+
+/// pi f_r / a of the normalised Phong BRDF: (1 - s) + s (n + 2) / 2 C^n (exactly 1 for s = 0).
+double phong_factor(double cos_mirror, double specular_weight, double specular_exponent) {
+    double lobe = 0.0;
+    if (specular_weight > 0.0 && cos_mirror > 0.0) {
+        lobe = (specular_exponent + 2.0) / 2.0 *
+               std::pow(std::min(cos_mirror, 1.0), specular_exponent);
+    }
+    return (1.0 - specular_weight) + specular_weight * lobe;
+}
+
+}  // namespace
+
+double normalized_phong_brdf(double cos_mirror, double specular_weight, double specular_exponent) {
+    return phong_factor(cos_mirror, specular_weight, specular_exponent) / std::numbers::pi;
+}
+
+double normalized_phong_reflectance(double cos_i, double cos_e, double cos_g,
+                                    double specular_weight, double specular_exponent) {
+    if (!(cos_i > 0.0)) {
+        return 0.0;  // self-shadowed
+    }
+    const double c = 2.0 * cos_i * cos_e - cos_g;
+    return phong_factor(c, specular_weight, specular_exponent) * cos_i;
+}
+
+double reflectance(Brdf brdf, double cos_i, double cos_e, double cos_g, double specular_weight,
+                   double specular_exponent) {
+    return brdf == Brdf::normalized_phong
+               ? normalized_phong_reflectance(cos_i, cos_e, cos_g, specular_weight,
+                                              specular_exponent)
+               : phenomenological_reflectance(cos_i, cos_e, cos_g, specular_weight,
+                                              specular_exponent);
+}
+
+double monostatic_reflectance(Brdf brdf, double cos_incidence, double specular_weight,
+                              double specular_exponent) {
+    return reflectance(brdf, cos_incidence, cos_incidence, 1.0, specular_weight, specular_exponent);
 }
 
 double monostatic_reflectance(double cos_incidence, double specular_weight,

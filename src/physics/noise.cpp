@@ -39,7 +39,8 @@ bool NoiseConfig::none() const {
 }
 
 double range_sigma_m(const NoiseConfig& config, double range_m) {
-    return config.range_sigma_m + config.range_sigma_per_m * range_m;
+    // Independent error sources add in quadrature.
+    return std::hypot(config.range_sigma_m, config.range_sigma_per_m * range_m);
 }
 
 double range_noise_m(const NoiseConfig& config, std::uint64_t seed, std::uint64_t pulse_index,

@@ -90,8 +90,8 @@ double PulseSimulator::sub_ray_power_w(const SubRayHit& hit, double weight) cons
     if (!std::isfinite(hit.range_m) || !(hit.range_m > 0)) {
         return 0.0;
     }
-    const double l =
-        monostatic_reflectance(hit.cos_incidence, hit.specular_weight, hit.specular_exponent);
+    const double l = monostatic_reflectance(config_.brdf, hit.cos_incidence, hit.specular_weight,
+                                            hit.specular_exponent);
     return received_power_w(config_.radiometry, config_.radiometry.peak_power_w * weight,
                             hit.albedo, l, hit.range_m,
                             two_way_transmission(alpha_per_m_, hit.range_m));

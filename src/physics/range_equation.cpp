@@ -36,7 +36,9 @@ std::vector<std::string> RadiometryConfig::validate() const {
     positive(peak_power_w, "peak_power_w");
     positive(aperture_diameter_m, "aperture_diameter_m");
     positive(detection_threshold_w, "detection_threshold_w");
-    positive(intensity_reference_range_m, "intensity_reference_range_m");
+    if (intensity_reference_range_m) {
+        positive(*intensity_reference_range_m, "intensity_reference_range_m");
+    }
     if (!(system_efficiency > 0 && system_efficiency <= 1)) {
         p.emplace_back("radiometry: system_efficiency must be in (0, 1]");
     }
@@ -47,6 +49,10 @@ std::vector<std::string> RadiometryConfig::validate() const {
             "threshold (lower intensity_reference_range_m or the threshold)");
     }
     return p;
+}
+
+double intensity_reference_range_m(const RadiometryConfig& config) {
+    return config.intensity_reference_range_m.value_or(kDefaultIntensityReferenceRange_m);
 }
 
 double aperture_area_m2(const RadiometryConfig& config) {
@@ -64,14 +70,18 @@ double received_power_w(const RadiometryConfig& config, double emitted_power_w, 
 
 double intensity_full_scale_w(const RadiometryConfig& config) {
     return received_power_w(config, config.peak_power_w, 1.0, 1.0,
-                            config.intensity_reference_range_m, 1.0);
+                            intensity_reference_range_m(config), 1.0);
 }
 
 std::uint16_t las_intensity(const RadiometryConfig& config, double power_w) {
     const double fs = intensity_full_scale_w(config);
     double x = 0.0;
     if (config.intensity_scale == IntensityScale::linear) {
-        x = 65535.0 * std::clamp(power_w / fs, 0.0, 1.0);
+        if (!(power_w > 0)) {
+            return 0;
+        }
+        // A detected return never reads 0 (LAS's "no intensity").
+        x = std::max(1.0, 65535.0 * std::min(power_w / fs, 1.0));
     } else {
         if (!(power_w > 0)) {
             return 0;

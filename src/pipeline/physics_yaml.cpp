@@ -82,6 +82,31 @@ void parse_noise(YamlChecker& c, const YAML::Node& z, NoiseConfig& k) {
     parse_georeferencing(c, z, q, k.georeferencing);
 }
 
+/// The radiometry, the intensity scale (`reference_range_m`: a number or `auto`, the default,
+/// which leaves it unset for the survey's pilot) and the BRDF.
+void parse_radiometry(YamlChecker& c, const YAML::Node& n, PhysicsConfig& out) {
+    const std::string p = "physics.";
+    RadiometryConfig& r = out.radiometry;
+    number(c, n, p, "wavelength_nm", r.wavelength_nm);
+    number(c, n, p, "peak_power_w", r.peak_power_w);
+    number(c, n, p, "aperture_diameter_m", r.aperture_diameter_m);
+    number(c, n, p, "system_efficiency", r.system_efficiency);
+    number(c, n, p, "detection_threshold_w", r.detection_threshold_w);
+    choice(c, n, p, "brdf", out.brdf, [](const std::string& s) { return parse_brdf(s); });
+    if (const auto i = section(c, n, "intensity")) {
+        c.only_keys(i, "physics.intensity", {"reference_range_m", "scale"});
+        const YAML::Node range = i["reference_range_m"];
+        if (range && !(range.IsScalar() && range.Scalar() == "auto")) {
+            double v = 0;
+            if (c.number(range, p + "intensity.reference_range_m", v)) {
+                r.intensity_reference_range_m = v;
+            }
+        }
+        choice(c, i, p + "intensity.", "scale", r.intensity_scale,
+               [](const std::string& s) { return parse_intensity_scale(s); });
+    }
+}
+
 }  // namespace
 
 void parse_physics_block(YamlChecker& c, const YAML::Node& n, PhysicsConfig& out) {
@@ -91,21 +116,10 @@ void parse_physics_block(YamlChecker& c, const YAML::Node& n, PhysicsConfig& out
     }
     c.only_keys(n, "physics",
                 {"wavelength_nm", "peak_power_w", "aperture_diameter_m", "system_efficiency",
-                 "detection_threshold_w", "intensity", "atmosphere", "beam", "noise", "waveform",
-                 "returns"});
+                 "detection_threshold_w", "intensity", "brdf", "atmosphere", "beam", "noise",
+                 "waveform", "returns"});
     const std::string p = "physics.";
-    RadiometryConfig& r = out.radiometry;
-    number(c, n, p, "wavelength_nm", r.wavelength_nm);
-    number(c, n, p, "peak_power_w", r.peak_power_w);
-    number(c, n, p, "aperture_diameter_m", r.aperture_diameter_m);
-    number(c, n, p, "system_efficiency", r.system_efficiency);
-    number(c, n, p, "detection_threshold_w", r.detection_threshold_w);
-    if (const auto i = section(c, n, "intensity")) {
-        c.only_keys(i, "physics.intensity", {"reference_range_m", "scale"});
-        number(c, i, p + "intensity.", "reference_range_m", r.intensity_reference_range_m);
-        choice(c, i, p + "intensity.", "scale", r.intensity_scale,
-               [](const std::string& s) { return parse_intensity_scale(s); });
-    }
+    parse_radiometry(c, n, out);
     if (const auto a = section(c, n, "atmosphere")) {
         c.only_keys(a, "physics.atmosphere",
                     {"enabled", "visibility_km", "model", "extinction_per_m"});

@@ -19,6 +19,7 @@
 #include "pipeline/detail/survey_physics.hpp"
 #include "pipeline/detail/survey_points.hpp"
 #include "pipeline/detail/survey_rays.hpp"
+#include "pipeline/detail/survey_reference_range.hpp"
 
 namespace beamtrace {
 namespace {
@@ -52,6 +53,18 @@ SurveyInputs load_survey_inputs(const SurveySpec& spec) {
                           std::to_string(trajectory.end_time_s()) + " s");
     }
     return in;
+}
+
+/// The physics line of the LAS provenance: the BRDF and the intensity reference range in use.
+std::string physics_provenance(const PhysicsConfig& physics, const detail::ReferenceRange& r) {
+    std::string line = "# physics: brdf " + std::string(to_string(physics.brdf)) +
+                       ", intensity reference range " + std::to_string(r.reference_range_m) + " m";
+    if (r.automatic) {
+        line += r.nominal_range_m
+                    ? " (auto: half the nominal range " + std::to_string(*r.nominal_range_m) + " m)"
+                    : " (auto: the pilot hit nothing)";
+    }
+    return line + "\n";
 }
 
 void create_output_dir(const std::filesystem::path& dir) {
@@ -193,14 +206,10 @@ SurveyResult run_survey(const SurveySpec& spec, const SurveyRunConfig& run,
     ThreadPool pool(run.threads);
     // Inputs first: nothing is written before the scene, pattern and trajectory are all valid.
     const SurveyInputs in = load_survey_inputs(spec);
-    // Physics (optional): each pulse is sub_rays rays; their hits become the pulse's returns.
-    std::optional<PulseSimulator> sim;
-    std::optional<detail::SurveyPhysics> physics;
+    // The survey file's materials are checked before the backend is built.
+    std::vector<Material> materials;
     if (spec.physics) {
-        sim.emplace(*spec.physics);
-        physics.emplace(*sim, in.scene,
-                        detail::survey_materials(in.scene, *spec.physics, spec.scene_file),
-                        run.seed);
+        materials = detail::survey_materials(in.scene, *spec.physics, spec.scene_file);
     }
     result.triangles = in.scene.triangle_count();
     result.spheres = in.scene.sphere_count();
@@ -211,14 +220,32 @@ SurveyResult run_survey(const SurveySpec& spec, const SurveyRunConfig& run,
     const auto backend = make_backend(run.backend, in.scene.geometry, pool);
     result.build_s = seconds_since(t0);
 
+    // Physics (optional): each pulse is sub_rays rays; their hits become the pulse's returns.
+    // An `auto` intensity reference range comes from a pilot traced with the same backend.
+    std::optional<PulseSimulator> sim;
+    std::optional<detail::SurveyPhysics> physics;
+    std::string provenance_line;
+    if (spec.physics) {
+        PhysicsConfig config = *spec.physics;
+        const detail::ReferenceRange r = detail::resolve_reference_range(
+            config, spec, *in.pattern, *in.trajectory, *backend, pool);
+        result.intensity_reference_range_m = r.reference_range_m;
+        result.intensity_reference_auto = r.automatic;
+        result.nominal_range_m = r.nominal_range_m;
+        provenance_line = physics_provenance(config, r);
+        sim.emplace(std::move(config));
+        physics.emplace(*sim, in.scene, std::move(materials), run.seed);
+    }
+
     throw_if_cancelled(run.cancel, "survey");
     // Declared before the sinks: on an error or interrupt the sinks remove their temporaries
     // first, then the folders this run created go if empty.
     CreatedDirs created(run.output_dir);
     create_output_dir(run.output_dir);
-    detail::SinkSet sinks = detail::open_survey_sinks(
-        spec, detail::survey_sink_facts(spec, run, in.scene, *in.pattern, *in.trajectory,
-                                        sim ? &*sim : nullptr, result.pulses));
+    SinkFacts facts = detail::survey_sink_facts(spec, run, in.scene, *in.pattern, *in.trajectory,
+                                                sim ? &*sim : nullptr, result.pulses);
+    facts.provenance.insert(facts.provenance.find('\n') + 1, provenance_line);
+    detail::SinkSet sinks = detail::open_survey_sinks(spec, facts);
     t0 = Clock::now();
     const detail::SurveyRaySource source{&spec, in.trajectory.get(), sim ? &*sim : nullptr,
                                          run.seed};

@@ -220,8 +220,8 @@ RenderImage Renderer::render(const RenderConfig& config) const {
                     const Material& mat = scene_.materials[s.material];
                     radiance[i] +=
                         s.albedo * irradiance *
-                        phenomenological_reflectance(cos_i, dot(s.normal, s.view), dot(s.view, l),
-                                                     mat.specular_weight, mat.specular_exponent);
+                        reflectance(config.brdf, cos_i, dot(s.normal, s.view), dot(s.view, l),
+                                    mat.specular_weight, mat.specular_exponent);
                 }
             });
         }

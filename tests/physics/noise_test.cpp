@@ -35,7 +35,7 @@ std::vector<SubRayHit> facing_plane(double range_m) {
 }
 
 // Acceptance: over 1e5 pulses the range error has a standard deviation within 3 % of sigma and
-// a mean within 4 standard errors of 0; with sigma = a + b R too.
+// a mean within 4 standard errors of 0; with sigma = sqrt(a^2 + (b R)^2) too.
 TEST(PhysicsNoise, RangeNoiseStatisticsThroughThePulse) {
     for (const auto& [a, b] : {std::pair{0.02, 0.0}, std::pair{0.01, 2e-4}}) {
         PhysicsConfig c;
@@ -43,7 +43,7 @@ TEST(PhysicsNoise, RangeNoiseStatisticsThroughThePulse) {
         c.noise.range_sigma_per_m = b;
         const PulseSimulator sim(c);
         const double range = 100.0;
-        const double sigma = a + b * range;
+        const double sigma = std::hypot(a, b * range);
         EXPECT_DOUBLE_EQ(range_sigma_m(c.noise, range), sigma);
         PhysicsConfig quiet = c;
         quiet.noise = {};

@@ -91,5 +91,26 @@ TEST(PhysicsYaml, ErrorsNameLineAndKey) {
     }
 }
 
+// The intensity reference range is `auto` (unset, for the survey's pilot) unless a number is
+// given; the survey BRDF defaults to the normalised Phong lobe.
+TEST(PhysicsYaml, ReferenceRangeAutoAndBrdf) {
+    const auto parse = [](const std::string& block) {
+        return *parse_survey_spec(kHead + block, "s.yaml").physics;
+    };
+    EXPECT_FALSE(parse("physics: {}\n").radiometry.intensity_reference_range_m.has_value());
+    EXPECT_EQ(parse("physics: {}\n").brdf, Brdf::normalized_phong);
+    EXPECT_FALSE(parse("physics: {intensity: {reference_range_m: auto}}\n")
+                     .radiometry.intensity_reference_range_m.has_value());
+    EXPECT_EQ(parse("physics: {intensity: {reference_range_m: 1200}}\n")
+                  .radiometry.intensity_reference_range_m,
+              1200.0);
+    EXPECT_EQ(parse("physics: {brdf: phenomenological}\n").brdf, Brdf::phenomenological);
+    for (const char* bad :
+         {"physics: {brdf: glossy}\n", "physics: {intensity: {reference_range_m: sometimes}}\n",
+          "physics: {intensity: {reference_range_m: -3}}\n"}) {
+        EXPECT_THROW((void)parse(bad), ConfigError) << bad;
+    }
+}
+
 }  // namespace
 }  // namespace beamtrace

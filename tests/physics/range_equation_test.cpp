@@ -103,6 +103,7 @@ TEST(PhysicsRangeEquation, LasIntensityScaling) {
     EXPECT_EQ(las_intensity(r, 10 * fs), 65535);
     EXPECT_EQ(las_intensity(r, 0.25 * fs), 16384);
     EXPECT_EQ(las_intensity(r, 0.0), 0);
+    EXPECT_EQ(las_intensity(r, 1e-9 * fs), 1) << "a detected return never reads 0";
     r.intensity_scale = IntensityScale::logarithmic;
     EXPECT_EQ(las_intensity(r, r.detection_threshold_w), 1);
     EXPECT_EQ(las_intensity(r, fs), 65535);
@@ -110,6 +111,30 @@ TEST(PhysicsRangeEquation, LasIntensityScaling) {
     EXPECT_NEAR(las_intensity(r, mid), 32768, 1);
     EXPECT_EQ(parse_intensity_scale("logarithmic"), IntensityScale::logarithmic);
     EXPECT_THROW((void)parse_intensity_scale("cubic"), ConfigError);
+}
+
+// Unset, R_ref is 10 m for direct users of the library; a number moves the full scale with
+// (R_ref)^2; a white Lambertian facing the sensor at R_ref in vacuum reads 65535 through the pulse.
+TEST(PhysicsRangeEquation, ReferenceRangeSetsTheFullScale) {
+    RadiometryConfig r;
+    EXPECT_FALSE(r.intensity_reference_range_m.has_value());
+    EXPECT_EQ(intensity_reference_range_m(r), kDefaultIntensityReferenceRange_m);
+    EXPECT_EQ(kDefaultIntensityReferenceRange_m, 10.0);
+    const double fs10 = intensity_full_scale_w(r);
+    r.intensity_reference_range_m = 1500.0;
+    EXPECT_NEAR(intensity_full_scale_w(r), fs10 * 1e-2 / 225.0, 1e-12 * fs10);
+    r.intensity_reference_range_m = -1.0;
+    EXPECT_FALSE(r.validate().empty());
+    for (const double range : {10.0, 1500.0}) {
+        PhysicsConfig c = vacuum_ray();
+        c.radiometry.intensity_reference_range_m = range;
+        const PulseSimulator sim(c);
+        const PulseResponse white = simulate_pulse(c, 1, 0, plane_hits(sim, range, 0.0, 1.0));
+        ASSERT_EQ(white.returns.size(), 1u);
+        EXPECT_NEAR(white.returns[0].intensity, 65535, 2) << range;
+        const PulseResponse grey = simulate_pulse(c, 1, 0, plane_hits(sim, range, 0.0, 0.25));
+        EXPECT_NEAR(grey.returns.at(0).intensity, 0.25 * 65535, 2) << range;
+    }
 }
 
 TEST(PhysicsAtmosphere, KimModelValues) {

@@ -184,7 +184,8 @@ TEST(SurveyPhysics, ExactSphereReturnsLieOnItAndFollowItsNormal) {
 TEST(SurveyPhysics, LibraryMaterialsResolveAtTheSurveyWavelength) {
     test::TempDir dir;
     // Grass is bright at 1064 nm and dark at 1550 nm (leaf water); the survey looks straight
-    // down at it from 10 m, where a white panel is full scale.
+    // down at it from 10 m, its nominal range, where a white panel reads a quarter of full scale
+    // (the auto reference range is half the nominal range).
     test::write_file(dir / "lawn.yaml", R"(materials:
   - {name: lawn, library: grass}
 parts:
@@ -203,7 +204,7 @@ output: {trajectory_rate_hz: 0}
     ASSERT_EQ(near_ir.size(), 1u);
     const auto lib = library_material("grass", 1064.0);
     ASSERT_TRUE(lib.has_value());
-    EXPECT_NEAR(near_ir[0].intensity, lib->reflectance * 65535, 2.0);
+    EXPECT_NEAR(near_ir[0].intensity, lib->reflectance * 65535 / 4, 2.0);
     test::TempDir dir2;
     test::write_file(dir2 / "lawn.yaml", test::read_file(dir / "lawn.yaml"));
     const auto swir = run_and_read(survey(1550), dir2);

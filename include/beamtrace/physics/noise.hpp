@@ -2,8 +2,8 @@
 // (seed, pulse index, sub-ray or return index, stream): the same seed gives the same survey on
 // any number of threads, in any chunking.
 //
-// - Range noise: Gaussian, sigma(R) = range_sigma_m + range_sigma_per_m * R, added to every
-//   return's range (key: return index, stream range_noise).
+// - Range noise: Gaussian, sigma(R) = sqrt(range_sigma_m^2 + (range_sigma_per_m R)^2) (independent
+//   errors in quadrature), added to every return's range (key: return index, stream range_noise).
 // - Angular jitter: the beam axis is tilted by a 2-D Gaussian offset of angle_jitter_rad per
 //   axis, perpendicular to it (key: sub-ray 0, stream angle_jitter) before the sub-rays are laid
 //   around it.
@@ -23,7 +23,7 @@
 namespace beamtrace {
 
 struct NoiseConfig {
-    double range_sigma_m = 0.0;           ///< constant part a of sigma = a + b R
+    double range_sigma_m = 0.0;           ///< constant part a of sigma = sqrt(a^2 + (b R)^2)
     double range_sigma_per_m = 0.0;       ///< range-proportional part b (e.g. 1e-4: 1 cm at 100 m)
     double angle_jitter_rad = 0.0;        ///< std of the beam axis tilt, per perpendicular axis
     double dropout_probability = 0.0;     ///< chance a pulse gives no return at all, [0, 1]
@@ -35,7 +35,8 @@ struct NoiseConfig {
     [[nodiscard]] bool none() const;
 };
 
-/// sigma(R) = range_sigma_m + range_sigma_per_m * R.
+/// sigma(R) = sqrt(a^2 + (b R)^2), a = range_sigma_m, b = range_sigma_per_m: the constant and
+/// the range-proportional errors are independent, so they add in quadrature.
 [[nodiscard]] double range_sigma_m(const NoiseConfig& config, double range_m);
 
 /// The range error of return `return_index` of pulse `pulse_index` at range `range_m` [m].

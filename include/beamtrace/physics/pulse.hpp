@@ -59,6 +59,9 @@ struct PhysicsConfig {
     BeamConfig beam;
     NoiseConfig noise;
     WaveformConfig waveform;
+    /// The reflectance of the range equation's L(i) (material.hpp): the energy-conserving
+    /// normalised Phong lobe, or the seed's phenomenological one.
+    Brdf brdf = Brdf::normalized_phong;
     ReturnMode return_mode = ReturnMode::all;
     int max_returns = 5;         ///< 1..15 (LAS 1.4 allows 15 returns per pulse)
     bool keep_waveform = false;  ///< keep the sampled waveform in PulseResponse::waveform
@@ -131,7 +134,8 @@ class PulseSimulator {
     /// out.size() must equal sub_ray_count(). out[j] belongs to pattern()[j].
     void sub_ray_directions(std::uint64_t seed, std::uint64_t pulse_index, const Vec3d& axis,
                             std::span<Vec3d> out) const;
-    /// The received power of one sub-ray hit with pattern weight `weight` [W].
+    /// The received power of one sub-ray hit with pattern weight `weight` [W], with the
+    /// configured BRDF's monostatic L(i).
     [[nodiscard]] double sub_ray_power_w(const SubRayHit& hit, double weight) const;
     /// The returns of pulse `pulse_index` whose sub-rays saw `hits` (hits.size() must equal
     /// sub_ray_count(); hits[j] belongs to pattern()[j]).

@@ -4,24 +4,31 @@
 //   P_r = P_t * a * L(i) * A_r / (pi R^2) * eta * T^2,   T^2 = exp(-2 alpha R)
 //
 // P_t emitted peak power [W] (of the sub-ray: pulse power times the sub-ray's weight), a the
-// albedo at the laser wavelength, L(i) the monostatic phenomenological reflectance of
-// material.hpp (= cos i for a Lambertian surface), A_r = pi D^2 / 4 the receiver aperture area
-// [m^2], R the range [m], eta the system (optics x detector) efficiency, alpha the atmospheric
-// extinction [1/m] of atmosphere.hpp. The Lambertian BRDF is a / pi; the 1/pi above is its.
+// albedo at the laser wavelength, L(i) = pi f_r cos(i) / a the monostatic reflectance factor of
+// material.hpp for the configured BRDF (= cos i for a Lambertian surface, whose BRDF is a / pi;
+// the 1/pi above is its), A_r = pi D^2 / 4 the receiver aperture area [m^2], R the range [m],
+// eta the system (optics x detector) efficiency, alpha the atmospheric extinction [1/m] of
+// atmosphere.hpp.
 //
 // LAS intensity (uint16) is linear in received power with a documented full scale:
 //   intensity = round(65535 * min(1, P_r / P_fs)),  P_fs = P_t * A_r / (pi R_ref^2) * eta,
-// i.e. a white (a = 1) Lambertian target facing the sensor at R_ref (default 10 m) in vacuum
-// reads 65535 and everything stronger saturates. `logarithmic` scaling instead maps
+// i.e. a white (a = 1) Lambertian target facing the sensor at R_ref in vacuum reads 65535 and
+// everything stronger saturates; a detected return (P_r > 0) reads at least 1. R_ref unset means
+// kDefaultIntensityReferenceRange_m (10 m) here; a survey sets it to half its nominal range
+// unless the survey file gives a number (docs/physics.md). `logarithmic` scaling instead maps
 // [detection threshold, P_fs] to [1, 65535] linearly in decibels, for large dynamic ranges.
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
 
 namespace beamtrace {
+
+/// The R_ref of a RadiometryConfig whose intensity_reference_range_m is unset [m].
+inline constexpr double kDefaultIntensityReferenceRange_m = 10.0;
 
 enum class IntensityScale : std::uint8_t { linear, logarithmic };
 
@@ -31,17 +38,22 @@ enum class IntensityScale : std::uint8_t { linear, logarithmic };
 [[nodiscard]] IntensityScale parse_intensity_scale(std::string_view name);
 
 struct RadiometryConfig {
-    double wavelength_nm = 1064.0;              ///< laser wavelength (materials, atmosphere)
-    double peak_power_w = 1000.0;               ///< emitted peak power of one pulse, P_t
-    double aperture_diameter_m = 0.05;          ///< receiver aperture diameter D
-    double system_efficiency = 0.8;             ///< eta, in (0, 1]
-    double detection_threshold_w = 1e-8;        ///< weakest detectable waveform peak (10 nW)
-    double intensity_reference_range_m = 10.0;  ///< R_ref of the LAS intensity full scale
+    double wavelength_nm = 1064.0;        ///< laser wavelength (materials, atmosphere)
+    double peak_power_w = 1000.0;         ///< emitted peak power of one pulse, P_t
+    double aperture_diameter_m = 0.05;    ///< receiver aperture diameter D
+    double system_efficiency = 0.8;       ///< eta, in (0, 1]
+    double detection_threshold_w = 1e-8;  ///< weakest detectable waveform peak (10 nW)
+    /// R_ref of the LAS intensity full scale [m], > 0; unset: kDefaultIntensityReferenceRange_m
+    /// (a survey replaces unset by half its nominal range, survey_reference_range).
+    std::optional<double> intensity_reference_range_m;
     IntensityScale intensity_scale = IntensityScale::linear;
 
     /// Every problem with these settings; empty when valid.
     [[nodiscard]] std::vector<std::string> validate() const;
 };
+
+/// R_ref in use: intensity_reference_range_m, or kDefaultIntensityReferenceRange_m when unset.
+[[nodiscard]] double intensity_reference_range_m(const RadiometryConfig& config);
 
 /// A_r = pi D^2 / 4.
 [[nodiscard]] double aperture_area_m2(const RadiometryConfig& config);

@@ -82,6 +82,11 @@ struct SurveyResult {
     std::uint64_t points = 0;
     std::size_t triangles = 0;
     std::size_t spheres = 0;  ///< exact spheres
+    /// With physics: the LAS intensity reference range R_ref in use [m], whether it was `auto`
+    /// (half the nominal range), and the pilot's nominal range (auto; none when it hit nothing).
+    std::optional<double> intensity_reference_range_m;
+    bool intensity_reference_auto = false;
+    std::optional<double> nominal_range_m;
     double build_s = 0, survey_s = 0;
     std::vector<std::filesystem::path> outputs;
 };

@@ -1,5 +1,5 @@
 // Shaded images of a RenderScene: nearest hit of the backend's triangles and the exact spheres
-// and planes, the phenomenological reflectance of each material under directional and point
+// and planes, the reflectance of each material (RenderConfig::brdf) under directional and point
 // lights, cast shadows from batched occlusion rays, and an ambient term.
 #pragma once
 
@@ -11,6 +11,7 @@
 
 #include "beamtrace/accel/backend.hpp"
 #include "beamtrace/core/thread_pool.hpp"
+#include "beamtrace/physics/material.hpp"
 #include "beamtrace/render/camera.hpp"
 #include "beamtrace/render/render_scene.hpp"
 #include "beamtrace/render/shading.hpp"
@@ -23,6 +24,9 @@ struct RenderConfig {
     double ambient = 0.1;       ///< ambient irradiance: every hit gets ambient * albedo
     double background = 0.0;    ///< radiance of pixels that see nothing
     bool shadows = true;        ///< trace occlusion rays towards every light
+    /// The specular lobe's form (physics/material.hpp): the assignment's phenomenological one, or
+    /// the energy-conserving normalised Phong BRDF.
+    Brdf brdf = Brdf::phenomenological;
     /// Pixels traced per batch (bounds the memory of ray and hit batches); results do not depend
     /// on it.
     std::size_t batch_pixels = std::size_t{1} << 16;

@@ -1,0 +1,73 @@
+#include "pipeline/detail/survey_reference_range.hpp"
+
+#include <algorithm>
+#include <vector>
+
+#include "beamtrace/core/hit_batch.hpp"
+#include "beamtrace/core/ray_batch.hpp"
+#include "pipeline/detail/survey_rays.hpp"
+
+namespace beamtrace::detail {
+
+std::optional<double> survey_nominal_range_m(const SurveySpec& spec, const ScanPattern& pattern,
+                                             const Trajectory& trajectory, const Backend& backend,
+                                             ThreadPool& pool) {
+    const std::uint64_t total = pattern.pulse_count();
+    const auto k_count = static_cast<std::size_t>(std::min<std::uint64_t>(kPilotPulses, total));
+    if (k_count == 0) {
+        return std::nullopt;
+    }
+    // The pilot's pulses, one at a time (they are far apart), into one batch.
+    PulseBatch pulses, one;
+    pulses.resize(k_count);
+    for (std::size_t k = 0; k < k_count; ++k) {
+        const std::uint64_t index =
+            (2 * std::uint64_t{k} + 1) * total / (2 * std::uint64_t{k_count});
+        pattern.generate(index, 1, one);
+        pulses.time_s[k] = one.time_s[0];
+        pulses.direction[k] = one.direction[0];
+        pulses.channel[k] = one.channel[0];
+        pulses.scan_angle_deg[k] = one.scan_angle_deg[0];
+    }
+    // No simulator: ideal single rays along the beam axes, no noise.
+    const SurveyRaySource source{&spec, &trajectory, nullptr, 1};
+    RayBatch rays;
+    rays.resize(k_count);
+    std::vector<Vec3d> origin(k_count), axis(k_count);
+    std::vector<float> scan_angle(k_count);
+    SurveyRaySource::Scratch scratch;
+    source.generate(pulses, 0, rays, 0, origin.data(), axis.data(), scan_angle.data(), scratch);
+    HitBatch hits;
+    hits.resize(k_count);
+    backend.intersect(rays, 0, k_count, hits, pool);
+    std::vector<double> ranges;
+    for (std::size_t k = 0; k < k_count; ++k) {
+        if (hits.hit(k)) {
+            ranges.push_back(hits.t[k]);
+        }
+    }
+    if (ranges.empty()) {
+        return std::nullopt;
+    }
+    const auto mid = ranges.begin() + static_cast<std::ptrdiff_t>(ranges.size() / 2);
+    std::nth_element(ranges.begin(), mid, ranges.end());
+    return *mid;
+}
+
+ReferenceRange resolve_reference_range(PhysicsConfig& physics, const SurveySpec& spec,
+                                       const ScanPattern& pattern, const Trajectory& trajectory,
+                                       const Backend& backend, ThreadPool& pool) {
+    ReferenceRange out;
+    std::optional<double>& r_ref = physics.radiometry.intensity_reference_range_m;
+    if (!r_ref) {
+        out.automatic = true;
+        out.nominal_range_m = survey_nominal_range_m(spec, pattern, trajectory, backend, pool);
+        r_ref = out.nominal_range_m && *out.nominal_range_m > 0
+                    ? kReferenceRangeFraction * *out.nominal_range_m
+                    : kDefaultIntensityReferenceRange_m;
+    }
+    out.reference_range_m = *r_ref;
+    return out;
+}
+
+}  // namespace beamtrace::detail
