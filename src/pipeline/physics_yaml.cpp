@@ -51,6 +51,34 @@ YAML::Node section(YamlChecker& c, const YAML::Node& n, const char* key) {
     return s;
 }
 
+/// physics.beam: divergence_mrad, rings, exit_diameter_m.
+void parse_beam(YamlChecker& c, const YAML::Node& n, PhysicsConfig& out) {
+    if (const auto b = section(c, n, "beam")) {
+        c.only_keys(b, "physics.beam", {"divergence_mrad", "rings", "exit_diameter_m"});
+        const std::string q = "physics.beam.";
+        number(c, b, q, "divergence_mrad", out.beam.divergence_rad, 1e-3);
+        long rings = 0;
+        if (b["rings"] && c.integer(b["rings"], q + "rings", 0, 20, rings)) {
+            out.beam.rings = static_cast<int>(rings);
+        }
+        number(c, b, q, "exit_diameter_m", out.beam.exit_diameter_m);
+    }
+}
+
+/// physics.waveform: pulse_fwhm_ns, bin_ns, min_separation_m, min_dip, keep.
+void parse_waveform(YamlChecker& c, const YAML::Node& n, PhysicsConfig& out) {
+    if (const auto w = section(c, n, "waveform")) {
+        c.only_keys(w, "physics.waveform",
+                    {"pulse_fwhm_ns", "bin_ns", "min_separation_m", "min_dip", "keep"});
+        const std::string q = "physics.waveform.";
+        number(c, w, q, "pulse_fwhm_ns", out.waveform.pulse_fwhm_ns);
+        number(c, w, q, "bin_ns", out.waveform.bin_ns);
+        number(c, w, q, "min_separation_m", out.waveform.min_separation_m);
+        number(c, w, q, "min_dip", out.waveform.min_dip);
+        flag(c, w, q, "keep", out.keep_waveform);
+    }
+}
+
 }  // namespace
 
 void parse_physics_block(YamlChecker& c, const YAML::Node& n, PhysicsConfig& out) {
@@ -88,14 +116,7 @@ void parse_physics_block(YamlChecker& c, const YAML::Node& n, PhysicsConfig& out
             c.error(a["extinction_per_m"], q + "extinction_per_m", "must not be negative");
         }
     }
-    if (const auto b = section(c, n, "beam")) {
-        c.only_keys(b, "physics.beam", {"divergence_mrad", "rings"});
-        number(c, b, p + "beam.", "divergence_mrad", out.beam.divergence_rad, 1e-3);
-        long rings = 0;
-        if (b["rings"] && c.integer(b["rings"], p + "beam.rings", 0, 20, rings)) {
-            out.beam.rings = static_cast<int>(rings);
-        }
-    }
+    parse_beam(c, n, out);
     if (const auto z = section(c, n, "noise")) {
         c.only_keys(z, "physics.noise",
                     {"range_sigma_m", "range_sigma_per_m", "angle_jitter_mrad", "position_sigma_m",
@@ -109,12 +130,7 @@ void parse_physics_block(YamlChecker& c, const YAML::Node& n, PhysicsConfig& out
         number(c, z, q, "attitude_sigma_deg", k.attitude_sigma_rad, kDeg);
         number(c, z, q, "dropout_probability", k.dropout_probability);
     }
-    if (const auto w = section(c, n, "waveform")) {
-        c.only_keys(w, "physics.waveform", {"pulse_fwhm_ns", "bin_ns", "keep"});
-        number(c, w, p + "waveform.", "pulse_fwhm_ns", out.waveform.pulse_fwhm_ns);
-        number(c, w, p + "waveform.", "bin_ns", out.waveform.bin_ns);
-        flag(c, w, p + "waveform.", "keep", out.keep_waveform);
-    }
+    parse_waveform(c, n, out);
     if (const auto t = section(c, n, "returns")) {
         c.only_keys(t, "physics.returns", {"mode", "max"});
         choice(c, t, p + "returns.", "mode", out.return_mode,

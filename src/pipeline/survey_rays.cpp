@@ -110,9 +110,10 @@ void SurveyRaySource::generate(const PulseBatch& pulses, std::uint64_t first, Ra
             rays.tmax[r] = spec->range_max_m;
             continue;
         }
-        sim->sub_ray_directions(seed, first + i, dir, dirs);
+        scratch.origins.resize(n_sub);
+        sim->sub_rays(seed, first + i, pose.position_m, dir, scratch.origins, dirs);
         for (std::size_t j = 0; j < n_sub; ++j) {
-            rays.set(ray_offset + i * n_sub + j, pose.position_m, dirs[j], spec->range_min_m,
+            rays.set(ray_offset + i * n_sub + j, scratch.origins[j], dirs[j], spec->range_min_m,
                      spec->range_max_m);
         }
     }

@@ -29,6 +29,7 @@ struct SurveyRaySource {
     /// Working space of generate(), reused from call to call.
     struct Scratch {
         std::vector<Vec3d> dirs;
+        std::vector<Vec3d> origins;  ///< the sub-rays' start points (exit pupil)
         std::vector<Pose> platform;
     };
 
