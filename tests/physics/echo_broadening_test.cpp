@@ -4,7 +4,9 @@
 // W(R) the footprint's 1/e^2 radius.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <numbers>
 #include <vector>
 
@@ -156,6 +158,31 @@ TEST(PhysicsEchoBroadening, SubRayEchoSigmaFollowsItsCell) {
     // No divergence, no exit diameter: an ideal ray has the pulse's width.
     const PulseSimulator ideal(plane_config(0.0, 2));
     EXPECT_EQ(ideal.echo_sigma_ns(h), sigma_p);
+}
+
+// Without an exit diameter every sub-ray starts bit for bit at the sensor's origin (the
+// default changes nothing); with one, they start in the exit pupil around it.
+TEST(PhysicsEchoBroadening, SubRaysStartAtTheOriginWithoutExitDiameter) {
+    PhysicsConfig c = plane_config(0.5e-3, 2);
+    const Vec3d origin{-0.0, 1e-300, 12345.678};
+    const Vec3d axis = normalize(Vec3d{0.2, 0.1, -1});
+    std::vector<Vec3d> origins(19), dirs(19), plain(19);
+    const PulseSimulator sim(c);
+    sim.sub_rays(7, 3, origin, axis, origins, dirs);
+    sim.sub_ray_directions(7, 3, axis, plain);
+    for (std::size_t j = 0; j < 19; ++j) {
+        EXPECT_EQ(std::memcmp(&origins[j], &origin, sizeof origin), 0) << j;
+        EXPECT_EQ(dirs[j], plain[j]);
+    }
+    c.beam.exit_diameter_m = 0.1;
+    const PulseSimulator wide(c);
+    wide.sub_rays(7, 3, origin, axis, origins, dirs);
+    double widest = 0;
+    for (std::size_t j = 0; j < 19; ++j) {
+        EXPECT_NEAR(dot(origins[j] - origin, axis), 0.0, 1e-9);  // in the exit pupil's plane
+        widest = std::max(widest, length(origins[j] - origin));
+    }
+    EXPECT_NEAR(widest, 0.05 * wide.pattern()[18].radius, 1e-9);
 }
 
 }  // namespace
