@@ -21,14 +21,14 @@
 // about 2.45 sigma_p (0.62 m for 4 ns) on, close to the classic resolution c FWHM / 2.
 // Separate echoes split the waveform at the lowest sample between them (shared half and half).
 // Each echo is fitted with a Gaussian over its samples of at least kEchoFitFraction (0.2) of its
-// peak sample, contiguous around it: the weighted least-squares parabola through ln w with
-// weights w^2 (Caruana's algorithm with Guo's weights, a closed-form 3x3 system), exact for a
-// Gaussian. Separate echoes overlap, so each is then fitted once more on the samples less the
-// other echoes' first fits. The fit gives the echo's time (-> range = c t / 2), amplitude A and
-// width sigma_e. Echoes with A below the detection threshold are dropped. Reported per echo: range, amplitude (peak
-// power, W), echo width (FWHM of the fitted Gaussian, ns) and the equivalent power: the echo's
-// energy (its samples summed over its span, times bin_ns) divided by the energy of a unit-peak
-// emitted pulse (sigma_p sqrt(2 pi)). It equals the sum of the P_j that formed the echo even
+// peak sample, contiguous around it: the weighted least-squares parabola through ln w with weights
+// w^2 (Caruana's algorithm with Guo's weights, a closed-form 3x3 system), exact for a Gaussian.
+// Separate echoes overlap, so each is then fitted once more on the samples less the other echoes'
+// first fits. The fit gives the echo's time (-> range = c t / 2), amplitude A and width sigma_e.
+// Echoes with A below the detection threshold are dropped. Reported per echo: range, amplitude
+// (peak power, W), echo width (FWHM of the fitted Gaussian, ns) and the equivalent power: the
+// echo's energy (its samples summed over its span, times bin_ns) divided by the energy of a unit-
+// peak emitted pulse (sigma_p sqrt(2 pi)). It equals the sum of the P_j that formed the echo even
 // when a tilted or rough surface stretches or merges it.
 #pragma once
 
