@@ -1,7 +1,9 @@
 #include "beamtrace/physics/beam_divergence.hpp"
 
+#include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 namespace beamtrace {
@@ -14,11 +16,38 @@ std::vector<std::string> BeamConfig::validate() const {
     if (rings < 0 || rings > 20) {
         p.emplace_back("beam: rings must be in [0, 20]");
     }
+    if (!(exit_diameter_m >= 0) || !(exit_diameter_m <= 10.0)) {
+        p.emplace_back("beam: exit_diameter_m must be in [0, 10]");
+    }
     return p;
 }
 
+namespace {
+
+/// A pattern with more than one sub-ray.
+bool has_rings(const BeamConfig& config) {
+    return (config.divergence_rad > 0 || config.exit_diameter_m > 0) && config.rings > 0;
+}
+
+/// Energy of the profile exp(-2 u^2) (normalised to 1) in the annulus lo <= u < hi.
+double annulus_energy(double lo, double hi) {
+    return std::exp(-2.0 * lo * lo) - (std::isinf(hi) ? 0.0 : std::exp(-2.0 * hi * hi));
+}
+
+/// E[u | lo <= u < hi] under the profile: int u^2 e^(-2u^2) du / int u e^(-2u^2) du, with
+/// int u^2 e^(-2u^2) du = -u e^(-2u^2) / 4 + sqrt(pi / 8) erf(sqrt(2) u) / 4.
+double annulus_mean_radius(double lo, double hi) {
+    const auto primitive = [](double u) {
+        const double tail = std::isinf(u) ? 0.0 : u * std::exp(-2.0 * u * u);
+        return -tail / 4.0 + std::sqrt(std::numbers::pi / 8.0) * std::erf(std::sqrt(2.0) * u) / 4.0;
+    };
+    return (primitive(hi) - primitive(lo)) / (annulus_energy(lo, hi) / 4.0);
+}
+
+}  // namespace
+
 std::size_t sub_ray_count(const BeamConfig& config) {
-    if (!(config.divergence_rad > 0) || config.rings <= 0) {
+    if (!has_rings(config)) {
         return 1;
     }
     const auto r = static_cast<std::size_t>(config.rings);
@@ -27,30 +56,61 @@ std::size_t sub_ray_count(const BeamConfig& config) {
 
 std::vector<SubRayOffset> beam_pattern(const BeamConfig& config) {
     std::vector<SubRayOffset> out;
-    if (!(config.divergence_rad > 0) || config.rings <= 0) {
+    if (!has_rings(config)) {
         out.push_back({});
         return out;
     }
     const double w = config.divergence_rad / 2.0;  // 1/e^2 half-angle
-    const double d = w / config.rings;
-    // Fraction of the profile inside off-axis angle t: 1 - exp(-2 t^2 / w^2).
-    const auto cdf = [w](double t) { return 1.0 - std::exp(-2.0 * t * t / (w * w)); };
+    const double d = 1.0 / config.rings;           // ring spacing in beam units
     out.reserve(sub_ray_count(config));
     double total = 0.0;
     for (int k = 0; k <= config.rings; ++k) {
         const double lo = k == 0 ? 0.0 : (k - 0.5) * d;
-        const double hi = (k + 0.5) * d;
+        const double hi =
+            k == config.rings ? std::numeric_limits<double>::infinity() : (k + 0.5) * d;
         const int count = k == 0 ? 1 : 6 * k;
-        const double share = (cdf(hi) - cdf(lo)) / count;
+        const double share = annulus_energy(lo, hi) / count;
         const double step = 2.0 * std::numbers::pi / count;
         const double phase = (k % 2 == 1) ? step / 2.0 : 0.0;
+        // The centroid of a sector of half-angle step / 2: its mean radius times the sinc.
+        const double radius =
+            k == 0 ? 0.0 : annulus_mean_radius(lo, hi) * std::sin(step / 2.0) / (step / 2.0);
         for (int j = 0; j < count; ++j) {
-            out.push_back({k * d, k == 0 ? 0.0 : phase + j * step, share});
+            out.push_back({radius * w, radius, k == 0 ? 0.0 : phase + j * step, share});
             total += share;
         }
     }
     for (auto& s : out) {
         s.weight /= total;
+    }
+    return out;
+}
+
+double cell_variance(std::span<const SubRayOffset> pattern) {
+    double discrete = 0.0;
+    for (const auto& s : pattern) {
+        discrete += 0.5 * s.weight * s.radius * s.radius;
+    }
+    return std::max(0.0, 0.25 - discrete);
+}
+
+double footprint_radius_m(const BeamConfig& config, double range_m) {
+    return std::hypot(config.exit_diameter_m / 2.0, range_m * config.divergence_rad / 2.0);
+}
+
+std::vector<Vec3d> beam_frame_origins(const BeamConfig& config,
+                                      std::span<const SubRayOffset> pattern) {
+    std::vector<Vec3d> out(pattern.size(), Vec3d{0, 0, 0});
+    if (!(config.exit_diameter_m > 0)) {
+        return out;
+    }
+    const double half = config.exit_diameter_m / 2.0;
+    const bool collimated = !(config.divergence_rad > 0);
+    for (std::size_t j = 0; j < pattern.size(); ++j) {
+        const double r = half * pattern[j].radius;
+        const double c = std::cos(pattern[j].azimuth_rad), s = std::sin(pattern[j].azimuth_rad);
+        // Perpendicular to the angular offset (a ruled hyperboloid); along it when collimated.
+        out[j] = collimated ? Vec3d{r * c, r * s, 0.0} : Vec3d{-r * s, r * c, 0.0};
     }
     return out;
 }
@@ -95,6 +155,17 @@ void sub_ray_directions(const Vec3d& axis, std::span<const Vec3d> beam_frame,
     for (std::size_t i = 0; i < beam_frame.size(); ++i) {
         const Vec3d& b = beam_frame[i];
         out[i] = e1 * b.x + e2 * b.y + axis * b.z;
+    }
+}
+
+void sub_ray_origins(const Vec3d& origin, const Vec3d& axis, std::span<const Vec3d> beam_frame,
+                     std::span<Vec3d> out) {
+    assert(out.size() == beam_frame.size());
+    Vec3d e1, e2;
+    orthonormal_basis(axis, e1, e2);
+    for (std::size_t i = 0; i < beam_frame.size(); ++i) {
+        const Vec3d& b = beam_frame[i];
+        out[i] = origin + e1 * b.x + e2 * b.y;
     }
 }
 

@@ -67,6 +67,8 @@ PulseSimulator::PulseSimulator(PhysicsConfig config) : config_(std::move(config)
     }
     pattern_ = beam_pattern(config_.beam);
     beam_frame_ = beam_frame_directions(pattern_);
+    beam_origins_ = beam_frame_origins(config_.beam, pattern_);
+    cell_sigma_ = std::sqrt(cell_variance(pattern_));
     alpha_per_m_ =
         beamtrace::extinction_per_m(config_.atmosphere, config_.radiometry.wavelength_nm);
 }
@@ -84,6 +86,32 @@ void PulseSimulator::sub_ray_directions(std::uint64_t seed, std::uint64_t pulse_
                                         const Vec3d& axis, std::span<Vec3d> out) const {
     const Vec3d jittered = jitter_direction(config_.noise, seed, pulse_index, axis);
     beamtrace::sub_ray_directions(jittered, beam_frame_, out);
+}
+
+void PulseSimulator::sub_rays(std::uint64_t seed, std::uint64_t pulse_index, const Vec3d& origin,
+                              const Vec3d& axis, std::span<Vec3d> origins,
+                              std::span<Vec3d> dirs) const {
+    assert(origins.size() == pattern_.size());
+    const Vec3d jittered = jitter_direction(config_.noise, seed, pulse_index, axis);
+    beamtrace::sub_ray_directions(jittered, beam_frame_, dirs);
+    if (config_.beam.exit_diameter_m > 0) {
+        beamtrace::sub_ray_origins(origin, jittered, beam_origins_, origins);
+    } else {
+        std::fill(origins.begin(), origins.end(), origin);  // bit for bit the sensor's origin
+    }
+}
+
+double PulseSimulator::echo_sigma_ns(const SubRayHit& hit) const {
+    const double sigma_p = config_.waveform.pulse_fwhm_ns / (2.0 * std::sqrt(2.0 * std::log(2.0)));
+    const double w_m = footprint_radius_m(config_.beam, hit.range_m);
+    if (!(w_m > 0) || !(cell_sigma_ > 0)) {
+        return sigma_p;
+    }
+    constexpr double kMinCos = 0.008726535498373935;  // cos 89.5 deg: tan i at most 114.6
+    const double c = std::clamp(hit.cos_incidence, kMinCos, 1.0);
+    const double tan_i = std::sqrt((1.0 - c) * (1.0 + c)) / c;
+    const double spread_ns = tan_i * cell_sigma_ * w_m * round_trip_ns_per_m();
+    return std::sqrt(sigma_p * sigma_p + spread_ns * spread_ns);
 }
 
 double PulseSimulator::sub_ray_power_w(const SubRayHit& hit, double weight) const {
@@ -120,7 +148,7 @@ void PulseSimulator::simulate(std::uint64_t seed, std::uint64_t pulse_index,
     for (std::size_t j = 0; j < n; ++j) {
         powers[j] = sub_ray_power_w(hits[j], pattern_[j].weight);
         if (powers[j] > 0) {
-            out.contributions.push_back({hits[j].range_m, powers[j]});
+            out.contributions.push_back({hits[j].range_m, powers[j], echo_sigma_ns(hits[j])});
         }
     }
     if (out.contributions.empty()) {
@@ -161,8 +189,6 @@ void PulseSimulator::simulate(std::uint64_t seed, std::uint64_t pulse_index,
             break;
     }
 
-    const double sigma_m =
-        wf.pulse_fwhm_ns / (2.0 * std::sqrt(2.0 * std::log(2.0))) / round_trip_ns_per_m();
     const auto count = static_cast<std::uint8_t>(end - begin);
     for (std::size_t e = begin; e < end; ++e) {
         const Echo& echo = out.echoes[e];
@@ -176,11 +202,13 @@ void PulseSimulator::simulate(std::uint64_t seed, std::uint64_t pulse_index,
         r.intensity = las_intensity(config_.radiometry, echo.power_w);
         r.return_number = static_cast<std::uint8_t>(e - begin + 1);
         r.number_of_returns = count;
+        // The sub-ray whose (stretched) echo adds most at the echo's peak.
         double best = -1.0;
-        for (std::size_t j = 0; j < n; ++j) {
+        for (std::size_t j = 0, c = 0; j < n; ++j) {
             if (powers[j] > 0) {
+                const double sigma_m = out.contributions[c++].sigma_ns / round_trip_ns_per_m();
                 const double d = (hits[j].range_m - echo.range_m) / sigma_m;
-                const double share = powers[j] * std::exp(-0.5 * d * d);
+                const double share = powers[j] / sigma_m * std::exp(-0.5 * d * d);
                 if (share > best) {
                     best = share;
                     r.sub_ray = static_cast<std::uint32_t>(j);

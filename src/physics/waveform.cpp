@@ -11,6 +11,169 @@ namespace {
 const double kFwhmPerSigma = 2.0 * std::sqrt(2.0 * std::log(2.0));
 const double kSqrtTwoPi = std::sqrt(2.0 * std::numbers::pi);
 
+/// Adds amplitude * exp(-(t - t0)^2 / (2 sigma^2)) to the bins [b0, b1] of `out`: along the bins
+/// by recurrence (three exp calls): the ratio of consecutive samples is
+/// exp(-k (2 dt h + h^2)), itself scaled by exp(-2 k h^2) per step.
+void add_gaussian(Waveform& out, std::int64_t b0, std::int64_t b1, double t0, double amplitude,
+                  double sigma_ns) {
+    const double h = out.bin_ns;
+    const double inv_two_var = 1.0 / (2.0 * sigma_ns * sigma_ns);
+    const double dt0 = static_cast<double>(b0) * h - t0;
+    double g = amplitude * std::exp(-dt0 * dt0 * inv_two_var);
+    double ratio = std::exp(-(2.0 * dt0 * h + h * h) * inv_two_var);
+    const double ratio_step = std::exp(-2.0 * h * h * inv_two_var);
+    double* y = out.samples_w.data() + (b0 - out.first_bin);
+    for (std::int64_t b = b0; b <= b1; ++b) {
+        *y++ += g;
+        g *= ratio;
+        ratio *= ratio_step;
+    }
+}
+
+/// A fitted Gaussian: centre (absolute round-trip time) [ns], amplitude [W], sigma [ns].
+struct GaussianFit {
+    double centre_ns = 0.0;
+    double amplitude = 0.0;
+    double sigma_ns = 0.0;
+
+    [[nodiscard]] double at(double t_ns) const {
+        const double d = (t_ns - centre_ns) / sigma_ns;
+        return amplitude * std::exp(-0.5 * d * d);
+    }
+};
+
+/// The samples [lo, hi] of one echo; top is its highest sample.
+struct EchoSpan {
+    std::size_t lo = 0, hi = 0, top = 0;
+};
+
+/// The weighted least-squares Gaussian (Caruana's parabola through ln v, Guo's weights v^2) over
+/// the samples v(m) of the span, contiguous around its top, of at least kEchoFitFraction of
+/// v(top); false when fewer than 3 samples or no downward parabola (the caller falls back).
+template <typename Value>
+bool fit_gaussian(const Waveform& waveform, const EchoSpan& span, Value v, GaussianFit& fit) {
+    const double peak = v(span.top);
+    const double floor_w = kEchoFitFraction * peak;
+    if (!(peak > 0)) {
+        return false;
+    }
+    std::size_t a = span.top, b = span.top;
+    while (a > span.lo && v(a - 1) >= floor_w) {
+        --a;
+    }
+    while (b < span.hi && v(b + 1) >= floor_w) {
+        ++b;
+    }
+    if (b - a < 2) {
+        return false;
+    }
+    // Moments in bins from the top: s[n] = sum w t^n, r[n] = sum w ln(v / peak) t^n, w = v^2.
+    double s[5] = {0, 0, 0, 0, 0}, r[3] = {0, 0, 0};
+    for (std::size_t m = a; m <= b; ++m) {
+        const double t = static_cast<double>(m) - static_cast<double>(span.top);
+        const double y = v(m), l = std::log(y / peak);
+        double tn = y * y;
+        for (int n = 0; n < 5; ++n) {
+            s[n] += tn;
+            if (n < 3) {
+                r[n] += tn * l;
+            }
+            tn *= t;
+        }
+    }
+    // Cramer's rule on [[s0 s1 s2] [s1 s2 s3] [s2 s3 s4]] (c0 c1 c2) = (r0 r1 r2).
+    const auto det3 = [](double a11, double a12, double a13, double a21, double a22, double a23,
+                         double a31, double a32, double a33) {
+        return a11 * (a22 * a33 - a23 * a32) - a12 * (a21 * a33 - a23 * a31) +
+               a13 * (a21 * a32 - a22 * a31);
+    };
+    const double det = det3(s[0], s[1], s[2], s[1], s[2], s[3], s[2], s[3], s[4]);
+    const double c0 = det3(r[0], s[1], s[2], r[1], s[2], s[3], r[2], s[3], s[4]) / det;
+    const double c1 = det3(s[0], r[0], s[2], s[1], r[1], s[3], s[2], r[2], s[4]) / det;
+    const double c2 = det3(s[0], s[1], r[0], s[1], s[2], r[1], s[2], s[3], r[2]) / det;
+    const double vertex = -c1 / (2.0 * c2);  // bins from the top
+    if (!(c2 < 0) || !std::isfinite(c0) ||
+        !(vertex >= static_cast<double>(a) - static_cast<double>(span.top)) ||
+        !(vertex <= static_cast<double>(b) - static_cast<double>(span.top))) {
+        return false;
+    }
+    const double h = waveform.bin_ns;
+    fit.centre_ns = waveform.time_ns(span.top) + vertex * h;
+    fit.sigma_ns = h / std::sqrt(-2.0 * c2);
+    fit.amplitude = peak * std::exp(c0 - c1 * c1 / (4.0 * c2));
+    return true;
+}
+
+/// The fit of `span` on the samples less the fitted Gaussians of the other echoes (none given:
+/// the samples themselves), or the top sample with the pulse's width when it fails.
+GaussianFit fit_echo(const WaveformConfig& config, const Waveform& waveform,
+                     const std::vector<EchoSpan>& spans, const std::vector<GaussianFit>& others,
+                     std::size_t e) {
+    const auto& y = waveform.samples_w;
+    const EchoSpan& span = spans[e];
+    GaussianFit fit{waveform.time_ns(span.top), y[span.top], config.pulse_fwhm_ns / kFwhmPerSigma};
+    const auto residual = [&](std::size_t m) {
+        double v = y[m];
+        for (std::size_t o = 0; o < others.size(); ++o) {
+            v -= o == e ? 0.0 : others[o].at(waveform.time_ns(m));
+        }
+        return v;
+    };
+    if (!fit_gaussian(waveform, span, residual, fit)) {
+        fit = GaussianFit{waveform.time_ns(span.top), y[span.top],
+                          config.pulse_fwhm_ns / kFwhmPerSigma};
+    }
+    return fit;
+}
+
+/// The echo of `span` with `fit`: energy over the span (its end samples, shared with the
+/// neighbours, counted half).
+Echo make_echo(const WaveformConfig& config, const Waveform& waveform, const EchoSpan& span,
+               const GaussianFit& fit) {
+    const auto& y = waveform.samples_w;
+    double sum = 0.5 * (y[span.lo] + y[span.hi]);
+    for (std::size_t j = span.lo + 1; j < span.hi; ++j) {
+        sum += y[j];
+    }
+    const double sigma_p = config.pulse_fwhm_ns / kFwhmPerSigma;
+    Echo e;
+    e.range_m = fit.centre_ns / round_trip_ns_per_m();
+    e.amplitude_w = fit.amplitude;
+    e.width_ns = fit.sigma_ns * kFwhmPerSigma;
+    e.power_w = sum * waveform.bin_ns / (sigma_p * kSqrtTwoPi);
+    return e;
+}
+
+/// The echoes' spans: local maxima merged unless min_separation apart with a min_dip dip.
+void find_spans(const WaveformConfig& config, const Waveform& waveform,
+                std::vector<EchoSpan>& spans) {
+    const auto& y = waveform.samples_w;
+    const double min_sep_bins =
+        config.min_separation_or_default_m() * round_trip_ns_per_m() / waveform.bin_ns;
+    const double keep = 1.0 - config.min_dip;
+    for (std::size_t k = 1; k + 1 < y.size(); ++k) {
+        if (!(y[k] > y[k - 1] && y[k] >= y[k + 1])) {
+            continue;
+        }
+        if (spans.empty()) {
+            spans.push_back({0, y.size() - 1, k});
+            continue;
+        }
+        EchoSpan& last = spans.back();
+        std::size_t valley = last.top;
+        for (std::size_t j = last.top + 1; j <= k; ++j) {
+            valley = y[j] < y[valley] ? j : valley;
+        }
+        const bool far = static_cast<double>(k - last.top) >= min_sep_bins;
+        if (far && y[valley] < keep * std::min(y[last.top], y[k])) {
+            last.hi = valley;
+            spans.push_back({valley, y.size() - 1, k});
+        } else if (y[k] > y[last.top]) {
+            last.top = k;
+        }
+    }
+}
+
 }  // namespace
 
 std::vector<std::string> WaveformConfig::validate() const {
@@ -23,7 +186,17 @@ std::vector<std::string> WaveformConfig::validate() const {
     } else if (bin_ns > pulse_fwhm_ns / 2.0) {
         p.emplace_back("waveform: bin_ns must be at most pulse_fwhm_ns / 2");
     }
+    if (!std::isfinite(min_separation_m) || min_separation_m > 1e4) {
+        p.emplace_back("waveform: min_separation_m must be at most 10000 (negative: automatic)");
+    }
+    if (!(min_dip >= 0) || !(min_dip < 1)) {
+        p.emplace_back("waveform: min_dip must be in [0, 1)");
+    }
     return p;
+}
+
+double WaveformConfig::min_separation_or_default_m() const {
+    return min_separation_m >= 0 ? min_separation_m : pulse_fwhm_ns / (2.0 * round_trip_ns_per_m());
 }
 
 void build_waveform(const WaveformConfig& config, std::span<const EchoContribution> contributions,
@@ -34,84 +207,59 @@ void build_waveform(const WaveformConfig& config, std::span<const EchoContributi
     if (contributions.empty()) {
         return;
     }
-    const double sigma_ns = config.pulse_fwhm_ns / kFwhmPerSigma;
-    const double reach_ns = 5.0 * sigma_ns;
-    double t_lo = contributions[0].range_m, t_hi = t_lo;
+    const double sigma_p = config.pulse_fwhm_ns / kFwhmPerSigma;
+    const auto sigma_of = [sigma_p](const EchoContribution& c) {
+        return c.sigma_ns > 0 ? c.sigma_ns : sigma_p;
+    };
+    double t_lo = contributions[0].range_m, t_hi = t_lo, sigma_max = 0.0;
     for (const auto& c : contributions) {
         t_lo = std::min(t_lo, c.range_m);
         t_hi = std::max(t_hi, c.range_m);
+        sigma_max = std::max(sigma_max, sigma_of(c));
     }
-    t_lo = t_lo * round_trip_ns_per_m() - reach_ns;
-    t_hi = t_hi * round_trip_ns_per_m() + reach_ns;
+    t_lo = t_lo * round_trip_ns_per_m() - 5.0 * sigma_max;
+    t_hi = t_hi * round_trip_ns_per_m() + 5.0 * sigma_max;
     const auto first = static_cast<std::int64_t>(std::floor(t_lo / config.bin_ns));
     const auto last = static_cast<std::int64_t>(std::ceil(t_hi / config.bin_ns));
     out.first_bin = first;
     out.samples_w.assign(static_cast<std::size_t>(last - first + 1), 0.0);
-    const double inv_two_var = 1.0 / (2.0 * sigma_ns * sigma_ns);
     for (const auto& c : contributions) {
         const double t = c.range_m * round_trip_ns_per_m();
+        const double sigma = sigma_of(c);
+        const double reach_ns = 5.0 * sigma;
         const auto b0 =
             std::max(first, static_cast<std::int64_t>(std::floor((t - reach_ns) / config.bin_ns)));
         const auto b1 =
             std::min(last, static_cast<std::int64_t>(std::ceil((t + reach_ns) / config.bin_ns)));
-        // exp(-k dt^2) along the bins by recurrence (three exp calls per contribution): the
-        // ratio of consecutive samples is exp(-k (2 dt h + h^2)), itself scaled by exp(-2 k h^2)
-        // per step.
-        const double h = config.bin_ns;
-        const double dt0 = static_cast<double>(b0) * h - t;
-        double g = c.power_w * std::exp(-dt0 * dt0 * inv_two_var);
-        double ratio = std::exp(-(2.0 * dt0 * h + h * h) * inv_two_var);
-        const double ratio_step = std::exp(-2.0 * h * h * inv_two_var);
-        double* y = out.samples_w.data() + (b0 - first);
-        for (std::int64_t b = b0; b <= b1; ++b) {
-            *y++ += g;
-            g *= ratio;
-            ratio *= ratio_step;
-        }
+        // The stretched echo keeps its energy: its peak drops as sigma_p / sigma.
+        const double amplitude = c.sigma_ns > 0 ? c.power_w * (sigma_p / sigma) : c.power_w;
+        add_gaussian(out, b0, b1, t, amplitude, sigma);
     }
 }
 
 void detect_echoes(const WaveformConfig& config, const Waveform& waveform, double threshold_w,
                    std::vector<Echo>& out) {
-    const auto& y = waveform.samples_w;
-    const double sigma_ns = config.pulse_fwhm_ns / kFwhmPerSigma;
-    const double h = waveform.bin_ns;
-    for (std::size_t k = 1; k + 1 < y.size(); ++k) {
-        if (!(y[k] > y[k - 1] && y[k] >= y[k + 1])) {
-            continue;
+    if (waveform.samples_w.size() < 3) {
+        return;
+    }
+    std::vector<EchoSpan> spans;
+    find_spans(config, waveform, spans);
+    std::vector<GaussianFit> fits;
+    fits.reserve(spans.size());
+    for (std::size_t e = 0; e < spans.size(); ++e) {
+        fits.push_back(fit_echo(config, waveform, spans, {}, e));
+    }
+    // Separate echoes overlap: refit each on the samples less its neighbours' first fits.
+    if (spans.size() > 1) {
+        const std::vector<GaussianFit> first = fits;
+        for (std::size_t e = 0; e < spans.size(); ++e) {
+            fits[e] = fit_echo(config, waveform, spans, first, e);
         }
-        // Gaussian through the three samples: ln y is a parabola A' - (t - m)^2 / (2 s^2).
-        double offset_ns = 0.0, sigma_e = sigma_ns, amplitude = y[k];
-        if (y[k - 1] > 0 && y[k + 1] > 0) {
-            const double lm = std::log(y[k - 1]), l0 = std::log(y[k]), lp = std::log(y[k + 1]);
-            const double d2 = lm - 2.0 * l0 + lp;
-            if (d2 < 0) {
-                sigma_e = h / std::sqrt(-d2);
-                offset_ns = h * (lm - lp) / (2.0 * d2);
-                amplitude = std::exp(l0 + offset_ns * offset_ns / (2.0 * sigma_e * sigma_e));
-            }
+    }
+    for (std::size_t e = 0; e < spans.size(); ++e) {
+        if (fits[e].amplitude >= threshold_w) {
+            out.push_back(make_echo(config, waveform, spans[e], fits[e]));
         }
-        if (!(amplitude >= threshold_w)) {
-            continue;
-        }
-        Echo e;
-        e.range_m = (waveform.time_ns(k) + offset_ns) / round_trip_ns_per_m();
-        e.amplitude_w = amplitude;
-        e.width_ns = sigma_e * kFwhmPerSigma;
-        // Energy between the valleys either side (the valley samples shared half and half).
-        std::size_t lo = k, hi = k;
-        while (lo > 0 && y[lo - 1] <= y[lo]) {
-            --lo;
-        }
-        while (hi + 1 < y.size() && y[hi + 1] <= y[hi]) {
-            ++hi;
-        }
-        double sum = 0.5 * (y[lo] + y[hi]);
-        for (std::size_t j = lo + 1; j < hi; ++j) {
-            sum += y[j];
-        }
-        e.power_w = sum * h / (sigma_ns * kSqrtTwoPi);
-        out.push_back(e);
     }
 }
 

@@ -107,6 +107,34 @@ void parse_radiometry(YamlChecker& c, const YAML::Node& n, PhysicsConfig& out) {
     }
 }
 
+/// physics.beam: divergence_mrad, rings, exit_diameter_m.
+void parse_beam(YamlChecker& c, const YAML::Node& n, PhysicsConfig& out) {
+    if (const auto b = section(c, n, "beam")) {
+        c.only_keys(b, "physics.beam", {"divergence_mrad", "rings", "exit_diameter_m"});
+        const std::string q = "physics.beam.";
+        number(c, b, q, "divergence_mrad", out.beam.divergence_rad, 1e-3);
+        long rings = 0;
+        if (b["rings"] && c.integer(b["rings"], q + "rings", 0, 20, rings)) {
+            out.beam.rings = static_cast<int>(rings);
+        }
+        number(c, b, q, "exit_diameter_m", out.beam.exit_diameter_m);
+    }
+}
+
+/// physics.waveform: pulse_fwhm_ns, bin_ns, min_separation_m, min_dip, keep.
+void parse_waveform(YamlChecker& c, const YAML::Node& n, PhysicsConfig& out) {
+    if (const auto w = section(c, n, "waveform")) {
+        c.only_keys(w, "physics.waveform",
+                    {"pulse_fwhm_ns", "bin_ns", "min_separation_m", "min_dip", "keep"});
+        const std::string q = "physics.waveform.";
+        number(c, w, q, "pulse_fwhm_ns", out.waveform.pulse_fwhm_ns);
+        number(c, w, q, "bin_ns", out.waveform.bin_ns);
+        number(c, w, q, "min_separation_m", out.waveform.min_separation_m);
+        number(c, w, q, "min_dip", out.waveform.min_dip);
+        flag(c, w, q, "keep", out.keep_waveform);
+    }
+}
+
 }  // namespace
 
 void parse_physics_block(YamlChecker& c, const YAML::Node& n, PhysicsConfig& out) {
@@ -133,23 +161,11 @@ void parse_physics_block(YamlChecker& c, const YAML::Node& n, PhysicsConfig& out
             c.error(a["extinction_per_m"], q + "extinction_per_m", "must not be negative");
         }
     }
-    if (const auto b = section(c, n, "beam")) {
-        c.only_keys(b, "physics.beam", {"divergence_mrad", "rings"});
-        number(c, b, p + "beam.", "divergence_mrad", out.beam.divergence_rad, 1e-3);
-        long rings = 0;
-        if (b["rings"] && c.integer(b["rings"], p + "beam.rings", 0, 20, rings)) {
-            out.beam.rings = static_cast<int>(rings);
-        }
-    }
+    parse_beam(c, n, out);
     if (const auto z = section(c, n, "noise")) {
         parse_noise(c, z, out.noise);
     }
-    if (const auto w = section(c, n, "waveform")) {
-        c.only_keys(w, "physics.waveform", {"pulse_fwhm_ns", "bin_ns", "keep"});
-        number(c, w, p + "waveform.", "pulse_fwhm_ns", out.waveform.pulse_fwhm_ns);
-        number(c, w, p + "waveform.", "bin_ns", out.waveform.bin_ns);
-        flag(c, w, p + "waveform.", "keep", out.keep_waveform);
-    }
+    parse_waveform(c, n, out);
     if (const auto t = section(c, n, "returns")) {
         c.only_keys(t, "physics.returns", {"mode", "max"});
         choice(c, t, p + "returns.", "mode", out.return_mode,

@@ -162,9 +162,11 @@ void SurveyRaySource::generate_physics(const PulseBatch& pulses, std::uint64_t f
         } else {
             store_beam(o, d, frame.right, origin[i], axis[i], scan_angle[i]);
         }
-        sim->sub_ray_directions(seed, first + i, d, dirs);
+        scratch.origins.resize(n_sub);
+        sim->sub_rays(seed, first + i, o, d, scratch.origins, dirs);
         for (std::size_t j = 0; j < n_sub; ++j) {
-            rays.set(ray_offset + i * n_sub + j, o, dirs[j], spec->range_min_m, spec->range_max_m);
+            rays.set(ray_offset + i * n_sub + j, scratch.origins[j], dirs[j], spec->range_min_m,
+                     spec->range_max_m);
         }
     }
 }

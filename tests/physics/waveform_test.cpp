@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <vector>
 
 #include "beamtrace/physics/pulse.hpp"
@@ -9,8 +10,8 @@
 namespace beamtrace {
 namespace {
 
-std::vector<Echo> echoes_of(const std::vector<EchoContribution>& c, double threshold = 1e-12) {
-    WaveformConfig cfg;
+std::vector<Echo> echoes_of(const std::vector<EchoContribution>& c, double threshold = 1e-12,
+                            WaveformConfig cfg = {}) {
     Waveform w;
     build_waveform(cfg, c, w);
     std::vector<Echo> out;
@@ -66,8 +67,53 @@ TEST(PhysicsWaveform, TwoSeparatedEchoesAndMergedOnes) {
     EXPECT_NEAR(merged[0].range_m, 30.15, 1e-3);  // symmetric
     EXPECT_GT(merged[0].width_ns, 4.2);
     EXPECT_NEAR(merged[0].power_w, 2e-6, 1e-6 * 2e-6);  // energy is kept
-    // Just above the resolution limit two equal echoes separate.
+    // Just above the resolution limit (c FWHM / 2 = 0.6 m, a dip of 10 %) two equal echoes
+    // separate; just below it they merge.
     EXPECT_EQ(echoes_of({{30.0, 1e-6}, {30.65, 1e-6}}).size(), 2u);
+    EXPECT_EQ(echoes_of({{30.0, 1e-6}, {30.6, 1e-6}}).size(), 1u);
+}
+
+TEST(PhysicsWaveform, StretchedEchoIsFittedExactlyWithItsEnergy) {
+    // A contribution of sigma 10 ns (a 23.5 ns FWHM echo): peak P sigma_p / sigma.
+    const double sigma_p = 4.0 / (2 * std::sqrt(2 * std::log(2.0)));
+    const auto e = echoes_of({{500.0123, 3e-7, 10.0}});
+    ASSERT_EQ(e.size(), 1u);
+    EXPECT_NEAR(e[0].range_m, 500.0123, 1e-9);
+    EXPECT_NEAR(e[0].amplitude_w, 3e-7 * sigma_p / 10.0, 1e-9 * 3e-7);
+    EXPECT_NEAR(e[0].width_ns, 10.0 * 2 * std::sqrt(2 * std::log(2.0)), 1e-9);
+    EXPECT_NEAR(e[0].power_w, 3e-7, 1e-6 * 3e-7);  // energy kept
+    // The window reaches 5 sigma of the widest contribution.
+    WaveformConfig cfg;
+    Waveform w;
+    build_waveform(cfg, std::vector<EchoContribution>{{500.0, 1.0, 10.0}, {501.0, 1.0}}, w);
+    EXPECT_LE(w.time_ns(0), 500.0 * round_trip_ns_per_m() - 50.0);
+    EXPECT_GE(w.time_ns(w.samples_w.size() - 1), 501.0 * round_trip_ns_per_m() + 50.0);
+}
+
+TEST(PhysicsWaveform, SeparationAndDipDecideWhetherPeaksSplit) {
+    // 1 m apart with a deep dip: two echoes; a minimum separation of 1.5 m merges them into
+    // one carrying both energies.
+    EXPECT_EQ(echoes_of({{30.0, 1e-6}, {31.0, 0.5e-6}}).size(), 2u);
+    WaveformConfig far;
+    far.min_separation_m = 1.5;
+    const auto merged = echoes_of({{30.0, 1e-6}, {31.0, 0.5e-6}}, 1e-12, far);
+    ASSERT_EQ(merged.size(), 1u);
+    EXPECT_NEAR(merged[0].power_w, 1.5e-6, 1e-5 * 1.5e-6);
+    EXPECT_GT(merged[0].width_ns, 4.5);  // one wide echo
+    // 0.65 m apart: a dip of 14.7 %; a required dip of 20 % merges them.
+    WaveformConfig deep;
+    deep.min_dip = 0.2;
+    EXPECT_EQ(echoes_of({{30.0, 1e-6}, {30.65, 1e-6}}, 1e-12, deep).size(), 1u);
+    deep.min_dip = 0.0;
+    EXPECT_EQ(echoes_of({{30.0, 1e-6}, {30.65, 1e-6}}, 1e-12, deep).size(), 2u);
+    // A weak echo well apart is its own echo (and dropped below the threshold alone).
+    const auto weak = echoes_of({{30.0, 1e-6}, {40.0, 1e-9}});
+    ASSERT_EQ(weak.size(), 2u);
+    EXPECT_NEAR(weak[1].amplitude_w, 1e-9, 1e-12);
+    EXPECT_EQ(echoes_of({{30.0, 1e-6}, {40.0, 1e-9}}, 1e-8).size(), 1u);
+    // The automatic separation is c FWHM / 4.
+    EXPECT_NEAR(WaveformConfig{}.min_separation_or_default_m(), 0.2998, 1e-4);
+    EXPECT_EQ(far.min_separation_or_default_m(), 1.5);
 }
 
 TEST(PhysicsWaveform, ValidateBins) {
@@ -76,6 +122,10 @@ TEST(PhysicsWaveform, ValidateBins) {
     c.bin_ns = 3.0;
     EXPECT_EQ(c.validate().size(), 1u);
     c.pulse_fwhm_ns = -1;
+    EXPECT_EQ(c.validate().size(), 2u);
+    c = WaveformConfig{};
+    c.min_dip = 1.0;
+    c.min_separation_m = std::numeric_limits<double>::quiet_NaN();
     EXPECT_EQ(c.validate().size(), 2u);
 }
 

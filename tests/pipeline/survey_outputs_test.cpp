@@ -328,7 +328,8 @@ TEST(SurveyOutputs, HeaderBoundsAndReturnCountsAreThoseOfThePoints) {
     test::TempDir dir;
     test::write_file(dir / "step.yaml", kStep);
     // 20 m above the edge, sweeping across it (x) while flying along it (y); a 20 mrad beam of
-    // 7 sub-rays (the ring 10 mrad off the axis: 0.2 m at 20 m, six rays 60 degrees apart).
+    // 7 sub-rays (the ring at its cells' centroid, 0.79 x 10 mrad off the axis: 0.158 m at 20 m,
+    // six rays 60 degrees apart, reaching 0.137 m across the edge in this frame).
     const test::RawLas las = test::run_survey_raw(R"(scene: step.yaml
 scanner: {type: line, pulse_rate_hz: 5000, scan_rate_hz: 50, scan_angle_max_deg: 10, duration_s: 0.5}
 platform: {type: legs, speed_mps: 20, waypoints_m: [[0, -10, 20], [0, 10, 20]]}
@@ -361,8 +362,8 @@ output: {trajectory_rate_hz: 0}
     EXPECT_NEAR(las.min[2], -1.0, 0.01);
     EXPECT_NEAR(las.max[2], 0.0, 0.01);
     // The expected returns, from the footprint: every pulse has a first return; a footprint
-    // centred within 0.16 m of the edge has rays on both planes (two returns, 1 m apart in
-    // range: resolved), one farther than 0.22 m away sees one plane.
+    // centred within 0.13 m of the edge has rays on both planes (two returns, 1 m apart in
+    // range: resolved), one farther than 0.17 m away sees one plane.
     EXPECT_EQ(by_return[0], 2500u) << "one first return per pulse";
     std::size_t near_edge = 0;
     for (std::size_t i = 0; i < las.points.size(); ++i) {
@@ -370,10 +371,10 @@ output: {trajectory_rate_hz: 0}
         if (p.return_number != 1) {
             continue;
         }
-        if (std::abs(p.x) < 0.16) {
+        if (std::abs(p.x) < 0.13) {
             ++near_edge;
             EXPECT_EQ(p.number_of_returns, 2) << "pulse at x = " << p.x;
-        } else if (std::abs(p.x) > 0.22) {
+        } else if (std::abs(p.x) > 0.17) {
             EXPECT_EQ(p.number_of_returns, 1) << "pulse at x = " << p.x;
         }
     }

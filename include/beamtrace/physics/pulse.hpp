@@ -3,8 +3,9 @@
 // The caller owns the tracing. Per pulse i of a survey with seed S:
 //   1. pose = platform_pose * mount (the TRUE pose)
 //   2. axis = pose.apply_direction(pattern_direction)
-//      sim.sub_ray_directions(S, i, axis, dirs)                       (jitter + divergence cone)
-//   3. trace origin pose.position_m along every dirs[j]; fill hits[j] (make_sub_ray_hit, or
+//      sim.sub_rays(S, i, pose.position_m, axis, origins, dirs)      (jitter + divergence cone
+//                                                                     + exit pupil offsets)
+//   3. trace origins[j] along every dirs[j]; fill hits[j] (make_sub_ray_hit, or
 //      SubRayHit{} for a miss) with the range, cos incidence and material at the hit point
 //   4. sim.simulate(S, i, hits, response)                             (range equation, waveform,
 //      echoes, return mode, range noise, dropout)
@@ -134,6 +135,15 @@ class PulseSimulator {
     /// out.size() must equal sub_ray_count(). out[j] belongs to pattern()[j].
     void sub_ray_directions(std::uint64_t seed, std::uint64_t pulse_index, const Vec3d& axis,
                             std::span<Vec3d> out) const;
+    /// Like sub_ray_directions, with the start points of the sub-rays in the exit pupil
+    /// (beam_divergence.hpp) around `origin` into `origins` (all equal to `origin` when
+    /// exit_diameter_m is 0). Both spans must have sub_ray_count() entries.
+    void sub_rays(std::uint64_t seed, std::uint64_t pulse_index, const Vec3d& origin,
+                  const Vec3d& axis, std::span<Vec3d> origins, std::span<Vec3d> dirs) const;
+    /// The echo width (sigma, ns) of a sub-ray hit: its footprint cell, of per-axis spread
+    /// sqrt(cell_variance) W(R) on a surface at incidence i (tan i capped at 89.5 deg), spans
+    /// sigma_R = tan i sqrt(cell_variance) W(R) in range, so sigma^2 = sigma_p^2 + (2 sigma_R/c)^2.
+    [[nodiscard]] double echo_sigma_ns(const SubRayHit& hit) const;
     /// The received power of one sub-ray hit with pattern weight `weight` [W], with the
     /// configured BRDF's monostatic L(i).
     [[nodiscard]] double sub_ray_power_w(const SubRayHit& hit, double weight) const;
@@ -145,7 +155,9 @@ class PulseSimulator {
   private:
     PhysicsConfig config_;
     std::vector<SubRayOffset> pattern_;
-    std::vector<Vec3d> beam_frame_;  ///< pattern_ as unit vectors in the beam frame
+    std::vector<Vec3d> beam_frame_;    ///< pattern_ as unit vectors in the beam frame
+    std::vector<Vec3d> beam_origins_;  ///< start offsets in the beam frame (exit pupil)
+    double cell_sigma_ = 0.0;          ///< sqrt(cell_variance(pattern_)), beam units
     double alpha_per_m_ = 0.0;
 };
 

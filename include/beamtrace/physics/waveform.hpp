@@ -1,23 +1,35 @@
 // The received waveform of one pulse and the echoes (returns) found in it.
 //
-// Every sub-ray echo j (one-way range R_j, peak received power P_j) adds a Gaussian pulse of the
-// emitted shape at its round-trip time t_j = 2 R_j / c:
-//   w(t) = sum_j P_j exp(-(t - t_j)^2 / (2 sigma^2)),  sigma = FWHM / (2 sqrt(2 ln 2)).
+// Every sub-ray echo j (one-way range R_j, peak received power P_j, width sigma_j) adds a
+// Gaussian at its round-trip time t_j = 2 R_j / c:
+//   w(t) = sum_j A_j exp(-(t - t_j)^2 / (2 sigma_j^2)).
+// sigma_p = FWHM / (2 sqrt(2 ln 2)) is the emitted pulse's; a sub-ray whose footprint cell
+// spans a range interval of standard deviation sigma_Rj (a tilted surface, pulse.hpp) is
+// stretched to sigma_j^2 = sigma_p^2 + (2 sigma_Rj / c)^2 with its energy kept:
+// A_j = P_j sigma_p / sigma_j (EchoContribution::sigma_ns; 0 means sigma_p, A_j = P_j).
 // w is sampled at t = k * bin_ns (absolute bins: sample k of the record is bin first_bin + k),
-// over [min t_j - 5 sigma, max t_j + 5 sigma].
+// over [min t_j - 5 sigma_max, max t_j + 5 sigma_max]; each contribution reaches 5 sigma_j.
 //
-// Echo detection: every local maximum of the samples (w[k-1] < w[k] >= w[k+1]) is refined with
-// a Gaussian through its three samples (a parabola through their logarithms: exact for an
-// isolated echo), giving its time (-> range = c t / 2), amplitude A and width sigma_e; echoes
-// with A below the detection threshold are dropped. Reported per echo: range, amplitude (peak
-// power, W), echo width (FWHM of the fitted Gaussian, ns) and the equivalent power: the echo's
-// energy (the samples summed between the valleys either side of the peak, times bin_ns)
-// divided by the energy of a unit-peak emitted pulse (sigma sqrt(2 pi)). It equals the sum of
-// the P_j that formed the echo even when a tilted or rough surface stretches or merges it
-// (overlapping echoes split their energy at the valley between them).
-// Resolution: two equal echoes merge into one peak when they are closer than 2 sigma in time,
-// i.e. c sigma in range (0.85 FWHM x c / 2: 0.51 m for a 4 ns pulse); the merged echo lies
-// between them and is wider.
+// Echo detection. Candidates are the local maxima of the samples (w[k-1] < w[k] >= w[k+1]),
+// in time order. A candidate is a separate echo only if BOTH
+//   - it lies at least min_separation (range) from the previous accepted echo's peak, and
+//   - the waveform between the two dips below (1 - min_dip) times the smaller of the two peaks;
+// otherwise it merges into that echo (whose peak becomes the higher of the two). Defaults:
+// min_separation = half the range resolution, c FWHM / 4 (0.3 m for a 4 ns pulse; the peaks of
+// two overlapping echoes lie closer than the echoes), and min_dip = 0.1: a smooth tilted plane's
+// sampled footprint leaves ripples under 5 % (one echo), while two equal echoes separate from
+// about 2.45 sigma_p (0.62 m for 4 ns) on, close to the classic resolution c FWHM / 2.
+// Separate echoes split the waveform at the lowest sample between them (shared half and half).
+// Each echo is fitted with a Gaussian over its samples of at least kEchoFitFraction (0.2) of its
+// peak sample, contiguous around it: the weighted least-squares parabola through ln w with weights
+// w^2 (Caruana's algorithm with Guo's weights, a closed-form 3x3 system), exact for a Gaussian.
+// Separate echoes overlap, so each is then fitted once more on the samples less the other echoes'
+// first fits. The fit gives the echo's time (-> range = c t / 2), amplitude A and width sigma_e.
+// Echoes with A below the detection threshold are dropped. Reported per echo: range, amplitude
+// (peak power, W), echo width (FWHM of the fitted Gaussian, ns) and the equivalent power: the
+// echo's energy (its samples summed over its span, times bin_ns) divided by the energy of a unit-
+// peak emitted pulse (sigma_p sqrt(2 pi)). It equals the sum of the P_j that formed the echo even
+// when a tilted or rough surface stretches or merges it.
 #pragma once
 
 #include <cstdint>
@@ -28,19 +40,32 @@
 namespace beamtrace {
 
 inline constexpr double kSpeedOfLight_m_per_s = 299'792'458.0;
+/// The echo fit uses the samples of at least this fraction of the echo's peak sample.
+inline constexpr double kEchoFitFraction = 0.2;
 
 struct WaveformConfig {
     double pulse_fwhm_ns = 4.0;  ///< emitted pulse width (full width at half maximum)
     double bin_ns = 0.5;         ///< digitiser sample spacing, at most pulse_fwhm_ns / 2
+    /// Least range between the peaks of two separate echoes [m]; negative: half the range
+    /// resolution, c pulse_fwhm / 4 (0.3 m at 4 ns).
+    double min_separation_m = -1.0;
+    /// Least relative dip of the waveform between two separate echoes, in [0, 1).
+    double min_dip = 0.1;
+
+    /// min_separation_m, or c pulse_fwhm / 4 when it is negative [m].
+    [[nodiscard]] double min_separation_or_default_m() const;
 
     /// Every problem with these settings; empty when valid.
     [[nodiscard]] std::vector<std::string> validate() const;
 };
 
-/// One sub-ray's contribution: one-way range [m] and peak received power [W].
+/// One sub-ray's contribution: one-way range [m], peak received power of the unstretched pulse
+/// [W] and the width of its echo (sigma, ns; 0: the emitted pulse's). The peak of the added
+/// Gaussian is power_w sigma_p / sigma_ns, so its energy stays power_w sigma_p sqrt(2 pi).
 struct EchoContribution {
     double range_m = 0.0;
     double power_w = 0.0;
+    double sigma_ns = 0.0;
 };
 
 /// A sampled waveform: samples_w[k] is the received power at time (first_bin + k) * bin_ns.

@@ -31,6 +31,7 @@ struct SurveyRaySource {
     /// Working space of generate(), reused from call to call.
     struct Scratch {
         std::vector<Vec3d> dirs;
+        std::vector<Vec3d> origins;  ///< the sub-rays' start points (exit pupil)
         std::vector<Pose> platform;
         std::vector<PoseError> errors;
         PlatformErrorScratch georeferencing;
