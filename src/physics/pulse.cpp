@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <utility>
 
 #include "beamtrace/core/error.hpp"
 #include "beamtrace/core/name_table.hpp"
@@ -16,6 +17,49 @@ constexpr NameTable<ReturnMode, 4> kReturnModes{"return mode",
                                                   {ReturnMode::last, "last"},
                                                   {ReturnMode::strongest, "strongest"},
                                                   {ReturnMode::all, "all"}}}};
+
+/// The echoes a pulse reports in `mode`: [first, second) of `echoes` (not empty).
+std::pair<std::size_t, std::size_t> reported_echoes(const std::vector<Echo>& echoes,
+                                                    ReturnMode mode, std::size_t max_returns) {
+    switch (mode) {
+        case ReturnMode::first:
+            return {0, 1};
+        case ReturnMode::last:
+            return {echoes.size() - 1, echoes.size()};
+        case ReturnMode::strongest: {
+            std::size_t best = 0;
+            for (std::size_t e = 1; e < echoes.size(); ++e) {
+                if (echoes[e].amplitude_w > echoes[best].amplitude_w) {
+                    best = e;
+                }
+            }
+            return {best, best + 1};
+        }
+        case ReturnMode::all:
+            break;
+    }
+    return {0, std::min(echoes.size(), max_returns)};
+}
+
+/// The sub-ray whose (stretched) echo adds most at an echo's peak at `range_m`; `contributions`
+/// holds one entry per sub-ray of positive power, in order.
+std::uint32_t dominant_sub_ray(std::span<const SubRayHit> hits, const std::vector<double>& powers,
+                               const std::vector<EchoContribution>& contributions, double range_m) {
+    double best = -1.0;
+    std::uint32_t best_j = 0;
+    for (std::size_t j = 0, c = 0; j < powers.size(); ++j) {
+        if (powers[j] > 0) {
+            const double sigma_m = contributions[c++].sigma_ns / round_trip_ns_per_m();
+            const double d = (hits[j].range_m - range_m) / sigma_m;
+            const double share = powers[j] / sigma_m * std::exp(-0.5 * d * d);
+            if (share > best) {
+                best = share;
+                best_j = static_cast<std::uint32_t>(j);
+            }
+        }
+    }
+    return best_j;
+}
 
 }  // namespace
 
@@ -164,31 +208,8 @@ void PulseSimulator::simulate(std::uint64_t seed, std::uint64_t pulse_index,
         return;
     }
 
-    // Which echoes are reported.
-    std::size_t begin = 0, end = out.echoes.size();
-    switch (config_.return_mode) {
-        case ReturnMode::first:
-            end = 1;
-            break;
-        case ReturnMode::last:
-            begin = end - 1;
-            break;
-        case ReturnMode::strongest: {
-            std::size_t best = 0;
-            for (std::size_t e = 1; e < out.echoes.size(); ++e) {
-                if (out.echoes[e].amplitude_w > out.echoes[best].amplitude_w) {
-                    best = e;
-                }
-            }
-            begin = best;
-            end = best + 1;
-            break;
-        }
-        case ReturnMode::all:
-            end = std::min(end, static_cast<std::size_t>(config_.max_returns));
-            break;
-    }
-
+    const auto [begin, end] = reported_echoes(out.echoes, config_.return_mode,
+                                              static_cast<std::size_t>(config_.max_returns));
     const auto count = static_cast<std::uint8_t>(end - begin);
     for (std::size_t e = begin; e < end; ++e) {
         const Echo& echo = out.echoes[e];
@@ -202,19 +223,7 @@ void PulseSimulator::simulate(std::uint64_t seed, std::uint64_t pulse_index,
         r.intensity = las_intensity(config_.radiometry, echo.power_w);
         r.return_number = static_cast<std::uint8_t>(e - begin + 1);
         r.number_of_returns = count;
-        // The sub-ray whose (stretched) echo adds most at the echo's peak.
-        double best = -1.0;
-        for (std::size_t j = 0, c = 0; j < n; ++j) {
-            if (powers[j] > 0) {
-                const double sigma_m = out.contributions[c++].sigma_ns / round_trip_ns_per_m();
-                const double d = (hits[j].range_m - echo.range_m) / sigma_m;
-                const double share = powers[j] / sigma_m * std::exp(-0.5 * d * d);
-                if (share > best) {
-                    best = share;
-                    r.sub_ray = static_cast<std::uint32_t>(j);
-                }
-            }
-        }
+        r.sub_ray = dominant_sub_ray(hits, powers, out.contributions, echo.range_m);
         out.returns.push_back(r);
     }
 }
