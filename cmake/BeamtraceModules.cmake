@@ -73,7 +73,7 @@ target_link_libraries(beamtrace_core PUBLIC Threads::Threads)
 target_compile_definitions(beamtrace_core PUBLIC BEAMTRACE_VERSION="${PROJECT_VERSION}")
 target_link_libraries(beamtrace_text PUBLIC yaml-cpp)  # text/yaml_checker.hpp includes yaml-cpp
 target_link_libraries(beamtrace_scene PRIVATE TIFF::TIFF nlohmann_json::nlohmann_json)
-target_link_libraries(beamtrace_io PRIVATE PNG::PNG)
+target_link_libraries(beamtrace_io PRIVATE PNG::PNG nlohmann_json::nlohmann_json)
 if(BEAMTRACE_WITH_EMBREE)
   beamtrace_add_embree()
   message(STATUS "beamtrace: Embree ${embree_VERSION} backend enabled")

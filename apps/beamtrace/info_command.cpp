@@ -1,12 +1,18 @@
-// `beamtrace info FILE.las`: a human-readable summary of a LAS file's header and VLRs.
+// `beamtrace info FILE.las [--stats] [--json]`: a human-readable summary of a LAS file's header,
+// VLRs and CRS; with --stats the statistics of its points (io/las_stats.hpp); --json for scripts.
+#include <array>
 #include <charconv>
 #include <cstdio>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "beamtrace/io/las_crs.hpp"
 #include "beamtrace/io/las_reader.hpp"
+#include "beamtrace/io/las_stats.hpp"
 #include "commands.hpp"
+#include "progress_bar.hpp"
 
 namespace beamtrace::cli {
 namespace {
@@ -14,6 +20,8 @@ namespace {
 struct InfoOptions {
     std::string file;
     std::size_t points = 0;
+    bool stats = false;
+    bool json = false;
 };
 
 /// The shortest text that reads back as `v`, without an exponent for everyday magnitudes.
@@ -50,10 +58,8 @@ void print_point(std::size_t index, const LasPoint& p, const LasHeader& h) {
     std::printf("\n");
 }
 
-int run(const InfoOptions& o) {
-    LasReader reader(o.file);
-    const LasHeader& h = reader.header();
-    std::printf("file:                %s\n", o.file.c_str());
+void print_header(const std::string& file, const LasHeader& h) {
+    std::printf("file:                %s\n", file.c_str());
     std::printf("LAS version:         %d.%d\n", h.version_major, h.version_minor);
     std::printf("point format:        %d (record length %u bytes, %zu extra)\n", h.point_format,
                 h.point_record_length, h.extra_bytes_per_point());
@@ -80,6 +86,10 @@ int run(const InfoOptions& o) {
     std::printf("file source id:      %u\n", h.file_source_id);
     std::printf("header size:         %u bytes; point data at byte %u\n", h.header_size,
                 h.offset_to_point_data);
+}
+
+void print_vlrs(const LasReader& reader) {
+    const LasHeader& h = reader.header();
     std::size_t n_vlr = 0;
     for (const auto& v : reader.vlrs()) {
         n_vlr += v.extended ? 0 : 1;
@@ -92,6 +102,100 @@ int run(const InfoOptions& o) {
         }
         std::printf("  %-16s %5u  %8llu bytes  \"%s\"\n", v.user_id.c_str(), v.record_id,
                     static_cast<unsigned long long>(v.length), v.description.c_str());
+    }
+}
+
+void print_crs(const LasFileCrs& c) {
+    const char* from = c.source == LasCrsSource::wkt       ? "the OGC WKT record"
+                       : c.source == LasCrsSource::geotiff ? "the GeoTIFF keys"
+                                                           : "";
+    if (c.crs.empty()) {
+        std::printf("CRS:                 none%s%s\n", *from ? " readable from " : "", from);
+    } else {
+        std::printf("CRS:                 %s, from %s\n", describe_crs(c.crs).c_str(), from);
+    }
+    if (!c.citation.empty()) {
+        std::printf("  citation: \"%s\"\n", c.citation.c_str());
+    }
+    if (c.vertical_epsg != 0) {
+        std::printf("  vertical: EPSG:%u\n", c.vertical_epsg);
+    }
+    for (const std::string& w : c.warnings) {
+        std::printf("  warning: %s\n", w.c_str());
+    }
+}
+
+template <std::size_t N>
+std::string counts(const std::array<std::uint64_t, N>& by_value) {
+    std::string text;
+    for (std::size_t v = 0; v < N; ++v) {
+        if (by_value[v] != 0) {
+            text +=
+                (text.empty() ? "" : ", ") + std::to_string(v) + ": " + std::to_string(by_value[v]);
+        }
+    }
+    return text.empty() ? "-" : text;
+}
+
+void print_field(const char* name, const LasFieldStats& f) {
+    std::printf("  %-18s min %s  max %s  mean %s\n", name, shortest(f.min).c_str(),
+                shortest(f.max).c_str(), shortest(f.mean).c_str());
+}
+
+void print_stats(const LasStats& s) {
+    std::printf("statistics:          %llu points read\n",
+                static_cast<unsigned long long>(s.points));
+    if (s.points > 0) {
+        print_field("x:", s.x);
+        print_field("y:", s.y);
+        print_field("z:", s.z);
+        print_field("intensity:", s.intensity);
+        if (s.gps_time) {
+            print_field("gps time:", *s.gps_time);
+        }
+    }
+    std::printf("  %-18s %s\n", "classification:", counts(s.by_classification).c_str());
+    std::printf("  %-18s %s\n", "return number:", counts(s.by_return_number).c_str());
+    std::printf("  %-18s %s\n", "number of returns:", counts(s.by_number_of_returns).c_str());
+    if (s.density_per_area) {
+        std::printf(
+            "  %-18s %s points per square unit (m^2 in metres) over the x-y bounding box "
+            "of %s square units\n",
+            "density:", shortest(*s.density_per_area).c_str(), shortest(s.footprint_area).c_str());
+    } else {
+        std::printf("  %-18s undefined (the x-y bounding box has no area)\n", "density:");
+    }
+}
+
+/// The points' statistics, with a progress bar on a terminal.
+LasStats read_stats(LasReader& reader) {
+    ProgressBar bar("reading points", stderr_is_terminal());
+    LasStats s = compute_las_stats(
+        reader, [&](std::size_t done, std::size_t total) { bar.update(done, total); });
+    bar.finish();
+    return s;
+}
+
+int run(const InfoOptions& o) {
+    LasReader reader(o.file);
+    const LasHeader& h = reader.header();
+    const LasFileCrs crs = las_file_crs(h, reader.vlrs());
+    std::optional<LasStats> stats;
+    if (o.stats) {
+        stats = read_stats(reader);
+        reader.seek(0);
+    }
+    if (o.json) {
+        std::printf(
+            "%s\n",
+            las_info_json(o.file, h, reader.vlrs(), crs, stats ? &*stats : nullptr).c_str());
+        return 0;
+    }
+    print_header(o.file, h);
+    print_vlrs(reader);
+    print_crs(crs);
+    if (stats) {
+        print_stats(*stats);
     }
     if (o.points > 0) {
         std::vector<LasPoint> points(o.points);
@@ -108,11 +212,15 @@ int run(const InfoOptions& o) {
 
 std::function<int()> add_info_command(CLI::App& app) {
     auto opts = std::make_shared<InfoOptions>();
-    CLI::App* cmd =
-        app.add_subcommand("info", "Print the header, VLRs and EVLRs of a LAS file (1.0-1.4)");
+    CLI::App* cmd = app.add_subcommand(
+        "info", "Print the header, VLRs, EVLRs and CRS of a LAS file (1.0-1.4); --stats, --json");
     cmd->add_option("file", opts->file, "LAS file")->required();
     cmd->add_option("--points", opts->points, "Also print the first N points")
         ->capture_default_str();
+    cmd->add_flag("--stats", opts->stats,
+                  "Read every point: counts by class and return, min/max/mean of x, y, z, "
+                  "intensity and GPS time, density");
+    cmd->add_flag("--json", opts->json, "Print one JSON object (with --stats: and the statistics)");
     return [opts] { return run(*opts); };
 }
 

@@ -153,7 +153,12 @@ LasWriter::LasWriter(std::filesystem::path path, LasWriterConfig config)
     h.version_major = 1;
     h.version_minor = 4;
     h.file_source_id = config_.file_source_id;
-    h.global_encoding = kLasGlobalEncodingWkt;
+    // WKT bit: required for formats 6-10; for others only when a WKT record (2112) is written.
+    const bool has_wkt = std::any_of(config_.vlrs.begin(), config_.vlrs.end(), [](const LasVlr& v) {
+        return v.user_id == "LASF_Projection" && v.record_id == 2112;
+    });
+    h.global_encoding =
+        las_format_is_extended(config_.point_format) || has_wkt ? kLasGlobalEncodingWkt : 0;
     if (config_.gps_time_is_standard) {
         h.global_encoding |= kLasGlobalEncodingStandardGpsTime;
     }

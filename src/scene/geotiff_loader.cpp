@@ -30,6 +30,9 @@ constexpr ttag_t kGeoKeyDirectoryTag = 34735;
 constexpr ttag_t kGdalNodataTag = 42113;
 constexpr std::uint16_t kGTRasterTypeGeoKey = 1025;
 constexpr std::uint16_t kRasterPixelIsPoint = 2;
+constexpr std::uint16_t kGeographicTypeGeoKey = 2048;
+constexpr std::uint16_t kProjectedCSTypeGeoKey = 3072;
+constexpr std::uint16_t kUserDefinedGeoKey = 32767;
 constexpr std::uint64_t kMaxTileCells = std::uint64_t{1} << 20;
 
 /// libtiff's messages for this file, collected by per-handle handlers (no global state).
@@ -93,20 +96,40 @@ template <typename T>
     return std::vector<T>(data, data + count);
 }
 
-/// GTRasterTypeGeoKey from the GeoKey directory: PixelIsArea (1, the default) or PixelIsPoint.
-[[nodiscard]] bool pixel_is_point(TIFF* tif) {
+/// The value of a SHORT GeoKey stored in the GeoKey directory itself (TIFFTagLocation 0).
+[[nodiscard]] std::optional<std::uint16_t> short_geokey(TIFF* tif, std::uint16_t id) {
     const auto keys = counted_tag<std::uint16_t>(tif, kGeoKeyDirectoryTag, TIFF_SHORT);
     if (!keys || keys->size() < 4) {
-        return false;
+        return std::nullopt;
     }
     const std::size_t n = (*keys)[3];
     for (std::size_t k = 0; k < n && 4 * k + 7 < keys->size(); ++k) {
         const std::uint16_t* entry = keys->data() + 4 + 4 * k;
-        if (entry[0] == kGTRasterTypeGeoKey && entry[1] == 0) {
-            return entry[3] == kRasterPixelIsPoint;
+        if (entry[0] == id && entry[1] == 0) {
+            return entry[3];
         }
     }
-    return false;
+    return std::nullopt;
+}
+
+/// GTRasterTypeGeoKey from the GeoKey directory: PixelIsArea (1, the default) or PixelIsPoint.
+[[nodiscard]] bool pixel_is_point(TIFF* tif) {
+    return short_geokey(tif, kGTRasterTypeGeoKey) == kRasterPixelIsPoint;
+}
+
+/// The CRS of ProjectedCSTypeGeoKey, else GeographicTypeGeoKey (0 and 32767, user-defined, name
+/// no EPSG code).
+[[nodiscard]] Crs read_crs(TIFF* tif) {
+    const auto code = [](std::optional<std::uint16_t> v) -> std::uint16_t {
+        return v && *v != 0 && *v != kUserDefinedGeoKey ? *v : 0;
+    };
+    if (const std::uint16_t projected = code(short_geokey(tif, kProjectedCSTypeGeoKey))) {
+        return crs_from_epsg(projected, true);
+    }
+    if (const std::uint16_t geographic = code(short_geokey(tif, kGeographicTypeGeoKey))) {
+        return crs_from_epsg(geographic, false);
+    }
+    return {};
 }
 
 void read_georeferencing(TIFF* tif, const std::string& path, Raster& r) {
@@ -366,6 +389,7 @@ Raster load_geotiff(const std::filesystem::path& path) {
     }
     read_georeferencing(tif.get(), p, r);
     r.nodata = read_nodata(tif.get());
+    r.crs = read_crs(tif.get());
     return r;
 }
 

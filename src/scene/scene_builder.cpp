@@ -6,6 +6,7 @@
 #include <limits>
 #include <map>
 
+#include "beamtrace/core/crs.hpp"
 #include "beamtrace/core/error.hpp"
 #include "beamtrace/geometry/primitives.hpp"
 #include "beamtrace/geometry/ray_plane.hpp"
@@ -15,12 +16,31 @@
 namespace beamtrace {
 namespace {
 
-TriangleMesh part_mesh(const PartSpec& p, const SceneSpec& spec) {
+/// Takes a raster's CRS as the scene's, unless the scene file gives `crs:` (which wins); rasters
+/// that name different CRSs without it are refused.
+void take_raster_crs(const Crs& crs, const PartSpec& p, const SceneSpec& spec, Scene& scene) {
+    if (!spec.crs.empty() || crs.empty()) {
+        return;
+    }
+    if (scene.crs.empty()) {
+        scene.crs = crs;
+    } else if (scene.crs != crs) {
+        throw InputError(spec.source.string(),
+                         "part '" + p.name + "': its raster's CRS " + describe_crs(crs) +
+                             " differs from " + describe_crs(scene.crs) +
+                             " of an earlier raster; say which is meant with crs:");
+    }
+}
+
+TriangleMesh part_mesh(const PartSpec& p, const SceneSpec& spec, Scene& scene) {
     switch (p.kind) {
         case PartKind::mesh:
             return load_mesh(p.file);
-        case PartKind::raster:
-            return raster_to_mesh(load_raster(p.file), spec.origin_m);
+        case PartKind::raster: {
+            const Raster raster = load_raster(p.file);
+            take_raster_crs(raster.crs, p, spec, scene);
+            return raster_to_mesh(raster, spec.origin_m);
+        }
         case PartKind::sphere:
             return make_icosphere(p.center_m, p.radius_m, p.sphere_subdivisions);
         case PartKind::plane:
@@ -184,6 +204,7 @@ void add_exact_spheres(const PartSpec& p, ScenePart meta, Scene& scene) {
 Scene build_scene(const SceneSpec& spec) {
     Scene scene;
     scene.origin_m = spec.origin_m;
+    scene.crs = spec.crs;
     scene.materials = spec.materials;  // physics Materials: the one model
     // A mesh file used by several parts, and any part with array copies, is stored once and
     // instanced; every other part is copied into the scene in scene coordinates.
@@ -212,7 +233,7 @@ Scene build_scene(const SceneSpec& spec) {
         }
         const bool shared_file = p.kind == PartKind::mesh && uses[p.file] > 1;
         if (!shared_file && p.array.copies() == 1) {
-            TriangleMesh local = part_mesh(p, spec);
+            TriangleMesh local = part_mesh(p, spec, scene);
             to_scene(p, spec, local);
             scene.add_part(std::move(meta), local);
             continue;
@@ -222,7 +243,7 @@ Scene build_scene(const SceneSpec& spec) {
         if (it != stored.end()) {
             mesh = it->second;
         } else {
-            mesh = scene.geometry.add_mesh(part_mesh(p, spec));
+            mesh = scene.geometry.add_mesh(part_mesh(p, spec, scene));
             if (shared_file) {
                 stored.emplace(p.file, mesh);
             }

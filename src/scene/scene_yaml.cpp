@@ -299,6 +299,20 @@ void parse_material(Checker& c, const YAML::Node& n, std::size_t index, SceneSpe
     spec.materials.push_back(m);
 }
 
+/// `crs: EPSG:<code>` or `crs: <OGC WKT>` (core/crs.hpp).
+void parse_crs(Checker& c, const YAML::Node& n, SceneSpec& spec) {
+    if (!n.IsScalar()) {
+        c.error(n, "crs", "expected EPSG:<code> or an OGC WKT string");
+        return;
+    }
+    std::string problem;
+    if (auto crs = parse_crs_text(n.Scalar(), problem)) {
+        spec.crs = std::move(*crs);
+    } else {
+        c.error(n, "crs", problem);
+    }
+}
+
 }  // namespace
 
 Affine3 PartTransform::to_affine() const {
@@ -331,9 +345,12 @@ SceneSpec parse_scene_spec(const std::string& yaml_text, const std::filesystem::
     if (!root.IsMap()) {
         throw ConfigError(source.string() + ": expected a map with 'parts' at the top level");
     }
-    c.only_keys(root, "", {"origin_m", "materials", "parts"});
+    c.only_keys(root, "", {"origin_m", "crs", "materials", "parts"});
     if (root["origin_m"]) {
         c.vec3(root["origin_m"], "origin_m", spec.origin_m);
+    }
+    if (const auto crs = root["crs"]) {
+        parse_crs(c, crs, spec);
     }
     std::set<std::string> names{"default"};
     if (const auto ms = root["materials"]) {

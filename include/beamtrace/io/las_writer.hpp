@@ -91,7 +91,8 @@ struct LasWriterConfig {
 /// extra bytes of the wrong size). After any exception the writer accepts nothing more.
 ///
 /// Legacy (32-bit) point counts are written as 0, as LAS 1.4 R15 requires for formats 6-10; the
-/// global encoding has the WKT bit set, which those formats also require.
+/// global encoding has the WKT bit set, which those formats also require (other formats: only
+/// when `vlrs` holds an OGC WKT record, LASF_Projection / 2112, see io/las_crs.hpp).
 class LasWriter {
   public:
     /// Throws ConfigError listing every problem of `config`, OutputError if the file cannot be

@@ -69,6 +69,7 @@ struct SinkFacts {
     Vec3d lo_m, hi_m;      ///< world bounds of the scene (LAS scale and offset)
     int las_point_format = 6;
     std::string provenance;  ///< recorded in the LAS VLR (version, seed, survey file)
+    std::string crs_wkt;     ///< the scene's CRS, an OGC WKT VLR of the LAS output (empty: none)
     std::string comment;     ///< PLY header comment
     std::optional<ImageGrid> image;
     bool image_labels = true;  ///< labels.png besides range.npy and range.png

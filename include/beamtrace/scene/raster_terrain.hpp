@@ -6,6 +6,7 @@
 #include <optional>
 #include <vector>
 
+#include "beamtrace/core/crs.hpp"
 #include "beamtrace/core/vec3.hpp"
 #include "beamtrace/geometry/triangle_mesh.hpp"
 
@@ -23,6 +24,9 @@ struct Raster {
     double cell_y_m = -1.0;
     std::vector<float> z;         ///< cols * rows elevations (metres)
     std::optional<float> nodata;  ///< cells equal to this (or NaN) have no data
+    /// The raster's CRS where the file names one (GeoTIFF: the EPSG code of
+    /// ProjectedCSTypeGeoKey 3072, else GeographicTypeGeoKey 2048); empty otherwise.
+    Crs crs;
 
     [[nodiscard]] float at(int col, int row) const {
         return z[static_cast<std::size_t>(row) * static_cast<std::size_t>(cols) +
@@ -51,10 +55,12 @@ inline constexpr std::size_t kMaxRasterCells = std::size_t{1} << 28;
 /// strips or tiles, any compression libtiff decodes. Georeferencing from ModelPixelScaleTag
 /// (33550) and ModelTiepointTag (33922), honouring GTRasterTypeGeoKey PixelIsPoint, or from
 /// ModelTransformationTag (34264) without rotation; unit cells with the top-left corner at the
-/// origin when there is none. Nodata from GDAL_NODATA (42113). Throws InputError naming the file
-/// and the offending tag value for unsupported layouts, and, before allocating the raster, for
-/// more than kMaxRasterCells cells or strips/tiles that do not lie inside the file (or, when
-/// uncompressed, hold fewer bytes than their samples).
+/// origin when there is none. Nodata from GDAL_NODATA (42113). The CRS from the GeoKey
+/// directory (34735): ProjectedCSTypeGeoKey (3072), else GeographicTypeGeoKey (2048), as
+/// crs_from_epsg builds it; none for user-defined (32767) or missing codes. Throws InputError
+/// naming the file and the offending tag value for unsupported layouts, and, before allocating the
+/// raster, for more than kMaxRasterCells cells or strips/tiles that do not lie inside the file (or,
+/// when uncompressed, hold fewer bytes than their samples).
 [[nodiscard]] Raster load_geotiff(const std::filesystem::path& path);
 
 /// Chooses by extension: .asc, .tif or .tiff (case-insensitive).

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "beamtrace/core/crs.hpp"
 #include "beamtrace/core/quat.hpp"
 #include "beamtrace/geometry/scene_geometry.hpp"
 #include "beamtrace/physics/material.hpp"
@@ -56,6 +57,9 @@ struct Scene {
     /// World position of the local origin: triangles are stored relative to it (float precision
     /// for UTM-sized coordinates) and outputs add it back.
     Vec3d origin_m{0, 0, 0};
+    /// The coordinate reference system of world coordinates (origin_m included): the scene
+    /// file's `crs:`, else its GeoTIFF rasters' EPSG code; empty when neither says.
+    Crs crs;
     /// Analytic copies of sphere and plane parts (filled by build_scene; ignored by backends).
     std::vector<SceneSphere> spheres;
     std::vector<ScenePlane> planes;

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "beamtrace/core/affine.hpp"
+#include "beamtrace/core/crs.hpp"
 #include "beamtrace/core/quat.hpp"
 #include "beamtrace/core/vec3.hpp"
 #include "beamtrace/physics/material.hpp"
@@ -69,6 +70,8 @@ struct PartSpec {
 struct SceneSpec {
     std::filesystem::path source;  ///< the scene file (for messages and relative paths)
     Vec3d origin_m{0, 0, 0};       ///< subtracted from raster coordinates (keeps floats precise)
+    /// `crs:` (EPSG:<code> or OGC WKT); empty: the GeoTIFF rasters' own CRS, if any.
+    Crs crs;
     /// The materials (physics Materials, docs/scene-file.md), "default" first.
     std::vector<Material> materials;
     std::vector<PartSpec> parts;

@@ -1,7 +1,9 @@
 // points.las: LAS 1.4 (formats 6-8), coordinates quantised to 1 mm around the scene, the
-// provenance (version, seed, survey file) in a VLR. Records are encoded on the pool threads.
+// scene's CRS in an OGC WKT VLR when it has one, the provenance (version, seed, survey file) in a
+// VLR. Records are encoded on the pool threads.
 #include <algorithm>
 
+#include "beamtrace/io/las_crs.hpp"
 #include "beamtrace/io/las_writer.hpp"
 #include "beamtrace/io/point_sink.hpp"
 
@@ -20,6 +22,9 @@ struct LasBuffer final : SinkBuffer {
 LasWriterConfig las_config(const SinkFacts& facts) {
     LasWriterConfig las = las_config_for_extent(facts.lo_m, facts.hi_m, 0.001);
     las.point_format = facts.las_point_format;
+    if (!facts.crs_wkt.empty()) {
+        las.vlrs.push_back(las_wkt_vlr(facts.crs_wkt));
+    }
     LasVlr vlr;
     vlr.user_id = "beamtrace";
     vlr.record_id = 1;
