@@ -9,6 +9,8 @@
 namespace beamtrace {
 namespace {
 
+using Json = nlohmann::ordered_json;  // keys in the order written
+
 /// Minimum, maximum and a compensated (Neumaier) sum of one field.
 struct Accumulator {
     double min = std::numeric_limits<double>::infinity();
@@ -61,8 +63,8 @@ void add_chunk(std::span<const LasPoint> points, LasStats& s, Accumulators& a) {
 }
 
 template <std::size_t N>
-[[nodiscard]] nlohmann::json counts(const std::array<std::uint64_t, N>& by_value) {
-    nlohmann::json out = nlohmann::json::object();
+[[nodiscard]] Json counts(const std::array<std::uint64_t, N>& by_value) {
+    Json out = Json::object();
     for (std::size_t v = 0; v < N; ++v) {
         if (by_value[v] != 0) {
             out[std::to_string(v)] = by_value[v];
@@ -71,33 +73,33 @@ template <std::size_t N>
     return out;
 }
 
-[[nodiscard]] nlohmann::json field(const LasFieldStats& f, std::uint64_t points) {
+[[nodiscard]] Json field(const LasFieldStats& f, std::uint64_t points) {
     if (points == 0) {
         return nullptr;
     }
     return {{"min", f.min}, {"max", f.max}, {"mean", f.mean}};
 }
 
-[[nodiscard]] nlohmann::json triple(const Vec3d& v) {
-    return nlohmann::json::array({v.x, v.y, v.z});
+[[nodiscard]] Json triple(const Vec3d& v) {
+    return Json::array({v.x, v.y, v.z});
 }
 
-[[nodiscard]] nlohmann::json crs_json(const LasFileCrs& c) {
-    nlohmann::json out = {{"source", crs_source_name(c.source)}};
-    out["epsg"] = c.crs.epsg != 0 ? nlohmann::json(c.crs.epsg) : nlohmann::json(nullptr);
-    out["name"] = c.crs.empty() ? nlohmann::json(nullptr) : nlohmann::json(describe_crs(c.crs));
-    out["wkt"] = c.crs.empty() ? nlohmann::json(nullptr) : nlohmann::json(c.crs.wkt);
+[[nodiscard]] Json crs_json(const LasFileCrs& c) {
+    Json out = {{"source", crs_source_name(c.source)}};
+    out["epsg"] = c.crs.epsg != 0 ? Json(c.crs.epsg) : Json(nullptr);
+    out["name"] = c.crs.empty() ? Json(nullptr) : Json(describe_crs(c.crs));
+    out["wkt"] = c.crs.empty() ? Json(nullptr) : Json(c.crs.wkt);
     if (c.source == LasCrsSource::geotiff) {
         out["vertical_epsg"] =
-            c.vertical_epsg != 0 ? nlohmann::json(c.vertical_epsg) : nlohmann::json(nullptr);
+            c.vertical_epsg != 0 ? Json(c.vertical_epsg) : Json(nullptr);
         out["citation"] = c.citation;
     }
     out["warnings"] = c.warnings;
     return out;
 }
 
-[[nodiscard]] nlohmann::json stats_json(const LasStats& s) {
-    nlohmann::json out = {{"points", s.points},
+[[nodiscard]] Json stats_json(const LasStats& s) {
+    Json out = {{"points", s.points},
                           {"by_classification", counts(s.by_classification)},
                           {"by_return_number", counts(s.by_return_number)},
                           {"by_number_of_returns", counts(s.by_number_of_returns)},
@@ -105,10 +107,10 @@ template <std::size_t N>
                           {"y", field(s.y, s.points)},
                           {"z", field(s.z, s.points)},
                           {"intensity", field(s.intensity, s.points)}};
-    out["gps_time"] = s.gps_time ? field(*s.gps_time, s.points) : nlohmann::json(nullptr);
+    out["gps_time"] = s.gps_time ? field(*s.gps_time, s.points) : Json(nullptr);
     out["footprint_area"] = s.footprint_area;
     out["density_per_area"] =
-        s.density_per_area ? nlohmann::json(*s.density_per_area) : nlohmann::json(nullptr);
+        s.density_per_area ? Json(*s.density_per_area) : Json(nullptr);
     return out;
 }
 
@@ -144,7 +146,7 @@ LasStats compute_las_stats(LasReader& reader, const ProgressFn& progress) {
 std::string las_info_json(const std::filesystem::path& path, const LasHeader& h,
                           std::span<const LasVlr> vlrs, const LasFileCrs& crs,
                           const LasStats* stats, int indent) {
-    nlohmann::json out = {
+    Json out = {
         {"file", path.string()},
         {"las_version", std::to_string(h.version_major) + "." + std::to_string(h.version_minor)},
         {"point_format", h.point_format},
@@ -159,7 +161,7 @@ std::string las_info_json(const std::filesystem::path& path, const LasHeader& h,
         {"system_identifier", h.system_identifier},
         {"generating_software", h.generating_software},
     };
-    nlohmann::json records = nlohmann::json::array();
+    Json records = Json::array();
     for (const LasVlr& v : vlrs) {
         records.push_back({{"user_id", v.user_id},
                            {"record_id", v.record_id},
@@ -172,7 +174,7 @@ std::string las_info_json(const std::filesystem::path& path, const LasHeader& h,
     if (stats != nullptr) {
         out["stats"] = stats_json(*stats);
     }
-    return out.dump(indent, ' ', false, nlohmann::json::error_handler_t::replace);
+    return out.dump(indent, ' ', false, Json::error_handler_t::replace);
 }
 
 }  // namespace beamtrace
