@@ -158,9 +158,10 @@ void print_stats(const LasStats& s) {
     std::printf("  %-18s %s\n", "return number:", counts(s.by_return_number).c_str());
     std::printf("  %-18s %s\n", "number of returns:", counts(s.by_number_of_returns).c_str());
     if (s.density_per_area) {
-        std::printf("  %-18s %.6g points per square unit over the x-y bounding box (%.6g square "
-                    "units)\n",
-                    "density:", *s.density_per_area, s.footprint_area);
+        std::printf(
+            "  %-18s %.6g points per square unit over the x-y bounding box (%.6g square "
+            "units)\n",
+            "density:", *s.density_per_area, s.footprint_area);
     } else {
         std::printf("  %-18s undefined (the x-y bounding box has no area)\n", "density:");
     }

@@ -168,6 +168,11 @@ std::optional<Crs> parse_crs_text(std::string_view text, std::string& problem) {
         problem = "expected EPSG:<code> or an OGC WKT string (KEYWORD[...] with balanced brackets)";
         return std::nullopt;
     }
+    if (s.size() > kMaxWktBytes) {
+        problem = "the WKT string has " + std::to_string(s.size()) + " bytes, more than the " +
+                  std::to_string(kMaxWktBytes) + " a LAS VLR holds";
+        return std::nullopt;
+    }
     Crs crs{std::string(s), 0};
     crs.epsg = summarize_wkt(crs.wkt).epsg;
     return crs;

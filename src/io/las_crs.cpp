@@ -1,7 +1,6 @@
 #include "beamtrace/io/las_crs.hpp"
 
 #include <cstring>
-#include <limits>
 #include <optional>
 
 #include "beamtrace/core/error.hpp"
@@ -128,7 +127,7 @@ LasVlr las_wkt_vlr(const std::string& wkt) {
     if (wkt.find('\0') != std::string::npos) {
         throw ConfigError("CRS WKT holds a NUL character");
     }
-    if (wkt.size() + 1 > std::numeric_limits<std::uint16_t>::max()) {
+    if (wkt.size() > kMaxWktBytes) {
         throw ConfigError("CRS WKT of " + std::to_string(wkt.size()) +
                           " bytes does not fit in a LAS VLR (65534 at most)");
     }

@@ -90,8 +90,7 @@ template <std::size_t N>
     out["name"] = c.crs.empty() ? Json(nullptr) : Json(describe_crs(c.crs));
     out["wkt"] = c.crs.empty() ? Json(nullptr) : Json(c.crs.wkt);
     if (c.source == LasCrsSource::geotiff) {
-        out["vertical_epsg"] =
-            c.vertical_epsg != 0 ? Json(c.vertical_epsg) : Json(nullptr);
+        out["vertical_epsg"] = c.vertical_epsg != 0 ? Json(c.vertical_epsg) : Json(nullptr);
         out["citation"] = c.citation;
     }
     out["warnings"] = c.warnings;
@@ -100,17 +99,16 @@ template <std::size_t N>
 
 [[nodiscard]] Json stats_json(const LasStats& s) {
     Json out = {{"points", s.points},
-                          {"by_classification", counts(s.by_classification)},
-                          {"by_return_number", counts(s.by_return_number)},
-                          {"by_number_of_returns", counts(s.by_number_of_returns)},
-                          {"x", field(s.x, s.points)},
-                          {"y", field(s.y, s.points)},
-                          {"z", field(s.z, s.points)},
-                          {"intensity", field(s.intensity, s.points)}};
+                {"by_classification", counts(s.by_classification)},
+                {"by_return_number", counts(s.by_return_number)},
+                {"by_number_of_returns", counts(s.by_number_of_returns)},
+                {"x", field(s.x, s.points)},
+                {"y", field(s.y, s.points)},
+                {"z", field(s.z, s.points)},
+                {"intensity", field(s.intensity, s.points)}};
     out["gps_time"] = s.gps_time ? field(*s.gps_time, s.points) : Json(nullptr);
     out["footprint_area"] = s.footprint_area;
-    out["density_per_area"] =
-        s.density_per_area ? Json(*s.density_per_area) : Json(nullptr);
+    out["density_per_area"] = s.density_per_area ? Json(*s.density_per_area) : Json(nullptr);
     return out;
 }
 

@@ -92,6 +92,8 @@ TEST(Crs, SettingTextIsAnEpsgCodeOrWkt) {
         EXPECT_FALSE(parse_crs_text(bad, problem)) << bad;
         EXPECT_FALSE(problem.empty()) << bad;
     }
+    EXPECT_FALSE(parse_crs_text("GEOGCS[\"" + std::string(kMaxWktBytes, 'x') + "\"]", problem));
+    EXPECT_TRUE(has(problem, "LAS VLR")) << problem;
     ASSERT_FALSE(parse_crs_text("EPSG:2056", problem));
     EXPECT_TRUE(has(problem, "OGC WKT")) << problem;
 }
@@ -254,6 +256,32 @@ TEST(LasCrs, MalformedGeoKeyDirectoriesWarn) {
     EXPECT_EQ(c.crs.epsg, 32633u);
     ASSERT_FALSE(c.warnings.empty());
     EXPECT_TRUE(has(c.warnings[0], "claims 100 keys")) << c.warnings[0];
+    // Random directories and citation records (the ASan build checks every access): never a
+    // throw, and a code only from a 3072/2048 key.
+    LasVlr ascii;
+    ascii.user_id = kLasProjectionUserId;
+    ascii.record_id = 34737;
+    std::uint32_t state = 12345;
+    const auto next = [&state] {
+        state = state * 1664525u + 1013904223u;
+        return static_cast<std::uint16_t>(state >> 16);
+    };
+    for (int round = 0; round < 3000; ++round) {
+        std::vector<std::uint16_t> shorts(next() % 40);
+        for (auto& v : shorts) {
+            const std::uint16_t r = next();
+            v = r % 4 == 0 ? std::uint16_t{3072} : (r % 4 == 1 ? std::uint16_t{34737} : next());
+        }
+        if (shorts.size() > 3) {
+            shorts[3] = next() % 12;
+        }
+        dir.data.assign(reinterpret_cast<const std::uint8_t*>(shorts.data()),
+                        reinterpret_cast<const std::uint8_t*>(shorts.data() + shorts.size()));
+        dir.data.resize(dir.data.size() - (next() % 2 == 0 && !dir.data.empty() ? 1 : 0));
+        ascii.data.assign(next() % 64, static_cast<std::uint8_t>('a' + round % 26));
+        const LasVlr both[] = {dir, ascii};
+        EXPECT_NO_THROW((void)las_file_crs(h, both));
+    }
 }
 
 // --- surveys -------------------------------------------------------------------------------

@@ -3,6 +3,7 @@
 // definition follows from the code itself (crs_wkt_for_epsg), and otherwise taken as given.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -29,9 +30,13 @@ struct Crs {
 /// `projected`), which readers with a CRS database (PROJ, GDAL) resolve by its authority.
 [[nodiscard]] Crs crs_from_epsg(std::uint32_t code, bool projected);
 
+/// The longest WKT a LAS VLR holds (65 535 bytes with the terminating NUL).
+inline constexpr std::size_t kMaxWktBytes = 65534;
+
 /// A `crs:` setting: "EPSG:<code>" (any case; only the codes crs_wkt_for_epsg knows) or an OGC
 /// WKT string (WKT1 or WKT2: KEYWORD[...] with balanced brackets and quotes), kept as written.
-/// Nothing, with `problem` set to a one-line reason, when the text is neither.
+/// Nothing, with `problem` set to a one-line reason, when the text is neither or is longer than
+/// kMaxWktBytes.
 [[nodiscard]] std::optional<Crs> parse_crs_text(std::string_view text, std::string& problem);
 
 /// What a WKT string says of itself: its top-level keyword (PROJCS, GEOGCS, PROJCRS...), its
