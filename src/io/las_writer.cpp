@@ -11,6 +11,7 @@
 
 #include "beamtrace/core/atomic_file.hpp"
 #include "beamtrace/core/error.hpp"
+#include "beamtrace/io/las_crs.hpp"
 #include "io/detail/direct_sink.hpp"
 
 namespace beamtrace {
@@ -155,7 +156,7 @@ LasWriter::LasWriter(std::filesystem::path path, LasWriterConfig config)
     h.file_source_id = config_.file_source_id;
     // WKT bit: required for formats 6-10; for others only when a WKT record (2112) is written.
     const bool has_wkt = std::any_of(config_.vlrs.begin(), config_.vlrs.end(), [](const LasVlr& v) {
-        return v.user_id == "LASF_Projection" && v.record_id == 2112;
+        return v.user_id == kLasProjectionUserId && v.record_id == kLasWktRecordId;
     });
     h.global_encoding =
         las_format_is_extended(config_.point_format) || has_wkt ? kLasGlobalEncodingWkt : 0;
