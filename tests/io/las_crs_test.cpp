@@ -2,6 +2,7 @@
 // WKT VLR of LAS outputs checked by parsing the file's bytes here (not by the writer's code).
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <cstring>
 #include <string>
 
@@ -13,6 +14,7 @@
 #include "beamtrace/scene/raster_terrain.hpp"
 #include "beamtrace/scene/scene_builder.hpp"
 #include "beamtrace/scene/scene_spec.hpp"
+#include "io/independent_las.hpp"
 #include "pipeline/survey_test_support.hpp"
 #include "test_support.hpp"
 
@@ -311,6 +313,33 @@ TEST(LasCrs, SrtmGeoTiffSurveyWritesEpsg32632AsWkt) {
                     "CRS:                 EPSG:32632 (WGS 84 / UTM zone 32N), from the "
                     "OGC WKT record"))
         << r.out;
+}
+
+TEST(LasCrs, IndependentReaderSeesTheWktRecord) {
+    BEAMTRACE_REQUIRE_LASVAL(lasval);
+    BEAMTRACE_REQUIRE_FILE(test::shared_mesh("terrain/dem_hd.tif"));
+    test::TempDir dir;
+    const std::string scene = std::string(BEAMTRACE_EXAMPLES_DIR) + "/scenes/srtm_terrain.yaml";
+    test::run_survey_in("scene: '" + scene +
+                            "'\nscanner: {type: line, pulse_rate_hz: 2000, scan_rate_hz: 50, "
+                            "scan_angle_max_deg: 20, duration_s: 0.02}\n"
+                            "platform: {type: legs, speed_mps: 60, waypoints_m: "
+                            "[[-10, 0, 1500], [10, 0, 1500]]}\n"
+                            "mount: {boresight_deg: [0, -90, 0]}\n",
+                        dir, 1, 1 << 16, 1);
+    const auto decoded = test::decode_independently(lasval, dir / "out" / "points.las", dir.path());
+    ASSERT_TRUE(decoded);
+    EXPECT_NE(decoded->facts.at("globalEncoding").get<int>() & 16, 0);
+    const auto& vlr = decoded->facts.at("vlrs").at(0);
+    EXPECT_EQ(vlr.at("userId"), "LASF_Projection");
+    EXPECT_EQ(vlr.at("recordId"), 2112);
+    std::string hex;
+    for (const char ch : *crs_wkt_for_epsg(32632) + std::string(1, '\0')) {
+        char two[3];
+        std::snprintf(two, sizeof two, "%02x", static_cast<unsigned char>(ch));
+        hex += two;
+    }
+    EXPECT_EQ(vlr.at("data"), hex);
 }
 
 TEST(LasCrs, SceneFileCrsReachesTheSurveyLas) {
