@@ -155,6 +155,11 @@ LasFileCrs las_file_crs(const LasHeader& header, std::span<const LasVlr> vlrs) {
         if (!header.crs_is_wkt()) {
             out.warnings.push_back("a WKT record but the global encoding's WKT bit is clear");
         }
+        if (keys != nullptr) {
+            out.warnings.push_back(
+                "both a WKT record and GeoTIFF keys (LAS 1.4 allows one); "
+                "the WKT bit chooses the WKT");
+        }
         return out;
     }
     if (keys != nullptr) {
@@ -162,6 +167,10 @@ LasFileCrs las_file_crs(const LasHeader& header, std::span<const LasVlr> vlrs) {
         read_geotiff_keys(*keys, find_record(vlrs, kGeoAsciiParamsRecordId), out);
         if (header.crs_is_wkt()) {
             out.warnings.push_back("GeoTIFF keys but the global encoding's WKT bit is set");
+        }
+        if (wkt != nullptr) {
+            out.warnings.push_back("both a WKT record and GeoTIFF keys (LAS 1.4 allows one); "
+                                   "the clear WKT bit chooses the GeoTIFF keys");
         }
         if (las_format_is_extended(header.point_format)) {
             out.warnings.push_back("GeoTIFF keys in a point format " +

@@ -40,7 +40,8 @@ TEST(InfoCli, PrintsTheCrsOfGeoTiffKeysAndWkt) {
           "warning: GeoTIFF keys: neither ProjectedCSTypeGeoKey"}},
         {"las/las/epsg_4326.las", {"CRS:                 EPSG:4326 (WGS 84), from the GeoTIFF"}},
         {"las/las/file_with_both_wkt_and_geotiff_vlrs.las",
-         {"CRS:                 PROJCS (NAD83_2011_Nebraska_ft), from the OGC WKT record"}},
+         {"CRS:                 PROJCS (NAD83_2011_Nebraska_ft), from the OGC WKT record",
+          "warning: both a WKT record and GeoTIFF keys"}},
         {"las/las/simple.las", {"CRS:                 none\n"}},
     };
     for (const Case& c : cases) {
