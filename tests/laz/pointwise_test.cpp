@@ -296,6 +296,39 @@ TEST(LazPointwise, TruncatedOrCorruptChunksFailCleanly) {
     EXPECT_THROW(decode_pointwise_chunk(wrong, {}, 1, out), CorruptData);
 }
 
+// Damaged chunks of every item kind and version (and pure noise after the raw first record):
+// decoded to something or refused with CorruptData, never a read or write out of bounds.
+TEST(LazPointwise, DamagedChunksOfEveryItemKindFailCleanly) {
+    std::mt19937 rng(2);
+    for (const char* name :
+         {"las/edge/point-version-1-point-wise.laz",
+          "las/edge/simple-laszip-compressor-version-1.2r0.laz", "las/laz/extra.laz",
+          "las/laz/fwf.laz", "las/laz/point-color.las.laz"}) {
+        const auto path = beamtrace::test::shared_data(name);
+        BEAMTRACE_REQUIRE_FILE(path);
+        const test::LazTestFile f = test::read_laz_test_file(path);
+        const test::LazChunk& c = f.chunks.at(0);
+        const std::size_t length = f.las.record_length;
+        const std::size_t points = std::min<std::size_t>(c.points, 3000);
+        std::vector<std::uint8_t> out(points * length);
+        for (int trial = 0; trial < 60; ++trial) {
+            std::vector<std::uint8_t> bad(
+                f.las.bytes.begin() + c.begin,
+                f.las.bytes.begin() + c.begin + std::min<std::size_t>(c.size, 40000));
+            for (std::size_t i = length; i < bad.size(); ++i) {
+                if (trial % 4 == 0 || rng() % 2000 == 0) {
+                    bad[i] = static_cast<std::uint8_t>(rng());
+                }
+            }
+            bad.resize(length + rng() % (bad.size() - length));
+            try {
+                decode_pointwise_chunk(f.items, bad, points, out);
+            } catch (const CorruptData&) {
+            }
+        }
+    }
+}
+
 // The point-wise files without a LAS twin: each decodes, and its points span exactly the
 // header's bounding box (a decoder that goes astray leaves it at once). fwf.laz's header holds
 // its tile's box, which its points lie inside.
