@@ -14,10 +14,11 @@
 namespace beamtrace::laz {
 namespace {
 
-using ItemDecoder = std::variant<Point10DecoderV1, Gpstime11DecoderV1, Rgb12DecoderV1,
-                                 ByteDecoderV1, Wavepacket13DecoderV1, Point10CodecV2,
-                                 Gpstime11CodecV2, Rgb12CodecV2, ByteCodecV2>;
-using ItemEncoder = std::variant<Point10CodecV2, Gpstime11CodecV2, Rgb12CodecV2, ByteCodecV2>;
+using ItemDecoder =
+    std::variant<Point10DecoderV1, Gpstime11DecoderV1, Rgb12DecoderV1, ByteDecoderV1,
+                 Wavepacket13CodecV1, Point10CodecV2, Gpstime11CodecV2, Rgb12CodecV2, ByteCodecV2>;
+using ItemEncoder =
+    std::variant<Point10CodecV2, Gpstime11CodecV2, Rgb12CodecV2, ByteCodecV2, Wavepacket13CodecV1>;
 
 std::string describe(const Item& item) {
     return item_name(item.type) + " version " + std::to_string(item.version) + " (" +
@@ -56,7 +57,7 @@ void emplace_decoder(std::vector<ItemDecoder>& decoders, const Item& item) {
                : (void)decoders.emplace_back(std::in_place_type<Rgb12CodecV2>, false);
             return;
         case ItemType::wavepacket13:
-            decoders.emplace_back(std::in_place_type<Wavepacket13DecoderV1>);
+            decoders.emplace_back(std::in_place_type<Wavepacket13CodecV1>, false);
             return;
         default:
             v1 ? (void)decoders.emplace_back(std::in_place_type<ByteDecoderV1>, item.size)
@@ -142,7 +143,7 @@ void decode_pointwise_chunk(std::span<const Item> items, std::span<const std::ui
 void encode_pointwise_chunk(std::span<const Item> items, std::span<const std::uint8_t> records,
                             std::size_t point_count, std::vector<std::uint8_t>& out) {
     for (const Item& item : items) {
-        if (item.version != 2 || item.type == ItemType::wavepacket13) {
+        if (item.version != (item.type == ItemType::wavepacket13 ? 1 : 2)) {
             throw std::invalid_argument("point-wise encoder: no encoder for item " +
                                         describe(item));
         }
@@ -164,6 +165,8 @@ void encode_pointwise_chunk(std::span<const Item> items, std::span<const std::ui
             encoders.emplace_back(std::in_place_type<Gpstime11CodecV2>, true);
         } else if (item.type == ItemType::rgb12) {
             encoders.emplace_back(std::in_place_type<Rgb12CodecV2>, true);
+        } else if (item.type == ItemType::wavepacket13) {
+            encoders.emplace_back(std::in_place_type<Wavepacket13CodecV1>, true);
         } else {
             encoders.emplace_back(std::in_place_type<ByteCodecV2>, item.size, true);
         }

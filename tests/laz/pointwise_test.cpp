@@ -156,23 +156,32 @@ std::vector<std::uint8_t> round_trip(const std::vector<Item>& items,
     return back;
 }
 
-// Our version-2 encoders write exactly LASzip's bytes: re-encoding the LAS twin of a LAZ file
-// reproduces each of its chunks.
+// Our encoders write exactly LASzip's bytes: re-encoding the LAS twin of a LAZ file reproduces
+// each of its chunks. fwf.laz (WAVEPACKET13) has no twin: its own decoded records serve.
 TEST(LazPointwise, EncoderReproducesLaszipChunks) {
     for (const auto& [laz, las] : {std::pair{"las/laz/simple.laz", "las/las/simple.las"},
                                    std::pair{"las/laz/autzen_trim.laz", "las/las/autzen_trim.las"},
-                                   std::pair{"las/laz/extra.laz", "las/formats/extrabytes.las"}}) {
+                                   std::pair{"las/laz/extra.laz", "las/formats/extrabytes.las"},
+                                   std::pair{"las/laz/fwf.laz", ""}}) {
         const auto laz_path = beamtrace::test::shared_data(laz);
-        const auto las_path = beamtrace::test::shared_data(las);
         BEAMTRACE_REQUIRE_FILE(laz_path);
-        BEAMTRACE_REQUIRE_FILE(las_path);
         const test::LazTestFile f = test::read_laz_test_file(laz_path);
-        const test::LasTestFile twin = test::read_las_test_file(las_path);
+        std::vector<std::uint8_t> records;
+        if (std::string_view(las).empty()) {
+            records = decode_all(f);
+        } else {
+            const auto las_path = beamtrace::test::shared_data(las);
+            BEAMTRACE_REQUIRE_FILE(las_path);
+            const test::LasTestFile twin = test::read_las_test_file(las_path);
+            records.assign(twin.record(0), twin.record(twin.point_count));
+        }
+        const std::size_t length = f.las.record_length;
+        ASSERT_EQ(records.size(), f.las.point_count * length);
         std::size_t first = 0;
         for (const test::LazChunk& c : f.chunks) {
             std::vector<std::uint8_t> coded;
             encode_pointwise_chunk(f.items,
-                                   std::span(twin.record(first), c.points * twin.record_length),
+                                   std::span(records).subspan(first * length, c.points * length),
                                    c.points, coded);
             const std::vector<std::uint8_t> want(f.las.bytes.begin() + c.begin,
                                                  f.las.bytes.begin() + c.begin + c.size);
@@ -256,6 +265,47 @@ TEST(LazPointwise, ExtremeValuesRoundTrip) {
                                         : static_cast<std::uint8_t>(i % 251 == 0 ? 0xFF : 0);
     }
     EXPECT_EQ(round_trip(items, records, 5000), records);
+}
+
+// Point format 4 records (POINT10, GPSTIME11, WAVEPACKET13) whose packet offsets repeat,
+// follow one another, step by small and by huge amounts.
+TEST(LazPointwise, WavePacketsRoundTrip) {
+    const std::vector<Item> items{
+        {ItemType::point10, 20, 2}, {ItemType::gpstime11, 8, 2}, {ItemType::wavepacket13, 29, 1}};
+    std::mt19937 rng(4);
+    std::vector<std::uint8_t> records;
+    std::uint64_t offset = 60;
+    std::uint32_t size = 256;
+    for (std::uint32_t p = 0; p < 20000; ++p) {
+        std::array<std::uint8_t, 57> r{};
+        std::memcpy(r.data(), &p, 4);
+        const double t = 1000.0 + p * 1.0e-5;
+        std::memcpy(r.data() + 20, &t, 8);
+        switch (rng() % 5) {
+            case 0:
+                break;
+            case 1:
+                offset += size;
+                break;
+            case 2:
+                offset += rng() % 5000;
+                break;
+            case 3:
+                offset -= rng() % 50;
+                break;
+            default:
+                offset = (static_cast<std::uint64_t>(rng()) << 24) + rng();
+        }
+        size = rng() % 3 == 0 ? static_cast<std::uint32_t>(rng()) : size;
+        r[28] = static_cast<std::uint8_t>(1 + rng() % 3);
+        std::memcpy(r.data() + 29, &offset, 8);
+        std::memcpy(r.data() + 37, &size, 4);
+        for (std::size_t i = 41; i < 57; ++i) {
+            r[i] = static_cast<std::uint8_t>(rng() % 4 == 0 ? rng() : 0x3F);
+        }
+        records.insert(records.end(), r.begin(), r.end());
+    }
+    EXPECT_EQ(round_trip(items, records, 6000), records);
 }
 
 TEST(LazPointwise, TruncatedOrCorruptChunksFailCleanly) {
