@@ -104,40 +104,81 @@ void check_pointwise_items(std::span<const Item> items) {
     }
 }
 
-void decode_pointwise_chunk(std::span<const Item> items, std::span<const std::uint8_t> bytes,
-                            std::size_t point_count, std::span<std::uint8_t> out) {
-    check_pointwise_items(items);
-    const std::size_t length = record_length(items);
-    check_output(point_count, length, out.size());
-    if (point_count == 0) {
-        return;
-    }
-    if (bytes.size() < length) {
-        throw CorruptData("chunk of " + std::to_string(bytes.size()) +
-                          " bytes is shorter than its first record (" + std::to_string(length) +
-                          " bytes)");
-    }
-    std::memcpy(out.data(), bytes.data(), length);
-    if (point_count == 1) {
-        return;
-    }
+struct PointwiseChunkDecoder::State {
+    std::vector<Item> items;
+    std::span<const std::uint8_t> bytes;
+    std::size_t length = 0;
+    std::size_t decoded = 0;
     std::vector<ItemDecoder> decoders;
-    decoders.reserve(items.size());
-    std::size_t at = 0;
-    for (const Item& item : items) {
-        emplace_decoder(decoders, item);
-        std::visit([&](auto& d) { d.init(out.data() + at); }, decoders.back());
-        at += item.size;
+    ArithmeticDecoder dec{{}};
+
+    /// The first record, raw; then the item decoders start from it.
+    void first(std::uint8_t* out) {
+        if (bytes.size() < length) {
+            throw CorruptData("chunk of " + std::to_string(bytes.size()) +
+                              " bytes is shorter than its first record (" + std::to_string(length) +
+                              " bytes)");
+        }
+        std::memcpy(out, bytes.data(), length);
+        decoders.reserve(items.size());
+        std::size_t at = 0;
+        for (const Item& item : items) {
+            emplace_decoder(decoders, item);
+            std::visit([&](auto& d) { d.init(bytes.data() + at); }, decoders.back());
+            at += item.size;
+        }
     }
-    ArithmeticDecoder dec(bytes.subspan(length));
-    dec.init();
-    for (std::size_t p = 1; p < point_count; ++p) {
-        std::uint8_t* record = out.data() + p * length;
+
+    void next(std::uint8_t* record) {
+        if (decoded == 1) {
+            dec = ArithmeticDecoder(bytes.subspan(length));
+            dec.init();
+        }
         for (std::size_t i = 0; i < items.size(); ++i) {
             std::visit([&](auto& d) { d.decode(dec, record); }, decoders[i]);
             record += items[i].size;
         }
     }
+};
+
+PointwiseChunkDecoder::PointwiseChunkDecoder(std::span<const Item> items,
+                                             std::span<const std::uint8_t> bytes)
+    : state_(std::make_unique<State>()) {
+    check_pointwise_items(items);
+    state_->items.assign(items.begin(), items.end());
+    state_->bytes = bytes;
+    state_->length = laz::record_length(items);
+}
+
+PointwiseChunkDecoder::~PointwiseChunkDecoder() = default;
+PointwiseChunkDecoder::PointwiseChunkDecoder(PointwiseChunkDecoder&&) noexcept = default;
+PointwiseChunkDecoder& PointwiseChunkDecoder::operator=(PointwiseChunkDecoder&&) noexcept = default;
+
+std::size_t PointwiseChunkDecoder::record_length() const {
+    return state_->length;
+}
+std::size_t PointwiseChunkDecoder::decoded() const {
+    return state_->decoded;
+}
+
+void PointwiseChunkDecoder::decode(std::size_t count, std::span<std::uint8_t> out) {
+    State& s = *state_;
+    check_output(count, s.length, out.size());
+    for (std::size_t p = 0; p < count; ++p) {
+        std::uint8_t* record = out.data() + p * s.length;
+        if (s.decoded == 0) {
+            s.first(record);
+        } else {
+            s.next(record);
+        }
+        ++s.decoded;
+    }
+}
+
+void decode_pointwise_chunk(std::span<const Item> items, std::span<const std::uint8_t> bytes,
+                            std::size_t point_count, std::span<std::uint8_t> out) {
+    PointwiseChunkDecoder decoder(items, bytes);
+    decoder.decode(point_count, out);
 }
 
 void encode_pointwise_chunk(std::span<const Item> items, std::span<const std::uint8_t> records,

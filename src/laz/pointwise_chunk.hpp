@@ -5,6 +5,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <vector>
 
@@ -18,6 +19,30 @@ namespace beamtrace::laz {
 /// Throws CorruptData unless every item is a point-wise item of a version we decode with a
 /// size that matches its type.
 void check_pointwise_items(std::span<const Item> items);
+
+/// Decodes a point-wise chunk a batch of records at a time, so that memory stays bounded where
+/// one chunk holds very many points (compressor 1 has a single chunk of every point).
+/// decode_pointwise_chunk is one batch of the whole chunk.
+class PointwiseChunkDecoder {
+  public:
+    /// Throws CorruptData for items that are not point-wise ones we decode.
+    PointwiseChunkDecoder(std::span<const Item> items, std::span<const std::uint8_t> bytes);
+    ~PointwiseChunkDecoder();
+    PointwiseChunkDecoder(PointwiseChunkDecoder&&) noexcept;
+    PointwiseChunkDecoder& operator=(PointwiseChunkDecoder&&) noexcept;
+
+    /// Decodes the next `count` records into the first count * record length bytes of `out`
+    /// (std::invalid_argument if it is shorter).
+    void decode(std::size_t count, std::span<std::uint8_t> out);
+
+    [[nodiscard]] std::size_t record_length() const;
+    /// Records decoded so far.
+    [[nodiscard]] std::size_t decoded() const;
+
+  private:
+    struct State;
+    std::unique_ptr<State> state_;
+};
 
 /// Appends one point-wise chunk of the `point_count` records in `records` (point_count *
 /// record length bytes) to `out`. The items must be POINT10, GPSTIME11, RGB12 or BYTE of

@@ -379,6 +379,31 @@ TEST(LazPointwise, DamagedChunksOfEveryItemKindFailCleanly) {
     }
 }
 
+// A chunk decoded a batch at a time (as a reader does for compressor 1's single chunk, to
+// bound its memory) gives the records of one whole decode.
+TEST(LazPointwise, BatchedDecodeEqualsWholeChunk) {
+    const auto path = beamtrace::test::shared_data("las/edge/point-version-1-point-wise.laz");
+    BEAMTRACE_REQUIRE_FILE(path);
+    const test::LazTestFile f = test::read_laz_test_file(path);
+    const std::vector<std::uint8_t> whole = decode_all(f);
+    const test::LazChunk& c = f.chunks.at(0);
+    const std::span<const std::uint8_t> bytes(f.las.bytes.data() + c.begin, c.size);
+    for (std::size_t batch : {std::size_t{1}, std::size_t{7}, std::size_t{1000}}) {
+        PointwiseChunkDecoder decoder(f.items, bytes);
+        const std::size_t length = decoder.record_length();
+        std::vector<std::uint8_t> records;
+        std::vector<std::uint8_t> buffer(batch * length);
+        while (decoder.decoded() < c.points) {
+            const std::size_t n = std::min(batch, c.points - decoder.decoded());
+            decoder.decode(n, buffer);
+            records.insert(records.end(), buffer.begin(),
+                           buffer.begin() + static_cast<std::ptrdiff_t>(n * length));
+        }
+        EXPECT_EQ(records, whole) << "batches of " << batch;
+        EXPECT_THROW(decoder.decode(2, std::span(buffer).first(length)), std::invalid_argument);
+    }
+}
+
 // The point-wise files without a LAS twin: each decodes, and its points span exactly the
 // header's bounding box (a decoder that goes astray leaves it at once). fwf.laz's header holds
 // its tile's box, which its points lie inside.
