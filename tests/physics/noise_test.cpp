@@ -5,24 +5,15 @@
 
 #include "beamtrace/physics/noise.hpp"
 #include "beamtrace/physics/pulse.hpp"
+#include "physics/sample_stats.hpp"
 
 namespace beamtrace {
 namespace {
 
-struct Stats {
-    double mean = 0, std = 0;
-};
+using Stats = test::SampleStats;
 
 Stats stats(const std::vector<double>& v) {
-    double s = 0, s2 = 0;
-    for (const double x : v) {
-        s += x;
-    }
-    const double mean = s / static_cast<double>(v.size());
-    for (const double x : v) {
-        s2 += (x - mean) * (x - mean);
-    }
-    return {mean, std::sqrt(s2 / static_cast<double>(v.size() - 1))};
+    return test::sample_stats(v);
 }
 
 /// A single ray on a plane facing the sensor at `range_m`.

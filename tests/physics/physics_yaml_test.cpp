@@ -4,14 +4,12 @@
 
 #include "beamtrace/core/error.hpp"
 #include "beamtrace/pipeline/survey.hpp"
+#include "physics/physics_yaml_support.hpp"
 
 namespace beamtrace {
 namespace {
 
-const std::string kHead = R"(scene: demo
-scanner: {type: rotating, preset: vlp16}
-platform: {type: static, position_m: [0, 0, 2]}
-)";
+const std::string& kHead = test::kPhysicsSurveyHead;
 
 TEST(PhysicsYaml, NoBlockMeansNoPhysics) {
     EXPECT_FALSE(parse_survey_spec(kHead, "s.yaml").physics.has_value());
