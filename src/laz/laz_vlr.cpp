@@ -70,7 +70,7 @@ void check_item(const Item& item, std::size_t index, bool layered) {
         corrupt(where + (layered ? ": a point-wise item in a layered (compressor 3) file"
                                  : ": a layered item in a point-wise file"));
     }
-    const bool version_ok = layered ? (item.version == 3 || item.version == 4)
+    const bool version_ok = layered ? item.version == 3
                                     : (item.version == 1 || item.version == 2);
     if (!version_ok) {
         corrupt(where + ": unsupported item version " + std::to_string(item.version));
