@@ -13,10 +13,10 @@
 #include <string>
 #include <vector>
 
-#include "laz/laz_items.hpp"
 #include "laz/layered_bytes.hpp"
 #include "laz/layered_point14.hpp"
 #include "laz/layered_rgb.hpp"
+#include "laz/laz_items.hpp"
 
 namespace beamtrace::laz {
 
@@ -54,7 +54,7 @@ void check_items(std::span<const Item> items) {
         if (i > 0 && item.type == ItemType::point14) {
             throw CorruptData("a second POINT14 item in the record");
         }
-        const std::size_t size = item.type == ItemType::point14   ? 30
+        const std::size_t size = item.type == ItemType::point14    ? 30
                                  : item.type == ItemType::rgb14    ? 6
                                  : item.type == ItemType::rgbnir14 ? 8
                                                                    : item.size;
@@ -143,8 +143,8 @@ void decode_layered_chunk(std::span<const Item> items, std::span<const std::uint
             extra_offsets.push_back(offset);
         } else if (!rgb) {
             const bool nir = item.type == ItemType::rgbnir14;
-            rgb.emplace(bytes.data() + offset, nir, layers[layer], nir ? layers[layer + 1] : Bytes{},
-                        channel);
+            rgb.emplace(bytes.data() + offset, nir, layers[layer],
+                        nir ? layers[layer + 1] : Bytes{}, channel);
             rgb_offset = offset;
         } else {
             throw CorruptData("two colour items in the record");

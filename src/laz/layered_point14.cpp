@@ -19,14 +19,22 @@ constexpr std::uint32_t kGpsSymbols = kGpsMulti - kGpsMultiMinus + 5;
 
 /// The format's grouping of (number of returns, return number) into six XY contexts.
 constexpr std::uint8_t kReturnMap6[16][16] = {
-    {0, 1, 2, 3, 4, 5, 3, 4, 4, 5, 5, 5, 5, 5, 5, 5}, {1, 0, 1, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3},
-    {2, 1, 2, 4, 4, 4, 4, 4, 4, 4, 4, 3, 3, 3, 3, 3}, {3, 3, 4, 5, 4, 4, 4, 4, 4, 4, 4, 4, 4, 4, 4, 4},
-    {4, 3, 4, 4, 5, 4, 4, 4, 4, 4, 4, 4, 4, 4, 4, 4}, {5, 3, 4, 4, 4, 5, 4, 4, 4, 4, 4, 4, 4, 4, 4, 4},
-    {3, 3, 4, 4, 4, 4, 5, 4, 4, 4, 4, 4, 4, 4, 4, 4}, {4, 3, 4, 4, 4, 4, 4, 5, 4, 4, 4, 4, 4, 4, 4, 4},
-    {4, 3, 4, 4, 4, 4, 4, 4, 5, 4, 4, 4, 4, 4, 4, 4}, {5, 3, 4, 4, 4, 4, 4, 4, 4, 5, 4, 4, 4, 4, 4, 4},
-    {5, 3, 4, 4, 4, 4, 4, 4, 4, 4, 5, 4, 4, 4, 4, 4}, {5, 3, 3, 4, 4, 4, 4, 4, 4, 4, 4, 5, 5, 4, 4, 4},
-    {5, 3, 3, 4, 4, 4, 4, 4, 4, 4, 4, 5, 5, 5, 4, 4}, {5, 3, 3, 4, 4, 4, 4, 4, 4, 4, 4, 4, 5, 5, 5, 4},
-    {5, 3, 3, 4, 4, 4, 4, 4, 4, 4, 4, 4, 4, 5, 5, 5}, {5, 3, 3, 4, 4, 4, 4, 4, 4, 4, 4, 4, 4, 4, 5, 5},
+    {0, 1, 2, 3, 4, 5, 3, 4, 4, 5, 5, 5, 5, 5, 5, 5},
+    {1, 0, 1, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3},
+    {2, 1, 2, 4, 4, 4, 4, 4, 4, 4, 4, 3, 3, 3, 3, 3},
+    {3, 3, 4, 5, 4, 4, 4, 4, 4, 4, 4, 4, 4, 4, 4, 4},
+    {4, 3, 4, 4, 5, 4, 4, 4, 4, 4, 4, 4, 4, 4, 4, 4},
+    {5, 3, 4, 4, 4, 5, 4, 4, 4, 4, 4, 4, 4, 4, 4, 4},
+    {3, 3, 4, 4, 4, 4, 5, 4, 4, 4, 4, 4, 4, 4, 4, 4},
+    {4, 3, 4, 4, 4, 4, 4, 5, 4, 4, 4, 4, 4, 4, 4, 4},
+    {4, 3, 4, 4, 4, 4, 4, 4, 5, 4, 4, 4, 4, 4, 4, 4},
+    {5, 3, 4, 4, 4, 4, 4, 4, 4, 5, 4, 4, 4, 4, 4, 4},
+    {5, 3, 4, 4, 4, 4, 4, 4, 4, 4, 5, 4, 4, 4, 4, 4},
+    {5, 3, 3, 4, 4, 4, 4, 4, 4, 4, 4, 5, 5, 4, 4, 4},
+    {5, 3, 3, 4, 4, 4, 4, 4, 4, 4, 4, 5, 5, 5, 4, 4},
+    {5, 3, 3, 4, 4, 4, 4, 4, 4, 4, 4, 4, 5, 5, 5, 4},
+    {5, 3, 3, 4, 4, 4, 4, 4, 4, 4, 4, 4, 4, 5, 5, 5},
+    {5, 3, 3, 4, 4, 4, 4, 4, 4, 4, 4, 4, 4, 4, 5, 5},
 };
 
 /// The Z context: how deep the return lies in its pulse, |n - r|, at most 7.
@@ -265,8 +273,7 @@ void Point14Decoder::decode_returns(Context& c, std::uint32_t changed) {
             break;
         default:
             if (gps_change) {
-                c.return_number =
-                    dec.decode_symbol(lazy_model(c.return_number_models[last_r], 16));
+                c.return_number = dec.decode_symbol(lazy_model(c.return_number_models[last_r], 16));
             } else {
                 const std::uint32_t sym = dec.decode_symbol(c.return_number_gps_same);
                 c.return_number = (last_r + sym + 2) % 16;
@@ -322,12 +329,11 @@ void Point14Decoder::decode_attributes(Context& c, std::uint32_t changed, unsign
         last = c.intensity;
     }
     if (Layer& l = *layers_[kScanAngle]; l.coded && (changed & (1U << 3)) != 0) {
-        c.scan_angle =
-            static_cast<std::int16_t>(c.scan_angle_ic.decompress(l.decoder, c.scan_angle, gps_change));
+        c.scan_angle = static_cast<std::int16_t>(
+            c.scan_angle_ic.decompress(l.decoder, c.scan_angle, gps_change));
     }
     if (Layer& l = *layers_[kUserData]; l.coded) {
-        c.user_data =
-            l.decoder.decode_symbol(lazy_model(c.user_data_models[c.user_data / 4], 256));
+        c.user_data = l.decoder.decode_symbol(lazy_model(c.user_data_models[c.user_data / 4], 256));
     }
     if (Layer& l = *layers_[kPointSource]; l.coded && (changed & (1U << 5)) != 0) {
         c.point_source =
@@ -387,7 +393,8 @@ void Point14Decoder::decode_gps_time(Context& c, ArithmeticDecoder& dec) {
             c.gps[s] = plus(c.gps[s], c.gps_ic.decompress(dec, c.gps_diff[s], 1));
             c.gps_extreme[s] = 0;
         } else if (multi < kGpsCodeFull) {
-            c.gps[s] = plus(c.gps[s], decode_gps_multiple(c, dec, static_cast<std::int32_t>(multi)));
+            c.gps[s] =
+                plus(c.gps[s], decode_gps_multiple(c, dec, static_cast<std::int32_t>(multi)));
         } else if (multi == kGpsCodeFull) {
             decode_full_gps_time(c, dec);
         } else {

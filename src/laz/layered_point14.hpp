@@ -24,7 +24,8 @@ class Point14Decoder {
     static constexpr std::size_t kRecordBytes = 30;
 
     /// `first`: the chunk's first (raw) record; `layers`: the nine layers' bytes in order.
-    Point14Decoder(const std::uint8_t* first, std::span<const std::span<const std::uint8_t>> layers);
+    Point14Decoder(const std::uint8_t* first,
+                   std::span<const std::span<const std::uint8_t>> layers);
     ~Point14Decoder();
     Point14Decoder(const Point14Decoder&) = delete;
     Point14Decoder& operator=(const Point14Decoder&) = delete;
@@ -54,8 +55,7 @@ class Point14Decoder {
     void decode_attributes(Context& c, std::uint32_t changed, unsigned cpr);
     static void decode_gps_time(Context& c, ArithmeticDecoder& dec);
     static void decode_full_gps_time(Context& c, ArithmeticDecoder& dec);
-    static std::int32_t decode_gps_multiple(Context& c, ArithmeticDecoder& dec,
-                                            std::int32_t multi);
+    static std::int32_t decode_gps_multiple(Context& c, ArithmeticDecoder& dec, std::int32_t multi);
 
     std::array<std::optional<Layer>, kLayers> layers_;
     std::array<std::unique_ptr<Context>, 4> contexts_;

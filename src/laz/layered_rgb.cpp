@@ -7,8 +7,12 @@ namespace beamtrace::laz {
 
 namespace {
 
-[[nodiscard]] std::uint32_t low(std::uint16_t v) { return v & 0xFFU; }
-[[nodiscard]] std::uint32_t high(std::uint16_t v) { return v >> 8U; }
+[[nodiscard]] std::uint32_t low(std::uint16_t v) {
+    return v & 0xFFU;
+}
+[[nodiscard]] std::uint32_t high(std::uint16_t v) {
+    return v >> 8U;
+}
 
 /// The last byte plus a predicted change, clamped to a byte.
 [[nodiscard]] std::uint32_t clamp_byte(std::int32_t v) {

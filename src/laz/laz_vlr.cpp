@@ -46,18 +46,16 @@ template <typename T>
 }
 
 [[nodiscard]] bool is_layered(ItemType type) {
-    return type == ItemType::point14 || type == ItemType::rgb14 ||
-           type == ItemType::rgbnir14 || type == ItemType::wavepacket14 ||
-           type == ItemType::byte14;
+    return type == ItemType::point14 || type == ItemType::rgb14 || type == ItemType::rgbnir14 ||
+           type == ItemType::wavepacket14 || type == ItemType::byte14;
 }
 
 void check_item(const Item& item, std::size_t index, bool layered) {
-    const std::string where = "item " + std::to_string(index + 1) + " (" +
-                              item_name(item.type) + ")";
+    const std::string where =
+        "item " + std::to_string(index + 1) + " (" + item_name(item.type) + ")";
     const int size = fixed_size(item.type);
     if (size < 0) {
-        corrupt(where + ": unknown item type " +
-                std::to_string(static_cast<unsigned>(item.type)));
+        corrupt(where + ": unknown item type " + std::to_string(static_cast<unsigned>(item.type)));
     }
     if (size > 0 && item.size != size) {
         corrupt(where + ": size " + std::to_string(item.size) + ", expected " +
@@ -70,8 +68,7 @@ void check_item(const Item& item, std::size_t index, bool layered) {
         corrupt(where + (layered ? ": a point-wise item in a layered (compressor 3) file"
                                  : ": a layered item in a point-wise file"));
     }
-    const bool version_ok = layered ? item.version == 3
-                                    : (item.version == 1 || item.version == 2);
+    const bool version_ok = layered ? item.version == 3 : (item.version == 1 || item.version == 2);
     if (!version_ok) {
         corrupt(where + ": unsupported item version " + std::to_string(item.version));
     }
@@ -113,8 +110,7 @@ void check_items_match(const LazVlr& vlr, int format, std::size_t record_length)
         const ItemType want = i < expected.size() ? expected[i] : extra;
         if (vlr.items[i].type != want) {
             corrupt("item " + std::to_string(i + 1) + " is " + item_name(vlr.items[i].type) +
-                    " where point format " + std::to_string(format) + " needs " +
-                    item_name(want));
+                    " where point format " + std::to_string(format) + " needs " + item_name(want));
         }
     }
     if (vlr.items.size() < expected.size()) {

@@ -1,0 +1,169 @@
+// LAZ through LasReader: every LAZ sample reads like its uncompressed twin (or, where there is
+// none, like the decode of two independent readers, laz-perf and laz-rs), or is refused with
+// an InputError naming the file; parallel and sequential decodes agree; seek works in chunks.
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "../io/independent_las.hpp"
+#include "../test_support.hpp"
+#include "beamtrace/core/error.hpp"
+#include "beamtrace/io/las_reader.hpp"
+
+namespace beamtrace {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::vector<LasPoint> read_all(const fs::path& path, unsigned threads) {
+    LasReader reader(path, threads);
+    std::vector<LasPoint> points(static_cast<std::size_t>(reader.header().point_count));
+    EXPECT_EQ(reader.read(points), points.size());
+    return points;
+}
+
+/// The twin's header and points must be the LAZ file's.
+void expect_same_as(const fs::path& laz, const fs::path& las) {
+    SCOPED_TRACE(laz.filename().string());
+    LasReader a(laz);
+    LasReader b(las);
+    EXPECT_EQ(a.header().point_format, b.header().point_format);
+    EXPECT_EQ(a.header().point_record_length, b.header().point_record_length);
+    ASSERT_EQ(a.header().point_count, b.header().point_count);
+    EXPECT_EQ(a.header().scale, b.header().scale);
+    EXPECT_EQ(a.header().offset, b.header().offset);
+    const std::vector<LasPoint> pa = read_all(laz, 2);
+    const std::vector<LasPoint> pb = read_all(las, 1);
+    ASSERT_EQ(pa.size(), pb.size());
+    std::size_t differ = 0;
+    for (std::size_t i = 0; i < pa.size(); ++i) {
+        if (!(pa[i] == pb[i]) && differ++ < 3) {
+            ADD_FAILURE() << "point " << i << " differs: x " << pa[i].x << " / " << pb[i].x
+                          << ", gps " << pa[i].gps_time << " / " << pb[i].gps_time;
+        }
+    }
+    EXPECT_EQ(differ, 0u);
+}
+
+TEST(LazReader, LayeredFilesReadLikeTheirLasTwins) {
+    BEAMTRACE_REQUIRE_FILE(test::shared_data("las/laz"));
+    expect_same_as(test::shared_data("las/laz/1_4_w_evlr.laz"),
+                   test::shared_data("las/formats/1_4_w_evlr.las"));
+    expect_same_as(test::shared_data("las/laz/append-bug.laz"),
+                   test::shared_data("las/derived/append-bug.las"));
+    expect_same_as(test::shared_data("las/laz/las_with_several_extra_byte_bloc.laz"),
+                   test::shared_data("las/derived/las_with_several_extra_byte_bloc.las"));
+}
+
+TEST(LazReader, PointwiseFilesReadLikeTheirLasTwins) {
+    BEAMTRACE_REQUIRE_FILE(test::shared_data("las/laz"));
+    expect_same_as(test::shared_data("las/laz/autzen_trim.laz"),
+                   test::shared_data("las/las/autzen_trim.las"));
+    expect_same_as(test::shared_data("las/laz/simple.laz"),
+                   test::shared_data("las/las/simple.las"));
+    expect_same_as(test::shared_data("las/laz/extra.laz"),
+                   test::shared_data("las/formats/extrabytes.las"));
+    expect_same_as(test::shared_data("las/edge/point-version-1-point-wise.laz"),
+                   test::shared_data("las/las/point-version-1-point-wise.las"));
+}
+
+TEST(LazReader, EveryLazSampleReadsOrFailsWithTheFileName) {
+    BEAMTRACE_REQUIRE_FILE(test::shared_data("las/edge"));
+    const std::map<std::string, std::string> refused = {
+        {"fullwave.laz", "WAVEPACKET14 items (wave packets) are not supported"},
+        {"fwf.laz", "WAVEPACKET13 items (wave packets) are not supported"},
+        {"broken_coder.laz", "unknown coder"},
+        {"broken_compressor.laz", "compressor"},
+        {"broken_size.laz", "LASzip VLR"},
+        {"broken_type.laz", "LASzip VLR"},
+        {"broken_version.laz", "LASzip VLR"},
+    };
+    std::size_t seen = 0;
+    for (const char* folder : {"las/laz", "las/edge"}) {
+        for (const auto& entry : fs::directory_iterator(test::shared_data(folder))) {
+            if (entry.path().extension() != ".laz") {
+                continue;
+            }
+            const std::string name = entry.path().filename().string();
+            SCOPED_TRACE(name);
+            ++seen;
+            if (const auto it = refused.find(name); it != refused.end()) {
+                test::expect_input_error(read_las_points, entry.path(), it->second);
+                continue;
+            }
+            LasReader reader(entry.path());
+            EXPECT_LE(reader.header().point_format, 8);
+            EXPECT_EQ(read_las_points(entry.path()).size(), reader.header().point_count);
+        }
+    }
+    EXPECT_EQ(seen, 28u);
+}
+
+TEST(LazReader, NoPointsReadsAsEmpty) {
+    const fs::path path = test::shared_data("las/edge/no-points-1.3.laz");
+    BEAMTRACE_REQUIRE_FILE(path);
+    LasReader reader(path);
+    EXPECT_EQ(reader.header().point_count, 0u);
+    EXPECT_EQ(reader.header().point_format, 0);
+    std::vector<LasPoint> points(4);
+    EXPECT_EQ(reader.read(points), 0u);
+}
+
+TEST(LazReader, SeekLandsInsideAChunk) {
+    const fs::path path = test::shared_data("las/laz/lone-star.copc.laz");
+    BEAMTRACE_REQUIRE_FILE(path);
+    const std::vector<LasPoint> all = read_all(path, 1);
+    LasReader reader(path, 2);
+    for (const std::uint64_t at : {std::uint64_t{123457}, std::uint64_t{5}, all.size() - 3}) {
+        reader.seek(at);
+        std::vector<LasPoint> some(10);
+        const std::size_t n = reader.read(some);
+        ASSERT_EQ(n, std::min<std::size_t>(10, all.size() - at));
+        for (std::size_t i = 0; i < n; ++i) {
+            EXPECT_EQ(some[i], all[at + i]) << at + i;
+        }
+    }
+}
+
+TEST(LazReader, OneAndTwoThreadsDecodeTheSamePoints) {
+    const fs::path path = test::shared_data("las/laz/simple.copc.laz");
+    BEAMTRACE_REQUIRE_FILE(path);
+    EXPECT_EQ(read_all(path, 1), read_all(path, 2));
+}
+
+/// The independent decode of `laz` (both npm readers agree, else laz2las refuses), as a LAS file.
+fs::path independent_las(const fs::path& lasval, const fs::path& laz, const fs::path& dir) {
+    const fs::path script = lasval / "laz2las.mjs";
+    if (!fs::exists(script)) {
+        const fs::path staging = script.string() + "." + std::to_string(::getpid());
+        fs::copy_file(test::shared_data("../tools/lasval/laz2las.mjs"), staging,
+                      fs::copy_options::overwrite_existing);
+        fs::rename(staging, script);
+    }
+    const fs::path out = dir / (laz.stem().string() + ".las");
+    const auto r = test::run_command("node '" + script.string() + "' '" + laz.string() + "' '" +
+                                     out.string() + "' 2>&1");
+    EXPECT_EQ(r.exit_code, 0) << r.out;
+    return out;
+}
+
+TEST(LazReader, FilesWithoutTwinsDecodeLikeLazPerfAndLazRs) {
+    BEAMTRACE_REQUIRE_LASVAL(lasval);
+    test::TempDir dir;
+    for (const char* name :
+         {"lone-star.copc.laz", "simple.copc.laz", "las14_prf6.laz", "point10.las.laz",
+          "point-time.las.laz", "point-color.las.laz", "point-time-1.4.las.laz",
+          "32-1-472-150-76.laz", "dbh.laz", "MixedConifer.laz", "Topography.laz", "Megaplot.laz"}) {
+        const fs::path laz = test::shared_data(std::string("las/laz/") + name);
+        const fs::path las = independent_las(lasval, laz, dir.path());
+        if (fs::exists(las)) {
+            expect_same_as(laz, las);
+        }
+    }
+}
+
+}  // namespace
+}  // namespace beamtrace
