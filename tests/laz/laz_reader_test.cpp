@@ -134,29 +134,66 @@ TEST(LazReader, OneAndTwoThreadsDecodeTheSamePoints) {
     EXPECT_EQ(read_all(path, 1), read_all(path, 2));
 }
 
-/// The independent decode of `laz` (both npm readers agree, else laz2las refuses), as a LAS file.
+/// Copies `source` into the npm folder `lasval` (atomically: other tests may be running it).
+fs::path install_script(const fs::path& lasval, const fs::path& source) {
+    const fs::path script = lasval / source.filename();
+    const fs::path staging = script.string() + "." + std::to_string(::getpid());
+    fs::copy_file(source, staging, fs::copy_options::overwrite_existing);
+    fs::rename(staging, script);
+    return script;
+}
+
+/// The independent decode of `laz` as a LAS file (laz-perf and laz-rs must agree, else the
+/// script refuses).
 fs::path independent_las(const fs::path& lasval, const fs::path& laz, const fs::path& dir) {
-    const fs::path script = lasval / "laz2las.mjs";
-    if (!fs::exists(script)) {
-        const fs::path staging = script.string() + "." + std::to_string(::getpid());
-        fs::copy_file(test::shared_data("../tools/lasval/laz2las.mjs"), staging,
-                      fs::copy_options::overwrite_existing);
-        fs::rename(staging, script);
-    }
+    const fs::path script =
+        install_script(lasval, test::shared_data("../tools/lasval/laz2las.mjs"));
     const fs::path out = dir / (laz.stem().string() + ".las");
-    const auto r = test::run_command("node '" + script.string() + "' '" + laz.string() + "' '" +
-                                     out.string() + "' 2>&1");
-    EXPECT_EQ(r.exit_code, 0) << r.out;
+    const auto r = test::run_command("cd '" + lasval.string() + "' && node '" + script.string() +
+                                     "' '" + laz.string() + "' '" + out.string() + "' 2>&1");
+    EXPECT_EQ(r.exit_code, 0) << r.out.substr(r.out.size() -
+                                              std::min<std::size_t>(r.out.size(), 400));
     return out;
+}
+
+/// Our points must be laz-perf's decode of the raw records (COPC: laz-rs cannot open these).
+void expect_same_as_laz_perf(const fs::path& lasval, const fs::path& laz, const fs::path& dir) {
+    SCOPED_TRACE(laz.filename().string());
+    const fs::path script = install_script(
+        lasval, fs::path(BEAMTRACE_TEST_DATA_DIR).parent_path() / "laz" / "laz_records.mjs");
+    const fs::path out = dir / (laz.stem().string() + ".records");
+    const auto r = test::run_command("cd '" + lasval.string() + "' && node '" + script.string() +
+                                     "' '" + laz.string() + "' '" + out.string() + "' 2>&1");
+    ASSERT_EQ(r.exit_code, 0) << r.out.substr(0, 400);
+    const std::string records = test::read_file(out);
+    LasReader reader(laz);
+    const std::vector<LasPoint> ours = read_all(laz, 2);
+    const std::size_t length = reader.header().point_record_length;
+    ASSERT_EQ(records.size(), ours.size() * length);
+    std::size_t differ = 0;
+    LasPoint p;
+    for (std::size_t i = 0; i < ours.size(); ++i) {
+        reader.decode(reinterpret_cast<const std::uint8_t*>(records.data()) + i * length, p);
+        differ += p == ours[i] ? 0 : 1;
+    }
+    EXPECT_EQ(differ, 0u);
+}
+
+TEST(LazReader, CopcFilesDecodeLikeLazPerf) {
+    BEAMTRACE_REQUIRE_LASVAL(lasval);
+    test::TempDir dir;
+    for (const char* name : {"lone-star.copc.laz", "simple.copc.laz"}) {
+        expect_same_as_laz_perf(lasval, test::shared_data(std::string("las/laz/") + name),
+                                dir.path());
+    }
 }
 
 TEST(LazReader, FilesWithoutTwinsDecodeLikeLazPerfAndLazRs) {
     BEAMTRACE_REQUIRE_LASVAL(lasval);
     test::TempDir dir;
-    for (const char* name :
-         {"lone-star.copc.laz", "simple.copc.laz", "las14_prf6.laz", "point10.las.laz",
-          "point-time.las.laz", "point-color.las.laz", "point-time-1.4.las.laz",
-          "32-1-472-150-76.laz", "dbh.laz", "MixedConifer.laz", "Topography.laz", "Megaplot.laz"}) {
+    for (const char* name : {"las14_prf6.laz", "point10.las.laz", "point-time.las.laz",
+                             "point-color.las.laz", "point-time-1.4.las.laz", "32-1-472-150-76.laz",
+                             "dbh.laz", "MixedConifer.laz", "Topography.laz", "Megaplot.laz"}) {
         const fs::path laz = test::shared_data(std::string("las/laz/") + name);
         const fs::path las = independent_las(lasval, laz, dir.path());
         if (fs::exists(las)) {
