@@ -14,7 +14,7 @@ namespace {
     std::string ext = p.extension().string();
     std::transform(ext.begin(), ext.end(), ext.begin(),
                    [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-    return ext == ".las";
+    return ext == ".las" || ext == ".laz";
 }
 
 }  // namespace

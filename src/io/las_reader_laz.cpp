@@ -23,6 +23,7 @@ constexpr std::uint64_t kMaxChunkRecordBytes = std::uint64_t{256} << 20;
         case laz::ItemType::gpstime11:
         case laz::ItemType::rgb12:
         case laz::ItemType::byte:
+        case laz::ItemType::wavepacket13:
         case laz::ItemType::point14:
         case laz::ItemType::rgb14:
         case laz::ItemType::rgbnir14:
@@ -51,7 +52,8 @@ void LasReader::open_laz(std::uint64_t file_size) {
     }
     for (const laz::Item& item : state->vlr.items) {
         if (!supported(item)) {
-            fail("LAZ: " + laz::item_name(item.type) + " items (wave packets) are not supported");
+            fail("LAZ: " + laz::item_name(item.type) +
+                 " items (wave packets of the layered formats 9 and 10) are not supported");
         }
     }
     laz::PointDataExtent extent;

@@ -99,7 +99,7 @@ void check_item(const Item& item, std::size_t index, bool layered) {
         case 9:
             return {ItemType::point14, ItemType::wavepacket14};
         default:
-            return {ItemType::point14, ItemType::rgb14, ItemType::wavepacket14};
+            return {ItemType::point14, ItemType::rgbnir14, ItemType::wavepacket14};
     }
 }
 
@@ -166,8 +166,8 @@ LazVlr parse_laz_vlr(std::span<const std::uint8_t> data, int point_format,
     if (v.compressor == Compressor::none) {
         corrupt("compressor 0 (none) in a compressed file");
     }
-    if (v.chunk_size == 0) {
-        corrupt("chunk size 0");
+    if (v.chunk_size == 0 && v.compressor != Compressor::pointwise) {
+        v.chunk_size = kVariableChunkSize;  // as LASzip reads it: chunk sizes in the table
     }
     const bool layered = v.compressor == Compressor::layered_chunked;
     if (layered != (point_format >= 6)) {

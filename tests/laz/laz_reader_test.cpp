@@ -68,13 +68,15 @@ TEST(LazReader, PointwiseFilesReadLikeTheirLasTwins) {
                    test::shared_data("las/formats/extrabytes.las"));
     expect_same_as(test::shared_data("las/edge/point-version-1-point-wise.laz"),
                    test::shared_data("las/las/point-version-1-point-wise.las"));
+    expect_same_as(test::shared_data("las/edge/simple-laszip-compressor-version-1.2r0.laz"),
+                   test::shared_data("las/las/simple.las"));
 }
 
 TEST(LazReader, EveryLazSampleReadsOrFailsWithTheFileName) {
     BEAMTRACE_REQUIRE_FILE(test::shared_data("las/edge"));
     const std::map<std::string, std::string> refused = {
-        {"fullwave.laz", "WAVEPACKET14 items (wave packets) are not supported"},
-        {"fwf.laz", "WAVEPACKET13 items (wave packets) are not supported"},
+        {"fullwave.laz",
+         "WAVEPACKET14 items (wave packets of the layered formats 9 and 10) are not supported"},
         {"broken_coder.laz", "unknown coder"},
         {"broken_compressor.laz", "compressor"},
         {"broken_size.laz", "LASzip VLR"},
@@ -95,7 +97,8 @@ TEST(LazReader, EveryLazSampleReadsOrFailsWithTheFileName) {
                 continue;
             }
             LasReader reader(entry.path());
-            EXPECT_LE(reader.header().point_format, 8);
+            EXPECT_NE(reader.header().point_format, 9);
+            EXPECT_NE(reader.header().point_format, 10);
             EXPECT_EQ(read_las_points(entry.path()).size(), reader.header().point_count);
         }
     }
@@ -194,7 +197,13 @@ TEST(LazReader, FilesWithoutTwinsDecodeLikeLazPerfAndLazRs) {
     for (const char* name : {"las14_prf6.laz", "point10.las.laz", "point-time.las.laz",
                              "point-color.las.laz", "point-time-1.4.las.laz", "32-1-472-150-76.laz",
                              "dbh.laz", "MixedConifer.laz", "Topography.laz", "Megaplot.laz"}) {
-        const fs::path laz = test::shared_data(std::string("las/laz/") + name);
+        fs::path laz = test::shared_data(std::string("las/laz/") + name);
+        if (std::string(name) == "32-1-472-150-76.laz") {
+            // copc.js reads LAS 1.2 and 1.4 headers only; 1.1's is 1.2's.
+            std::string bytes = test::read_file(laz);
+            bytes[25] = 2;
+            laz = test::write_file(dir / name, bytes);
+        }
         const fs::path las = independent_las(lasval, laz, dir.path());
         if (fs::exists(las)) {
             expect_same_as(laz, las);
