@@ -1,6 +1,7 @@
 #include "laz/chunk_table.hpp"
 
 #include <algorithm>
+#include <cstring>
 #include <string>
 
 #include "laz/arithmetic_decoder.hpp"
@@ -37,9 +38,67 @@ constexpr std::uint64_t kMaxBytesPerValue = 6;
     return static_cast<std::uint64_t>(at);
 }
 
-/// Without a table, a file of one chunk is still readable: it spans all the point data.
+/// The layers of one layered chunk (the number of u32 sizes after its point count).
+[[nodiscard]] std::uint64_t layer_count(const LazVlr& vlr) {
+    std::uint64_t n = 0;
+    for (const Item& item : vlr.items) {
+        n += item.type == ItemType::point14    ? 9
+             : item.type == ItemType::rgbnir14 ? 2
+             : item.type == ItemType::byte14   ? item.size
+                                               : 1;
+    }
+    return n;
+}
+
+/// Without a table, layered chunks can still be found one after the other: each says how many
+/// points it holds and how long its layers are. Stops at the first chunk that does not fit.
+[[nodiscard]] std::vector<Chunk> scan_layered(const LazVlr& vlr, const PointDataExtent& e,
+                                              const ReadAt& read, const std::string& why) {
+    const std::uint64_t head = vlr.record_length() + 4 + 4 * layer_count(vlr);
+    std::vector<std::uint8_t> bytes(static_cast<std::size_t>(head));
+    std::vector<Chunk> chunks;
+    std::uint64_t offset = e.start + 8;
+    std::uint64_t first = 0;
+    while (first < e.point_count) {
+        const std::string where = why + "; scanning the chunks, chunk " +
+                                  std::to_string(chunks.size() + 1) + " at byte " +
+                                  std::to_string(offset);
+        if (e.end < offset || e.end - offset < head) {
+            corrupt(where + " runs past the end of the point data");
+        }
+        read(bytes.data(), bytes.size(), offset);
+        std::uint32_t count = 0;
+        std::memcpy(&count, bytes.data() + vlr.record_length(), 4);
+        const std::uint64_t left = e.point_count - first;
+        const bool fixed_ok =
+            vlr.variable_chunks() || count == std::min<std::uint64_t>(vlr.chunk_size, left);
+        if (count == 0 || count > left || !fixed_ok) {
+            corrupt(where + " holds " + std::to_string(count) + " points, " + std::to_string(left) +
+                    " are left");
+        }
+        std::uint64_t size = head;
+        for (std::uint64_t i = 0; i < layer_count(vlr); ++i) {
+            std::uint32_t layer = 0;
+            std::memcpy(&layer, bytes.data() + vlr.record_length() + 4 + 4 * i, 4);
+            size += layer;
+        }
+        if (e.end - offset < size) {
+            corrupt(where + ": its " + std::to_string(size) + " bytes run past the point data");
+        }
+        chunks.push_back({offset, size, first, count});
+        offset += size;
+        first += count;
+    }
+    return chunks;
+}
+
+/// Without a table, a file of one chunk is still readable: it spans all the point data; layered
+/// chunks are found by a scan.
 [[nodiscard]] std::vector<Chunk> single_chunk(const LazVlr& vlr, const PointDataExtent& e,
-                                              const std::string& why) {
+                                              const std::string& why, const ReadAt& read) {
+    if (vlr.compressor == Compressor::layered_chunked) {
+        return scan_layered(vlr, e, read, why);
+    }
     const bool one = !vlr.variable_chunks() && e.point_count <= vlr.chunk_size;
     if (!one) {
         corrupt(why + ", and the file's " + std::to_string(e.point_count) +
@@ -116,19 +175,20 @@ std::vector<Chunk> read_chunk_table(const LazVlr& vlr, const PointDataExtent& e,
     }
     const std::uint64_t at = table_offset(e, read);
     if (at == 0) {
-        return single_chunk(vlr, e, "the table offset is missing or points outside the file");
+        return single_chunk(vlr, e, "the table offset is missing or points outside the file", read);
     }
     std::uint32_t head[2] = {};
     read(head, sizeof head, at);
     if (head[0] != 0) {
-        return single_chunk(vlr, e, "unknown table version " + std::to_string(head[0]));
+        return single_chunk(vlr, e, "unknown table version " + std::to_string(head[0]), read);
     }
     const std::uint64_t count = head[1];
     const std::uint64_t room = at - (e.start + 8);
     if (count == 0 || count > room || count > e.point_count) {
         return single_chunk(vlr, e,
                             std::to_string(count) + " chunks for " + std::to_string(e.point_count) +
-                                " points in " + std::to_string(room) + " bytes");
+                                " points in " + std::to_string(room) + " bytes",
+                            read);
     }
     const std::uint64_t per_chunk = vlr.variable_chunks() ? 2 : 1;
     const std::uint64_t table_bytes =

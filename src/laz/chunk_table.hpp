@@ -34,8 +34,9 @@ struct PointDataExtent {
 
 /// The chunks of the file, in file order, covering exactly `extent.point_count` points. Every
 /// count and offset is checked against the file before anything is allocated: a table claiming
-/// more chunks than the file has bytes is refused. Throws CorruptData ("chunk table: ...") for a
-/// missing or damaged table that cannot be done without (a file of one chunk can).
+/// more chunks than the file has bytes is refused. Without a usable table, layered chunks are
+/// found by a scan (each chunk starts with its point count and layer sizes) and a point-wise file
+/// of one chunk is that chunk; otherwise throws CorruptData ("chunk table: ...").
 [[nodiscard]] std::vector<Chunk> read_chunk_table(const LazVlr& vlr, const PointDataExtent& extent,
                                                   const ReadAt& read);
 

@@ -52,14 +52,14 @@ TEST_F(LazCorruption, ChunkTableOffsetAtTheEndOfTheFileIsFollowed) {
     EXPECT_EQ(read_points(write_laz(b)), read_points(original));
 }
 
-TEST_F(LazCorruption, MissingOrHostileChunkTableOfManyChunksIsAClearError) {
-    const fs::path original = test::shared_data("las/laz/lone-star.copc.laz");
+TEST_F(LazCorruption, PointwiseFileOfManyChunksWithoutAUsableTableIsAClearError) {
+    const fs::path original = test::shared_data("las/laz/autzen_trim.laz");
     BEAMTRACE_REQUIRE_FILE(original);
     const std::string good = test::read_file(original);
     const auto start = get<std::uint32_t>(good, 96);
     const auto table = static_cast<std::size_t>(get<std::int64_t>(good, start));
     std::string b = good;
-    put<std::uint32_t>(b, table + 4, 0xFFFFFFFFU);  // 2^32 - 1 chunks in a 2.7 MB file
+    put<std::uint32_t>(b, table + 4, 0xFFFFFFFFU);  // 2^32 - 1 chunks in a 600 kB file
     test::expect_input_error(read_points, write_laz(b), "chunk table: 4294967295 chunks");
     b = good;
     put<std::int64_t>(b, start, static_cast<std::int64_t>(start));  // interrupted writer
@@ -70,6 +70,30 @@ TEST_F(LazCorruption, MissingOrHostileChunkTableOfManyChunksIsAClearError) {
     b = good;
     put<std::uint32_t>(b, table, 7);
     test::expect_input_error(read_points, write_laz(b), "unknown table version 7");
+}
+
+TEST_F(LazCorruption, LayeredChunksAreFoundByAScanWithoutATable) {
+    for (const char* name : {"las/laz/lone-star.copc.laz", "las/laz/append-bug.laz"}) {
+        SCOPED_TRACE(name);
+        const fs::path original = test::shared_data(name);
+        BEAMTRACE_REQUIRE_FILE(original);
+        const std::vector<LasPoint> expected = read_points(original);
+        const std::string good = test::read_file(original);
+        const auto start = get<std::uint32_t>(good, 96);
+        const auto table = static_cast<std::size_t>(get<std::int64_t>(good, start));
+        std::string b = good;
+        put<std::uint32_t>(b, table + 4, 0xFFFFFFFFU);
+        EXPECT_EQ(read_points(write_laz(b)), expected);
+        b = good;
+        put<std::int64_t>(b, start, static_cast<std::int64_t>(start));
+        EXPECT_EQ(read_points(write_laz(b)), expected);
+    }
+    // A chunk cut short: the scan names it (append-bug.laz has no EVLR to miss first).
+    std::string b = test::read_file(test::shared_data("las/laz/append-bug.laz"));
+    const auto start = get<std::uint32_t>(b, 96);
+    b.resize(start + 8 + 40000);
+    put<std::int64_t>(b, start, -1);
+    test::expect_input_error(read_points, write_laz(b), "scanning the chunks, chunk 1 at byte");
 }
 
 TEST_F(LazCorruption, AOneChunkFileReadsWithoutItsTable) {
