@@ -53,6 +53,7 @@ void LasSourceSet::add_file(const std::filesystem::path& path) {
     {
         const LasReader reader(path);  // validates the header, VLRs and file length
         source.header = reader.header();
+        source.compressed = reader.compressed();
     }
     const LasHeader& h = source.header;
     if (h.point_count == 0) {

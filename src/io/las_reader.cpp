@@ -464,6 +464,23 @@ std::size_t LasReader::read(std::span<LasPoint> out) {
     return done;
 }
 
+std::size_t LasReader::read_records(std::span<std::uint8_t> out) {
+    const std::size_t length = header_.point_record_length;
+    const std::size_t want = out.size() / length;
+    std::size_t done = 0;
+    while (done < want && next_ < header_.point_count) {
+        if (chunk_next_ == chunk_points_) {
+            fill_chunk();
+        }
+        const std::size_t n = std::min(want - done, chunk_points_ - chunk_next_);
+        std::memcpy(out.data() + done * length, chunk_.data() + chunk_next_ * length, n * length);
+        chunk_next_ += n;
+        done += n;
+        next_ += n;
+    }
+    return done;
+}
+
 void LasReader::seek(std::uint64_t index) {
     if (index > header_.point_count) {
         throw InputError(path_.string(), "seek to point " + std::to_string(index) +

@@ -213,3 +213,30 @@ TEST(LazReader, FilesWithoutTwinsDecodeLikeLazPerfAndLazRs) {
 
 }  // namespace
 }  // namespace beamtrace
+
+namespace beamtrace {
+namespace {
+
+TEST(LazView, AutzenLazRendersPixelForPixelLikeItsLasTwin) {
+    const fs::path las = test::shared_data("las/las/autzen_trim.las");
+    const fs::path laz = test::shared_data("las/laz/autzen_trim.laz");
+    BEAMTRACE_REQUIRE_FILE(laz);
+    test::TempDir dir;
+    std::string images[2];
+    int k = 0;
+    for (const fs::path& input : {las, laz}) {
+        const fs::path png = dir / ("view" + std::to_string(k) + ".png");
+        const auto r = test::run_command(std::string(BEAMTRACE_CLI_PATH) + " view '" +
+                                         input.string() +
+                                         "' --camera 636237,849047,670,-25,-30 --fov 70 "
+                                         "--size 160x90 --color rgb --output '" +
+                                         png.string() + "' 2>&1");
+        ASSERT_EQ(r.exit_code, 0) << r.out;
+        images[k++] = test::read_file(png);
+    }
+    EXPECT_GT(images[0].size(), 1000u);
+    EXPECT_EQ(images[0], images[1]);
+}
+
+}  // namespace
+}  // namespace beamtrace

@@ -49,6 +49,8 @@ class LasReader {
     /// The VLRs in file order, then the EVLRs (`extended` set).
     [[nodiscard]] const std::vector<LasVlr>& vlrs() const { return vlrs_; }
     [[nodiscard]] const std::filesystem::path& path() const { return path_; }
+    /// Whether the file is LAZ (its records are decoded from compressed chunks).
+    [[nodiscard]] bool compressed() const { return laz_ != nullptr; }
     /// Points not yet returned by read().
     [[nodiscard]] std::uint64_t points_remaining() const { return header_.point_count - next_; }
 
@@ -56,6 +58,11 @@ class LasReader {
     /// many; 0 at the end. Reuses the points' extra_bytes storage, so reading into the same span
     /// again allocates nothing.
     std::size_t read(std::span<LasPoint> out);
+
+    /// Copies the next min(out.size() / point_record_length, points_remaining()) raw records (as
+    /// an uncompressed file holds them: a LAZ file's decoded) into `out`; returns how many. For
+    /// loaders that pick fields from the records themselves.
+    std::size_t read_records(std::span<std::uint8_t> out);
 
     /// Continues reading at point `index` (<= point count).
     void seek(std::uint64_t index);
