@@ -1,6 +1,7 @@
 #include "laz/integer_compressor.hpp"
 
 #include <algorithm>
+#include <cassert>
 #include <cstddef>
 #include <limits>
 #include <stdexcept>
@@ -64,6 +65,7 @@ void IntegerCompressor::init_models(bool compress) {
 
 std::int32_t IntegerCompressor::decompress(ArithmeticDecoder& dec, std::int32_t pred,
                                            std::uint32_t context) {
+    assert(context < contexts_ && !k_models_.empty() && !models_compress_);
     // Wrapping arithmetic: the format folds the sum back into [0, corr_range).
     std::uint32_t real = static_cast<std::uint32_t>(pred) +
                          static_cast<std::uint32_t>(read_corrector(dec, k_models_[context]));
@@ -77,6 +79,7 @@ std::int32_t IntegerCompressor::decompress(ArithmeticDecoder& dec, std::int32_t 
 
 void IntegerCompressor::compress(ArithmeticEncoder& enc, std::int32_t pred, std::int32_t real,
                                  std::uint32_t context) {
+    assert(context < contexts_ && !k_models_.empty() && models_compress_);
     std::int32_t corr = static_cast<std::int32_t>(static_cast<std::uint32_t>(real) -
                                                   static_cast<std::uint32_t>(pred));
     if (corr < corr_min_) {

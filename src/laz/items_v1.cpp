@@ -190,22 +190,27 @@ void ByteDecoderV1::decode(ArithmeticDecoder& dec, std::uint8_t* item) {
     }
 }
 
-Wavepacket13DecoderV1::Wavepacket13DecoderV1()
-    : index_(256, false),
-      offset_kind_{ArithmeticModel(4, false), ArithmeticModel(4, false), ArithmeticModel(4, false),
-                   ArithmeticModel(4, false)},
+Wavepacket13CodecV1::Wavepacket13CodecV1(bool compress)
+    : index_(256, compress),
+      offset_kind_{ArithmeticModel(4, compress), ArithmeticModel(4, compress),
+                   ArithmeticModel(4, compress), ArithmeticModel(4, compress)},
       offset_diff_(32),
       packet_size_(32),
       return_point_(32),
-      xyz_(32, 3) {}
+      xyz_(32, 3),
+      compress_(compress) {}
 
-void Wavepacket13DecoderV1::init(const std::uint8_t* item) {
+void Wavepacket13CodecV1::init(const std::uint8_t* item) {
     index_.init();
     for (ArithmeticModel& m : offset_kind_) {
         m.init();
     }
     for (IntegerCompressor* ic : {&offset_diff_, &packet_size_, &return_point_, &xyz_}) {
-        ic->init_decompressor();
+        if (compress_) {
+            ic->init_compressor();
+        } else {
+            ic->init_decompressor();
+        }
     }
     offset_ = load_u64(item + 1);
     size_ = load_u32(item + 9);
@@ -216,11 +221,13 @@ void Wavepacket13DecoderV1::init(const std::uint8_t* item) {
     last_kind_ = 0;
 }
 
-void Wavepacket13DecoderV1::decode(ArithmeticDecoder& dec, std::uint8_t* item) {
+// The offset's kind: 0 the same as the last, 1 right after the last packet, 2 a 32-bit
+// difference, 3 a full 64-bit offset.
+void Wavepacket13CodecV1::decode(ArithmeticDecoder& dec, std::uint8_t* item) {
     item[0] = static_cast<std::uint8_t>(dec.decode_symbol(index_));
     last_kind_ = dec.decode_symbol(offset_kind_[last_kind_]);
     if (last_kind_ == 1) {
-        offset_ += size_;  // the packet follows the previous one
+        offset_ += size_;
     } else if (last_kind_ == 2) {
         last_offset_diff_ = offset_diff_.decompress(dec, last_offset_diff_);
         offset_ += static_cast<std::uint64_t>(static_cast<std::int64_t>(last_offset_diff_));
@@ -237,6 +244,38 @@ void Wavepacket13DecoderV1::decode(ArithmeticDecoder& dec, std::uint8_t* item) {
     store_u32(item + 9, size_);
     for (std::size_t i = 0; i < 4; ++i) {
         store_u32(item + 13 + 4 * i, static_cast<std::uint32_t>(point_xyz_[i]));
+    }
+}
+
+void Wavepacket13CodecV1::encode(ArithmeticEncoder& enc, const std::uint8_t* item) {
+    enc.encode_symbol(index_, item[0]);
+    const std::uint64_t offset = load_u64(item + 1);
+    const auto diff64 = static_cast<std::int64_t>(offset - offset_);
+    const auto diff = static_cast<std::int32_t>(diff64);
+    std::uint32_t kind = 3;
+    if (diff64 == diff) {
+        kind = diff == 0 ? 0 : (diff64 == static_cast<std::int64_t>(size_) ? 1 : 2);
+    }
+    enc.encode_symbol(offset_kind_[last_kind_], kind);
+    last_kind_ = kind;
+    if (kind == 2) {
+        offset_diff_.compress(enc, last_offset_diff_, diff);
+        last_offset_diff_ = diff;
+    } else if (kind == 3) {
+        enc.write_int64(offset);
+    }
+    offset_ = offset;
+    const std::uint32_t size = load_u32(item + 9);
+    packet_size_.compress(enc, static_cast<std::int32_t>(size_), static_cast<std::int32_t>(size));
+    size_ = size;
+    for (std::uint32_t i = 0; i < 4; ++i) {
+        const auto v = static_cast<std::int32_t>(load_u32(item + 13 + 4 * i));
+        if (i == 0) {
+            return_point_.compress(enc, point_xyz_[0], v);
+        } else {
+            xyz_.compress(enc, point_xyz_[i], v, i - 1);
+        }
+        point_xyz_[i] = v;
     }
 }
 

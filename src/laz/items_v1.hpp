@@ -1,7 +1,8 @@
 // The point-wise item decoders of version 1 (LASzip 1.0-1.x, and WAVEPACKET13 in every
 // point-wise file): POINT10, GPSTIME11, RGB12, BYTE and WAVEPACKET13. Made once per chunk,
 // init() with the chunk's first (raw) record item, then decode() each further item. We write
-// version 2, so there are no version-1 encoders.
+// version 2, so the only version-1 encoder is WAVEPACKET13's (LASzip writes that item as
+// version 1 in version-2 files too).
 #pragma once
 
 #include <array>
@@ -9,6 +10,7 @@
 #include <vector>
 
 #include "laz/arithmetic_decoder.hpp"
+#include "laz/arithmetic_encoder.hpp"
 #include "laz/arithmetic_model.hpp"
 #include "laz/integer_compressor.hpp"
 #include "laz/item_bytes.hpp"
@@ -88,11 +90,12 @@ class ByteDecoderV1 {
 };
 
 /// WAVEPACKET13 v1 (29 bytes: descriptor index, offset, size, return point, x(t), y(t), z(t)).
-class Wavepacket13DecoderV1 {
+class Wavepacket13CodecV1 {
   public:
-    Wavepacket13DecoderV1();
+    explicit Wavepacket13CodecV1(bool compress);
     void init(const std::uint8_t* item);
     void decode(ArithmeticDecoder& dec, std::uint8_t* item);
+    void encode(ArithmeticEncoder& enc, const std::uint8_t* item);
 
   private:
     ArithmeticModel index_;
@@ -106,6 +109,7 @@ class Wavepacket13DecoderV1 {
     std::array<std::int32_t, 4> point_xyz_{};  ///< return point, x, y, z (their bits)
     std::int32_t last_offset_diff_ = 0;
     std::uint32_t last_kind_ = 0;
+    bool compress_;
 };
 
 }  // namespace beamtrace::laz

@@ -14,10 +14,11 @@
 namespace beamtrace::laz {
 namespace {
 
-using ItemDecoder = std::variant<Point10DecoderV1, Gpstime11DecoderV1, Rgb12DecoderV1,
-                                 ByteDecoderV1, Wavepacket13DecoderV1, Point10CodecV2,
-                                 Gpstime11CodecV2, Rgb12CodecV2, ByteCodecV2>;
-using ItemEncoder = std::variant<Point10CodecV2, Gpstime11CodecV2, Rgb12CodecV2, ByteCodecV2>;
+using ItemDecoder =
+    std::variant<Point10DecoderV1, Gpstime11DecoderV1, Rgb12DecoderV1, ByteDecoderV1,
+                 Wavepacket13CodecV1, Point10CodecV2, Gpstime11CodecV2, Rgb12CodecV2, ByteCodecV2>;
+using ItemEncoder =
+    std::variant<Point10CodecV2, Gpstime11CodecV2, Rgb12CodecV2, ByteCodecV2, Wavepacket13CodecV1>;
 
 std::string describe(const Item& item) {
     return item_name(item.type) + " version " + std::to_string(item.version) + " (" +
@@ -56,7 +57,7 @@ void emplace_decoder(std::vector<ItemDecoder>& decoders, const Item& item) {
                : (void)decoders.emplace_back(std::in_place_type<Rgb12CodecV2>, false);
             return;
         case ItemType::wavepacket13:
-            decoders.emplace_back(std::in_place_type<Wavepacket13DecoderV1>);
+            decoders.emplace_back(std::in_place_type<Wavepacket13CodecV1>, false);
             return;
         default:
             v1 ? (void)decoders.emplace_back(std::in_place_type<ByteDecoderV1>, item.size)
@@ -103,46 +104,87 @@ void check_pointwise_items(std::span<const Item> items) {
     }
 }
 
-void decode_pointwise_chunk(std::span<const Item> items, std::span<const std::uint8_t> bytes,
-                            std::size_t point_count, std::span<std::uint8_t> out) {
-    check_pointwise_items(items);
-    const std::size_t length = record_length(items);
-    check_output(point_count, length, out.size());
-    if (point_count == 0) {
-        return;
-    }
-    if (bytes.size() < length) {
-        throw CorruptData("chunk of " + std::to_string(bytes.size()) +
-                          " bytes is shorter than its first record (" + std::to_string(length) +
-                          " bytes)");
-    }
-    std::memcpy(out.data(), bytes.data(), length);
-    if (point_count == 1) {
-        return;
-    }
+struct PointwiseChunkDecoder::State {
+    std::vector<Item> items;
+    std::span<const std::uint8_t> bytes;
+    std::size_t length = 0;
+    std::size_t decoded = 0;
     std::vector<ItemDecoder> decoders;
-    decoders.reserve(items.size());
-    std::size_t at = 0;
-    for (const Item& item : items) {
-        emplace_decoder(decoders, item);
-        std::visit([&](auto& d) { d.init(out.data() + at); }, decoders.back());
-        at += item.size;
+    ArithmeticDecoder dec{{}};
+
+    /// The first record, raw; then the item decoders start from it.
+    void first(std::uint8_t* out) {
+        if (bytes.size() < length) {
+            throw CorruptData("chunk of " + std::to_string(bytes.size()) +
+                              " bytes is shorter than its first record (" + std::to_string(length) +
+                              " bytes)");
+        }
+        std::memcpy(out, bytes.data(), length);
+        decoders.reserve(items.size());
+        std::size_t at = 0;
+        for (const Item& item : items) {
+            emplace_decoder(decoders, item);
+            std::visit([&](auto& d) { d.init(bytes.data() + at); }, decoders.back());
+            at += item.size;
+        }
     }
-    ArithmeticDecoder dec(bytes.subspan(length));
-    dec.init();
-    for (std::size_t p = 1; p < point_count; ++p) {
-        std::uint8_t* record = out.data() + p * length;
+
+    void next(std::uint8_t* record) {
+        if (decoded == 1) {
+            dec = ArithmeticDecoder(bytes.subspan(length));
+            dec.init();
+        }
         for (std::size_t i = 0; i < items.size(); ++i) {
             std::visit([&](auto& d) { d.decode(dec, record); }, decoders[i]);
             record += items[i].size;
         }
     }
+};
+
+PointwiseChunkDecoder::PointwiseChunkDecoder(std::span<const Item> items,
+                                             std::span<const std::uint8_t> bytes)
+    : state_(std::make_unique<State>()) {
+    check_pointwise_items(items);
+    state_->items.assign(items.begin(), items.end());
+    state_->bytes = bytes;
+    state_->length = laz::record_length(items);
+}
+
+PointwiseChunkDecoder::~PointwiseChunkDecoder() = default;
+PointwiseChunkDecoder::PointwiseChunkDecoder(PointwiseChunkDecoder&&) noexcept = default;
+PointwiseChunkDecoder& PointwiseChunkDecoder::operator=(PointwiseChunkDecoder&&) noexcept = default;
+
+std::size_t PointwiseChunkDecoder::record_length() const {
+    return state_->length;
+}
+std::size_t PointwiseChunkDecoder::decoded() const {
+    return state_->decoded;
+}
+
+void PointwiseChunkDecoder::decode(std::size_t count, std::span<std::uint8_t> out) {
+    State& s = *state_;
+    check_output(count, s.length, out.size());
+    for (std::size_t p = 0; p < count; ++p) {
+        std::uint8_t* record = out.data() + p * s.length;
+        if (s.decoded == 0) {
+            s.first(record);
+        } else {
+            s.next(record);
+        }
+        ++s.decoded;
+    }
+}
+
+void decode_pointwise_chunk(std::span<const Item> items, std::span<const std::uint8_t> bytes,
+                            std::size_t point_count, std::span<std::uint8_t> out) {
+    PointwiseChunkDecoder decoder(items, bytes);
+    decoder.decode(point_count, out);
 }
 
 void encode_pointwise_chunk(std::span<const Item> items, std::span<const std::uint8_t> records,
                             std::size_t point_count, std::vector<std::uint8_t>& out) {
     for (const Item& item : items) {
-        if (item.version != 2 || item.type == ItemType::wavepacket13) {
+        if (item.version != (item.type == ItemType::wavepacket13 ? 1 : 2)) {
             throw std::invalid_argument("point-wise encoder: no encoder for item " +
                                         describe(item));
         }
@@ -164,6 +206,8 @@ void encode_pointwise_chunk(std::span<const Item> items, std::span<const std::ui
             encoders.emplace_back(std::in_place_type<Gpstime11CodecV2>, true);
         } else if (item.type == ItemType::rgb12) {
             encoders.emplace_back(std::in_place_type<Rgb12CodecV2>, true);
+        } else if (item.type == ItemType::wavepacket13) {
+            encoders.emplace_back(std::in_place_type<Wavepacket13CodecV1>, true);
         } else {
             encoders.emplace_back(std::in_place_type<ByteCodecV2>, item.size, true);
         }

@@ -156,23 +156,32 @@ std::vector<std::uint8_t> round_trip(const std::vector<Item>& items,
     return back;
 }
 
-// Our version-2 encoders write exactly LASzip's bytes: re-encoding the LAS twin of a LAZ file
-// reproduces each of its chunks.
+// Our encoders write exactly LASzip's bytes: re-encoding the LAS twin of a LAZ file reproduces
+// each of its chunks. fwf.laz (WAVEPACKET13) has no twin: its own decoded records serve.
 TEST(LazPointwise, EncoderReproducesLaszipChunks) {
     for (const auto& [laz, las] : {std::pair{"las/laz/simple.laz", "las/las/simple.las"},
                                    std::pair{"las/laz/autzen_trim.laz", "las/las/autzen_trim.las"},
-                                   std::pair{"las/laz/extra.laz", "las/formats/extrabytes.las"}}) {
+                                   std::pair{"las/laz/extra.laz", "las/formats/extrabytes.las"},
+                                   std::pair{"las/laz/fwf.laz", ""}}) {
         const auto laz_path = beamtrace::test::shared_data(laz);
-        const auto las_path = beamtrace::test::shared_data(las);
         BEAMTRACE_REQUIRE_FILE(laz_path);
-        BEAMTRACE_REQUIRE_FILE(las_path);
         const test::LazTestFile f = test::read_laz_test_file(laz_path);
-        const test::LasTestFile twin = test::read_las_test_file(las_path);
+        std::vector<std::uint8_t> records;
+        if (std::string_view(las).empty()) {
+            records = decode_all(f);
+        } else {
+            const auto las_path = beamtrace::test::shared_data(las);
+            BEAMTRACE_REQUIRE_FILE(las_path);
+            const test::LasTestFile twin = test::read_las_test_file(las_path);
+            records.assign(twin.record(0), twin.record(twin.point_count));
+        }
+        const std::size_t length = f.las.record_length;
+        ASSERT_EQ(records.size(), f.las.point_count * length);
         std::size_t first = 0;
         for (const test::LazChunk& c : f.chunks) {
             std::vector<std::uint8_t> coded;
             encode_pointwise_chunk(f.items,
-                                   std::span(twin.record(first), c.points * twin.record_length),
+                                   std::span(records).subspan(first * length, c.points * length),
                                    c.points, coded);
             const std::vector<std::uint8_t> want(f.las.bytes.begin() + c.begin,
                                                  f.las.bytes.begin() + c.begin + c.size);
@@ -258,6 +267,47 @@ TEST(LazPointwise, ExtremeValuesRoundTrip) {
     EXPECT_EQ(round_trip(items, records, 5000), records);
 }
 
+// Point format 4 records (POINT10, GPSTIME11, WAVEPACKET13) whose packet offsets repeat,
+// follow one another, step by small and by huge amounts.
+TEST(LazPointwise, WavePacketsRoundTrip) {
+    const std::vector<Item> items{
+        {ItemType::point10, 20, 2}, {ItemType::gpstime11, 8, 2}, {ItemType::wavepacket13, 29, 1}};
+    std::mt19937 rng(4);
+    std::vector<std::uint8_t> records;
+    std::uint64_t offset = 60;
+    std::uint32_t size = 256;
+    for (std::uint32_t p = 0; p < 20000; ++p) {
+        std::array<std::uint8_t, 57> r{};
+        std::memcpy(r.data(), &p, 4);
+        const double t = 1000.0 + p * 1.0e-5;
+        std::memcpy(r.data() + 20, &t, 8);
+        switch (rng() % 5) {
+            case 0:
+                break;
+            case 1:
+                offset += size;
+                break;
+            case 2:
+                offset += rng() % 5000;
+                break;
+            case 3:
+                offset -= rng() % 50;
+                break;
+            default:
+                offset = (static_cast<std::uint64_t>(rng()) << 24) + rng();
+        }
+        size = rng() % 3 == 0 ? static_cast<std::uint32_t>(rng()) : size;
+        r[28] = static_cast<std::uint8_t>(1 + rng() % 3);
+        std::memcpy(r.data() + 29, &offset, 8);
+        std::memcpy(r.data() + 37, &size, 4);
+        for (std::size_t i = 41; i < 57; ++i) {
+            r[i] = static_cast<std::uint8_t>(rng() % 4 == 0 ? rng() : 0x3F);
+        }
+        records.insert(records.end(), r.begin(), r.end());
+    }
+    EXPECT_EQ(round_trip(items, records, 6000), records);
+}
+
 TEST(LazPointwise, TruncatedOrCorruptChunksFailCleanly) {
     const auto path = beamtrace::test::shared_data("las/laz/simple.laz");
     BEAMTRACE_REQUIRE_FILE(path);
@@ -294,6 +344,64 @@ TEST(LazPointwise, TruncatedOrCorruptChunksFailCleanly) {
     wrong = f.items;
     wrong[2].type = ItemType::point14;
     EXPECT_THROW(decode_pointwise_chunk(wrong, {}, 1, out), CorruptData);
+}
+
+// Damaged chunks of every item kind and version (and pure noise after the raw first record):
+// decoded to something or refused with CorruptData, never a read or write out of bounds.
+TEST(LazPointwise, DamagedChunksOfEveryItemKindFailCleanly) {
+    std::mt19937 rng(2);
+    for (const char* name :
+         {"las/edge/point-version-1-point-wise.laz",
+          "las/edge/simple-laszip-compressor-version-1.2r0.laz", "las/laz/extra.laz",
+          "las/laz/fwf.laz", "las/laz/point-color.las.laz"}) {
+        const auto path = beamtrace::test::shared_data(name);
+        BEAMTRACE_REQUIRE_FILE(path);
+        const test::LazTestFile f = test::read_laz_test_file(path);
+        const test::LazChunk& c = f.chunks.at(0);
+        const std::size_t length = f.las.record_length;
+        const std::size_t points = std::min<std::size_t>(c.points, 3000);
+        std::vector<std::uint8_t> out(points * length);
+        for (int trial = 0; trial < 60; ++trial) {
+            std::vector<std::uint8_t> bad(
+                f.las.bytes.begin() + c.begin,
+                f.las.bytes.begin() + c.begin + std::min<std::size_t>(c.size, 40000));
+            for (std::size_t i = length; i < bad.size(); ++i) {
+                if (trial % 4 == 0 || rng() % 2000 == 0) {
+                    bad[i] = static_cast<std::uint8_t>(rng());
+                }
+            }
+            bad.resize(length + rng() % (bad.size() - length));
+            try {
+                decode_pointwise_chunk(f.items, bad, points, out);
+            } catch (const CorruptData&) {
+            }
+        }
+    }
+}
+
+// A chunk decoded a batch at a time (as a reader does for compressor 1's single chunk, to
+// bound its memory) gives the records of one whole decode.
+TEST(LazPointwise, BatchedDecodeEqualsWholeChunk) {
+    const auto path = beamtrace::test::shared_data("las/edge/point-version-1-point-wise.laz");
+    BEAMTRACE_REQUIRE_FILE(path);
+    const test::LazTestFile f = test::read_laz_test_file(path);
+    const std::vector<std::uint8_t> whole = decode_all(f);
+    const test::LazChunk& c = f.chunks.at(0);
+    const std::span<const std::uint8_t> bytes(f.las.bytes.data() + c.begin, c.size);
+    for (std::size_t batch : {std::size_t{1}, std::size_t{7}, std::size_t{1000}}) {
+        PointwiseChunkDecoder decoder(f.items, bytes);
+        const std::size_t length = decoder.record_length();
+        std::vector<std::uint8_t> records;
+        std::vector<std::uint8_t> buffer(batch * length);
+        while (decoder.decoded() < c.points) {
+            const std::size_t n = std::min(batch, c.points - decoder.decoded());
+            decoder.decode(n, buffer);
+            records.insert(records.end(), buffer.begin(),
+                           buffer.begin() + static_cast<std::ptrdiff_t>(n * length));
+        }
+        EXPECT_EQ(records, whole) << "batches of " << batch;
+        EXPECT_THROW(decoder.decode(2, std::span(buffer).first(length)), std::invalid_argument);
+    }
 }
 
 // The point-wise files without a LAS twin: each decodes, and its points span exactly the
