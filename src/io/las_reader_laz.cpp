@@ -72,7 +72,8 @@ void LasReader::open_laz(std::uint64_t file_size) {
     } catch (const laz::CorruptData& e) {
         fail(std::string("LAZ ") + e.what());
     }
-    for (std::size_t i = 0; i < state->chunks.size(); ++i) {
+    const bool stream = state->vlr.compressor == laz::Compressor::pointwise;
+    for (std::size_t i = 0; i < state->chunks.size() && !stream; ++i) {
         const laz::Chunk& c = state->chunks[i];
         if (c.points > kMaxChunkRecordBytes / h.point_record_length) {
             fail("LAZ chunk " + std::to_string(i + 1) + " of " +
@@ -84,8 +85,45 @@ void LasReader::open_laz(std::uint64_t file_size) {
     laz_ = std::move(state);
 }
 
+void LasReader::fill_laz_stream() {
+    Laz& z = *laz_;
+    const std::size_t record = header_.point_record_length;
+    try {
+        if (!z.stream) {
+            const laz::Chunk& c = z.chunks.at(0);
+            z.compressed.resize(1);
+            z.compressed[0].resize(static_cast<std::size_t>(c.bytes));
+            read_exact(z.compressed[0].data(), z.compressed[0].size(), c.offset, "LAZ points");
+            z.stream = std::make_unique<laz::PointwiseChunkDecoder>(z.vlr.items, z.compressed[0]);
+        }
+        if (chunk_.size() < kChunkPoints * record) {
+            chunk_.resize(kChunkPoints * record);
+        }
+        for (;;) {
+            const std::uint64_t done = z.stream->decoded();
+            const auto n = static_cast<std::size_t>(
+                std::min<std::uint64_t>(kChunkPoints, header_.point_count - done));
+            z.stream->decode(n, chunk_);
+            chunk_points_ = n;
+            if (z.skip < n) {
+                chunk_next_ = static_cast<std::size_t>(z.skip);
+                z.skip = 0;
+                return;
+            }
+            z.skip -= n;  // after a seek: decode up to the point
+        }
+    } catch (const laz::CorruptData& e) {
+        fail("LAZ point stream (compressor 1), near point " +
+             std::to_string(z.stream ? z.stream->decoded() : 0) + ": " + e.what());
+    }
+}
+
 void LasReader::fill_laz_chunk() {
     Laz& z = *laz_;
+    if (z.vlr.compressor == laz::Compressor::pointwise) {
+        fill_laz_stream();
+        return;
+    }
     if (!z.pool) {
         z.pool = std::make_unique<ThreadPool>(threads_);
     }
@@ -146,6 +184,11 @@ void LasReader::fill_laz_chunk() {
 
 void LasReader::seek_laz(std::uint64_t index) {
     Laz& z = *laz_;
+    if (z.vlr.compressor == laz::Compressor::pointwise) {
+        z.stream.reset();  // one stream: decode again from its start
+        z.skip = index;
+        return;
+    }
     const auto it =
         std::upper_bound(z.chunks.begin(), z.chunks.end(), index,
                          [](std::uint64_t i, const laz::Chunk& c) { return i < c.first_point; });

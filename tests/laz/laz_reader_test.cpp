@@ -116,17 +116,22 @@ TEST(LazReader, NoPointsReadsAsEmpty) {
 }
 
 TEST(LazReader, SeekLandsInsideAChunk) {
-    const fs::path path = test::shared_data("las/laz/lone-star.copc.laz");
-    BEAMTRACE_REQUIRE_FILE(path);
-    const std::vector<LasPoint> all = read_all(path, 1);
-    LasReader reader(path, 2);
-    for (const std::uint64_t at : {std::uint64_t{123457}, std::uint64_t{5}, all.size() - 3}) {
-        reader.seek(at);
-        std::vector<LasPoint> some(10);
-        const std::size_t n = reader.read(some);
-        ASSERT_EQ(n, std::min<std::size_t>(10, all.size() - at));
-        for (std::size_t i = 0; i < n; ++i) {
-            EXPECT_EQ(some[i], all[at + i]) << at + i;
+    // Layered chunks (COPC), point-wise chunks, and compressor 1's single stream.
+    for (const char* name : {"las/laz/lone-star.copc.laz", "las/laz/autzen_trim.laz",
+                             "las/edge/point-version-1-point-wise.laz"}) {
+        SCOPED_TRACE(name);
+        const fs::path path = test::shared_data(name);
+        BEAMTRACE_REQUIRE_FILE(path);
+        const std::vector<LasPoint> all = read_all(path, 1);
+        LasReader reader(path, 2);
+        for (const std::uint64_t at : {all.size() / 2 + 7, std::uint64_t{5}, all.size() - 3}) {
+            reader.seek(at);
+            std::vector<LasPoint> some(10);
+            const std::size_t n = reader.read(some);
+            ASSERT_EQ(n, std::min<std::size_t>(10, all.size() - at));
+            for (std::size_t i = 0; i < n; ++i) {
+                EXPECT_EQ(some[i], all[at + i]) << at + i;
+            }
         }
     }
 }
@@ -226,11 +231,11 @@ TEST(LazView, AutzenLazRendersPixelForPixelLikeItsLasTwin) {
     int k = 0;
     for (const fs::path& input : {las, laz}) {
         const fs::path png = dir / ("view" + std::to_string(k) + ".png");
-        const auto r = test::run_command(std::string(BEAMTRACE_CLI_PATH) + " view '" +
-                                         input.string() +
-                                         "' --camera 636237,849047,670,-25,-30 --fov 70 "
-                                         "--size 160x90 --color rgb --output '" +
-                                         png.string() + "' 2>&1");
+        const auto r =
+            test::run_command(std::string(BEAMTRACE_CLI_PATH) + " view '" + input.string() +
+                              "' --camera 636237,849047,670,-25,-30 --fov 70 "
+                              "--size 160x90 --color rgb --output '" +
+                              png.string() + "' 2>&1");
         ASSERT_EQ(r.exit_code, 0) << r.out;
         images[k++] = test::read_file(png);
     }

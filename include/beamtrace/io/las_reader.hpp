@@ -81,6 +81,7 @@ class LasReader {
     struct Laz;
     void open_laz(std::uint64_t file_size);
     void fill_laz_chunk();
+    void fill_laz_stream();
     void seek_laz(std::uint64_t index);
 
     std::filesystem::path path_;

@@ -10,6 +10,7 @@
 #include "beamtrace/io/las_reader.hpp"
 #include "laz/chunk_table.hpp"
 #include "laz/laz_vlr.hpp"
+#include "laz/pointwise_chunk.hpp"
 
 namespace beamtrace {
 
@@ -21,6 +22,8 @@ struct LasReader::Laz {
     std::vector<std::vector<std::uint8_t>> compressed;  ///< one buffer per chunk of a batch
     std::vector<std::string> errors;                    ///< per chunk of a batch, "" when fine
     std::unique_ptr<ThreadPool> pool;
+    /// Compressor 1 (one point-wise stream of every point): decoded a batch at a time.
+    std::unique_ptr<laz::PointwiseChunkDecoder> stream;
 };
 
 }  // namespace beamtrace
