@@ -87,9 +87,8 @@ void store(std::uint8_t* p, T value) {
 
 }  // namespace
 
-/// The last point of a scanner channel and the models that code its successor.
-struct Point14Decoder::Context {
-    // The last point's fields.
+/// A point's fields (the GPS time apart: its bits live in the context's sequences).
+struct Point14Decoder::Fields {
     std::int32_t x = 0, y = 0, z = 0;
     std::uint16_t intensity = 0;
     unsigned return_number = 0, number_of_returns = 0;
@@ -98,7 +97,10 @@ struct Point14Decoder::Context {
     std::int16_t scan_angle = 0;
     std::uint16_t point_source = 0;
     bool gps_time_change = false;
+};
 
+/// The last point of a scanner channel and the models that code its successor.
+struct Point14Decoder::Context : Fields {
     std::array<std::uint16_t, 8> last_intensity{};
     std::array<Median5, 12> x_median{};
     std::array<Median5, 12> y_median{};
@@ -148,25 +150,14 @@ struct Point14Decoder::Context {
         gps_ic.init_decompressor();
     }
 
-    /// The point fields of `from` (another channel's last point); resets the predictors.
-    void start_from(const Context& from) {
-        x = from.x;
-        y = from.y;
-        z = from.z;
-        intensity = from.intensity;
-        return_number = from.return_number;
-        number_of_returns = from.number_of_returns;
-        class_flags = from.class_flags;
-        scan_direction = from.scan_direction;
-        edge = from.edge;
-        classification = from.classification;
-        user_data = from.user_data;
-        scan_angle = from.scan_angle;
-        point_source = from.point_source;
+    /// Starts from the point `from` (the chunk's first, or another channel's last point) of GPS
+    /// time bits `gps_time`; the predictors start afresh.
+    void start_from(const Fields& from, std::uint64_t gps_time) {
+        static_cast<Fields&>(*this) = from;
         gps_time_change = false;
         last_intensity.fill(intensity);
         last_z.fill(z);
-        gps = {from.gps[from.gps_last], 0, 0, 0};
+        gps = {gps_time, 0, 0, 0};
     }
 };
 
@@ -188,7 +179,7 @@ Point14Decoder::Point14Decoder(const std::uint8_t* first,
     for (std::size_t i = 0; i < kLayers; ++i) {
         layers_[i].emplace(layers[i]);
     }
-    Context raw;  // the first record's fields, as the seed of its channel's context
+    Fields raw;  // the first record's fields, the seed of its channel's context
     raw.x = load<std::int32_t>(first);
     raw.y = load<std::int32_t>(first + 4);
     raw.z = load<std::int32_t>(first + 8);
@@ -202,16 +193,15 @@ Point14Decoder::Point14Decoder(const std::uint8_t* first,
     raw.user_data = first[17];
     raw.scan_angle = load<std::int16_t>(first + 18);
     raw.point_source = load<std::uint16_t>(first + 20);
-    raw.gps[0] = load<std::uint64_t>(first + 22);
     current_ = (first[15] >> 4U) & 3U;
-    start_context(current_, &raw);
+    start_context(current_, raw, load<std::uint64_t>(first + 22));
 }
 
 Point14Decoder::~Point14Decoder() = default;
 
-void Point14Decoder::start_context(unsigned channel, const Context* from) {
+void Point14Decoder::start_context(unsigned channel, const Fields& from, std::uint64_t gps_time) {
     auto c = std::make_unique<Context>();
-    c->start_from(*from);
+    c->start_from(from, gps_time);
     contexts_[channel] = std::move(c);
 }
 
@@ -226,7 +216,7 @@ unsigned Point14Decoder::decode(std::uint8_t* out) {
         const std::uint32_t diff = dec.decode_symbol(c->scanner_channel);
         const unsigned channel = (current_ + diff + 1) % 4;
         if (!contexts_[channel]) {
-            start_context(channel, c);
+            start_context(channel, *c, c->gps[c->gps_last]);
         }
         current_ = channel;
         c = contexts_[channel].get();

@@ -36,6 +36,7 @@ class Point14Decoder {
     unsigned decode(std::uint8_t* out);
 
   private:
+    struct Fields;
     struct Context;
     enum LayerIndex : std::size_t {
         kXy,
@@ -49,7 +50,7 @@ class Point14Decoder {
         kGpsTime
     };
 
-    void start_context(unsigned channel, const Context* from);
+    void start_context(unsigned channel, const Fields& from, std::uint64_t gps_time);
     void decode_returns(Context& c, std::uint32_t changed);
     void decode_xyz(Context& c, std::uint32_t changed);
     void decode_attributes(Context& c, std::uint32_t changed, unsigned cpr);
