@@ -28,6 +28,7 @@ constexpr std::uint64_t kMaxChunkRecordBytes = std::uint64_t{256} << 20;
         case laz::ItemType::rgb14:
         case laz::ItemType::rgbnir14:
         case laz::ItemType::byte14:
+        case laz::ItemType::wavepacket14:
             return true;
         default:
             return false;

@@ -16,6 +16,7 @@
 #include "laz/layered_bytes.hpp"
 #include "laz/layered_point14.hpp"
 #include "laz/layered_rgb.hpp"
+#include "laz/layered_wavepacket.hpp"
 #include "laz/laz_items.hpp"
 
 namespace beamtrace::laz {
@@ -34,6 +35,8 @@ using Bytes = std::span<const std::uint8_t>;
             return 2;
         case ItemType::byte14:
             return item.size;
+        case ItemType::wavepacket14:
+            return 1;
         default:
             throw CorruptData(item_name(item.type) + " items (version " +
                               std::to_string(item.version) +
@@ -130,6 +133,8 @@ void decode_layered_chunk(std::span<const Item> items, std::span<const std::uint
     const unsigned channel = (bytes[15] >> 4U) & 3U;
     std::optional<Rgb14Decoder> rgb;
     std::size_t rgb_offset = 0;
+    std::unique_ptr<WavePacket14Decoder> waves;
+    std::size_t waves_offset = 0;
     std::vector<std::unique_ptr<Byte14Decoder>> extra;
     std::vector<std::size_t> extra_offsets;
     std::size_t offset = items[0].size;
@@ -137,17 +142,21 @@ void decode_layered_chunk(std::span<const Item> items, std::span<const std::uint
     for (std::size_t i = 1; i < items.size(); ++i) {
         const Item& item = items[i];
         const std::size_t n = layer_count(item);
-        if (item.type == ItemType::byte14) {
+        if (item.type == ItemType::wavepacket14 && !waves) {
+            waves = std::make_unique<WavePacket14Decoder>(bytes.data() + offset, layers[layer],
+                                                          channel);
+            waves_offset = offset;
+        } else if (item.type == ItemType::byte14) {
             extra.push_back(std::make_unique<Byte14Decoder>(
                 bytes.data() + offset, std::span(layers).subspan(layer, n), channel));
             extra_offsets.push_back(offset);
-        } else if (!rgb) {
+        } else if (item.type != ItemType::wavepacket14 && !rgb) {
             const bool nir = item.type == ItemType::rgbnir14;
             rgb.emplace(bytes.data() + offset, nir, layers[layer],
                         nir ? layers[layer + 1] : Bytes{}, channel);
             rgb_offset = offset;
         } else {
-            throw CorruptData("two colour items in the record");
+            throw CorruptData("two colour or wave packet items in the record");
         }
         offset += item.size;
         layer += n;
@@ -158,6 +167,9 @@ void decode_layered_chunk(std::span<const Item> items, std::span<const std::uint
         const unsigned c = point.decode(r);
         if (rgb) {
             rgb->decode(r + rgb_offset, c);
+        }
+        if (waves) {
+            waves->decode(r + waves_offset, c);
         }
         for (std::size_t k = 0; k < extra.size(); ++k) {
             extra[k]->decode(r + extra_offsets[k], c);
