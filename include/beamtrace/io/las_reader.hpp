@@ -1,5 +1,5 @@
 // Streaming reader for LAS 1.0-1.4 files, point data record formats 0-10, uncompressed or LAZ
-// (LASzip-compressed: formats 0-3 point-wise, 6-8 layered; COPC files are LAZ 1.4).
+// (LASzip-compressed: formats 0-5 point-wise, 6-10 layered; COPC files are LAZ 1.4).
 #pragma once
 
 #include <cstddef>
