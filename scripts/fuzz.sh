@@ -8,8 +8,8 @@
 #   -k          keep going after a finding (libFuzzer's fork mode, ignoring crashes, OOMs and
 #               timeouts: each is saved and the run goes on; for targets with known findings)
 #   -j JOBS     build jobs (default: nproc)
-#   TARGET      las_reader scene_yaml survey_yaml obj ply stl gltf geotiff ascii_grid rays_csv
-#               trajectory_csv (default: all)
+#   TARGET      las_reader laz_reader scene_yaml survey_yaml obj ply stl gltf geotiff ascii_grid
+#               rays_csv trajectory_csv (default: all)
 # Extra libFuzzer flags go in FUZZ_FLAGS (e.g. FUZZ_FLAGS="-max_len=4096"). New inputs found go
 # to build-fuzz/corpus/<target>/ (not the repository); crash reproducers to
 # build-fuzz/findings/<target>/. The harnesses' input files live in $FUZZ_TMPDIR (default
@@ -28,7 +28,7 @@ while getopts "t:r:kj:" opt; do
   esac
 done
 shift $((OPTIND - 1))
-all="las_reader scene_yaml survey_yaml obj ply stl gltf geotiff ascii_grid rays_csv trajectory_csv"
+all="las_reader laz_reader scene_yaml survey_yaml obj ply stl gltf geotiff ascii_grid rays_csv trajectory_csv"
 targets=${*:-$all}
 
 launcher=()

@@ -12,6 +12,7 @@
 
 #include "beamtrace/core/error.hpp"
 #include "beamtrace/core/thread_pool.hpp"
+#include "beamtrace/io/las_reader.hpp"
 
 namespace beamtrace {
 namespace {
@@ -124,13 +125,19 @@ IngestStats ingest_into(const LasSourceSet& sources, const HeightFieldConfig& fi
         const RecordLayout rec = record_layout(h);
         const std::size_t per_block = std::max<std::size_t>(1, config.block_bytes / rec.length);
         buffer.resize(per_block * rec.length);
+        // LAZ files are decoded by the LAS reader; LAS records are read as they are.
+        std::unique_ptr<LasReader> laz;
         FileDescriptor file;
-        file.fd = ::open(source.path.c_str(), O_RDONLY | O_CLOEXEC);
-        if (file.fd < 0) {
-            throw InputError(source.path.string(),
-                             std::string("cannot open: ") + std::strerror(errno));
+        if (source.compressed) {
+            laz = std::make_unique<LasReader>(source.path, pool.size());
+        } else {
+            file.fd = ::open(source.path.c_str(), O_RDONLY | O_CLOEXEC);
+            if (file.fd < 0) {
+                throw InputError(source.path.string(),
+                                 std::string("cannot open: ") + std::strerror(errno));
+            }
+            ::posix_fadvise(file.fd, 0, 0, POSIX_FADV_SEQUENTIAL);
         }
-        ::posix_fadvise(file.fd, 0, 0, POSIX_FADV_SEQUENTIAL);
         // Global cell = floor(raw * a + b) (per axis); height = raw * scale + offset - origin.
         const double ax = h.scale.x / cell, bx = (h.offset.x - origin.x) / cell;
         const double ay = h.scale.y / cell, by = (h.offset.y - origin.y) / cell;
@@ -156,8 +163,16 @@ IngestStats ingest_into(const LasSourceSet& sources, const HeightFieldConfig& fi
             }
             const auto count =
                 static_cast<std::size_t>(std::min<std::uint64_t>(per_block, h.point_count - first));
-            read_block(file.fd, source.path, buffer.data(), count * rec.length,
-                       h.offset_to_point_data + first * rec.length);
+            if (laz) {
+                if (laz->read_records(std::span(buffer).first(count * rec.length)) != count) {
+                    throw InputError(source.path.string(),
+                                     "point data: fewer points than the "
+                                     "header says");
+                }
+            } else {
+                read_block(file.fd, source.path, buffer.data(), count * rec.length,
+                           h.offset_to_point_data + first * rec.length);
+            }
             const std::uint8_t* records = buffer.data();
             if (first_block && rec.rgb != 0) {
                 // 8-bit colours stored in the 16-bit fields: decided on the first block.

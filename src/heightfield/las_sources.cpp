@@ -14,7 +14,7 @@ namespace {
     std::string ext = p.extension().string();
     std::transform(ext.begin(), ext.end(), ext.begin(),
                    [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-    return ext == ".las";
+    return ext == ".las" || ext == ".laz";
 }
 
 }  // namespace
@@ -53,6 +53,7 @@ void LasSourceSet::add_file(const std::filesystem::path& path) {
     {
         const LasReader reader(path);  // validates the header, VLRs and file length
         source.header = reader.header();
+        source.compressed = reader.compressed();
     }
     const LasHeader& h = source.header;
     if (h.point_count == 0) {

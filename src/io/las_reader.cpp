@@ -13,6 +13,7 @@
 #include <string_view>
 
 #include "beamtrace/core/error.hpp"
+#include "io/detail/las_reader_laz.hpp"
 
 namespace beamtrace {
 
@@ -25,7 +26,6 @@ constexpr std::size_t kVlrHeaderBytes = 54;
 constexpr std::size_t kEvlrHeaderBytes = 60;
 constexpr std::uint8_t kLazFormatBits = 0xC0;  // bit 7 (LASzip) or bit 6 (old LAZ writers)
 constexpr std::uint16_t kLaszipRecordId = 22204;
-constexpr std::string_view kLazMessage = "LAZ compression is not supported";
 
 template <typename T>
 [[nodiscard]] T load(const std::uint8_t* p) {
@@ -179,7 +179,8 @@ void decode_any(int format, const std::uint8_t* records, const DecodeContext& c,
 
 }  // namespace
 
-LasReader::LasReader(std::filesystem::path path) : path_(std::move(path)) {
+LasReader::LasReader(std::filesystem::path path, unsigned threads)
+    : path_(std::move(path)), threads_(threads) {
     std::error_code ec;
     if (std::filesystem::is_directory(path_, ec)) {
         fail("is a directory, not a LAS file");
@@ -197,6 +198,9 @@ LasReader::LasReader(std::filesystem::path path) : path_(std::move(path)) {
         parse_header(file_size);
         parse_vlrs();
         parse_evlrs(file_size);
+        if (compressed_) {
+            open_laz(file_size);
+        }
     } catch (...) {
         ::close(fd_);
         fd_ = -1;
@@ -268,11 +272,8 @@ void LasReader::parse_header(std::uint64_t file_size) {
     h.header_size = load<std::uint16_t>(b + 94);
     h.offset_to_point_data = load<std::uint32_t>(b + 96);
     h.number_of_vlrs = load<std::uint32_t>(b + 100);
-    const std::uint8_t format_byte = b[104];
-    if ((format_byte & kLazFormatBits) != 0) {
-        fail("header: point format byte " + std::to_string(format_byte) +
-             " marks a compressed file: " + std::string(kLazMessage));
-    }
+    compressed_ = (b[104] & kLazFormatBits) != 0;
+    const auto format_byte = static_cast<std::uint8_t>(b[104] & ~kLazFormatBits);
     if (format_byte > kLasMaxPointFormat) {
         fail("header: unknown point data record format " + std::to_string(format_byte) +
              " (expected 0 to 10)");
@@ -341,7 +342,7 @@ void LasReader::parse_header(std::uint64_t file_size) {
     const std::uint64_t available =
         file_size > h.offset_to_point_data ? file_size - h.offset_to_point_data : 0;
     const std::uint64_t complete = available / h.point_record_length;
-    if (h.point_count > complete) {
+    if (!compressed_ && h.point_count > complete) {
         fail("point data: header says " + std::to_string(h.point_count) +
              " points but the file holds only " + std::to_string(complete) + " (" +
              std::to_string(h.point_record_length) + "-byte records from byte " +
@@ -375,7 +376,7 @@ void LasReader::parse_vlrs() {
                  " run past the start of the point data at byte " + std::to_string(end));
         }
         if (v.user_id == "laszip encoded" && v.record_id == kLaszipRecordId) {
-            fail(where + " is a LASzip record: " + std::string(kLazMessage));
+            laszip_vlr_ = vlrs_.size() + 1;
         }
         v.data.resize(static_cast<std::size_t>(v.length));
         read_exact(v.data.data(), v.data.size(), pos, "VLR");
@@ -390,7 +391,8 @@ void LasReader::parse_evlrs(std::uint64_t file_size) {
         return;
     }
     const std::uint64_t points_end =
-        h.offset_to_point_data + h.point_count * std::uint64_t{h.point_record_length};
+        compressed_ ? h.offset_to_point_data
+                    : h.offset_to_point_data + h.point_count * std::uint64_t{h.point_record_length};
     if (h.start_of_first_evlr < points_end) {
         fail("header: first EVLR at byte " + std::to_string(h.start_of_first_evlr) +
              " starts before the end of the point data at byte " + std::to_string(points_end));
@@ -427,6 +429,10 @@ void LasReader::parse_evlrs(std::uint64_t file_size) {
 }
 
 void LasReader::fill_chunk() {
+    if (laz_) {
+        fill_laz_chunk();
+        return;
+    }
     const std::size_t n = static_cast<std::size_t>(
         std::min<std::uint64_t>(kChunkPoints, header_.point_count - file_next_));
     const std::size_t bytes = n * header_.point_record_length;
@@ -458,6 +464,23 @@ std::size_t LasReader::read(std::span<LasPoint> out) {
     return done;
 }
 
+std::size_t LasReader::read_records(std::span<std::uint8_t> out) {
+    const std::size_t length = header_.point_record_length;
+    const std::size_t want = out.size() / length;
+    std::size_t done = 0;
+    while (done < want && next_ < header_.point_count) {
+        if (chunk_next_ == chunk_points_) {
+            fill_chunk();
+        }
+        const std::size_t n = std::min(want - done, chunk_points_ - chunk_next_);
+        std::memcpy(out.data() + done * length, chunk_.data() + chunk_next_ * length, n * length);
+        chunk_next_ += n;
+        done += n;
+        next_ += n;
+    }
+    return done;
+}
+
 void LasReader::seek(std::uint64_t index) {
     if (index > header_.point_count) {
         throw InputError(path_.string(), "seek to point " + std::to_string(index) +
@@ -466,6 +489,9 @@ void LasReader::seek(std::uint64_t index) {
     }
     next_ = file_next_ = index;
     chunk_points_ = chunk_next_ = 0;
+    if (laz_) {
+        seek_laz(index);
+    }
 }
 
 void LasReader::decode(const std::uint8_t* record, LasPoint& out) const {

@@ -327,8 +327,9 @@ TEST(LasReaderFiles, EdgeFilesReadOrFailWithTheFileName) {
         SCOPED_TRACE(name);
         ++seen;
         if (path.extension() == ".laz") {
-            test::expect_input_error(read_las_points, path, "LAZ compression is not supported");
-        } else if (const auto it = rejected.find(name); it != rejected.end()) {
+            continue;  // tests/laz/laz_reader_test.cpp reads or refuses each
+        }
+        if (const auto it = rejected.find(name); it != rejected.end()) {
             test::expect_input_error(read_las_points, path, it->second);
         } else if (const auto ok = readable.find(name); ok != readable.end()) {
             LasReader reader(path);

@@ -16,9 +16,11 @@ namespace beamtrace {
 struct LasSource {
     std::filesystem::path path;
     LasHeader header;
+    bool compressed = false;  ///< LAZ: read through LasReader
 };
 
-/// Every input is a LAS file or a directory (its `*.las` files, sorted by name, not recursive).
+/// Every input is a LAS or LAZ file or a directory (its `*.las` and `*.laz` files, sorted by
+/// name, not recursive).
 /// Each header is parsed and validated by LasReader, so a broken, truncated or compressed file
 /// throws InputError naming it before any work starts. Files with no points are kept (they add
 /// nothing) and noted in warnings().

@@ -1,9 +1,11 @@
-// Streaming reader for uncompressed LAS 1.0-1.4 files, point data record formats 0-10.
+// Streaming reader for LAS 1.0-1.4 files, point data record formats 0-10, uncompressed or LAZ
+// (LASzip-compressed: formats 0-5 point-wise, 6-10 layered; COPC files are LAZ 1.4).
 #pragma once
 
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
+#include <memory>
 #include <span>
 #include <vector>
 
@@ -20,9 +22,14 @@ namespace beamtrace {
 ///
 /// Every problem found while opening or reading throws InputError naming the file and the part
 /// of it at fault (header field, VLR number, point data): bad signature, unsupported version,
-/// unknown point format, compressed LAZ, record length smaller than the format's, point data
-/// inside the header, VLRs running into the point data, fewer points than the header says,
-/// EVLRs outside the file. A file whose header claims 0 points is fine.
+/// unknown point format, record length smaller than the format's, point data inside the header,
+/// VLRs running into the point data, fewer points than the header says, EVLRs outside the file,
+/// and for LAZ a bad LASzip VLR or chunk table, or a corrupt chunk (named by its number). A file
+/// whose header claims 0 points is fine.
+///
+/// A LAZ file reads exactly like its uncompressed twin: the header's point format has the LAZ
+/// bits cleared, and read() returns the same points. Its chunks are decoded a batch at a time
+/// (one chunk per thread, in parallel), so memory stays bounded by a few chunks.
 class LasReader {
   public:
     /// Points decoded per chunk: the reader holds kChunkPoints raw records at most.
@@ -30,7 +37,8 @@ class LasReader {
     /// EVLR payloads larger than this (waveform data) are not loaded: their `data` stays empty.
     static constexpr std::uint64_t kMaxLoadedEvlrBytes = std::uint64_t{64} << 20;
 
-    explicit LasReader(std::filesystem::path path);
+    /// `threads`: how many LAZ chunks are decoded in parallel (0: one per hardware thread).
+    explicit LasReader(std::filesystem::path path, unsigned threads = 0);
     ~LasReader();
     LasReader(const LasReader&) = delete;
     LasReader& operator=(const LasReader&) = delete;
@@ -41,6 +49,8 @@ class LasReader {
     /// The VLRs in file order, then the EVLRs (`extended` set).
     [[nodiscard]] const std::vector<LasVlr>& vlrs() const { return vlrs_; }
     [[nodiscard]] const std::filesystem::path& path() const { return path_; }
+    /// Whether the file is LAZ (its records are decoded from compressed chunks).
+    [[nodiscard]] bool compressed() const { return laz_ != nullptr; }
     /// Points not yet returned by read().
     [[nodiscard]] std::uint64_t points_remaining() const { return header_.point_count - next_; }
 
@@ -48,6 +58,11 @@ class LasReader {
     /// many; 0 at the end. Reuses the points' extra_bytes storage, so reading into the same span
     /// again allocates nothing.
     std::size_t read(std::span<LasPoint> out);
+
+    /// Copies the next min(out.size() / point_record_length, points_remaining()) raw records (as
+    /// an uncompressed file holds them: a LAZ file's decoded) into `out`; returns how many. For
+    /// loaders that pick fields from the records themselves.
+    std::size_t read_records(std::span<std::uint8_t> out);
 
     /// Continues reading at point `index` (<= point count).
     void seek(std::uint64_t index);
@@ -62,6 +77,12 @@ class LasReader {
     void read_exact(void* data, std::size_t size, std::uint64_t offset, const char* what) const;
     void fill_chunk();
     [[noreturn]] void fail(const std::string& what) const;
+    // The LAZ path (src/io/las_reader_laz.cpp).
+    struct Laz;
+    void open_laz(std::uint64_t file_size);
+    void fill_laz_chunk();
+    void fill_laz_stream();
+    void seek_laz(std::uint64_t index);
 
     std::filesystem::path path_;
     int fd_ = -1;
@@ -72,6 +93,10 @@ class LasReader {
     std::size_t chunk_next_ = 0;       ///< next record of chunk_ to decode
     std::uint64_t next_ = 0;           ///< index of the next point read() returns
     std::uint64_t file_next_ = 0;      ///< index of the next record to load from the file
+    bool compressed_ = false;          ///< the point format byte has a LAZ bit
+    std::size_t laszip_vlr_ = 0;       ///< 1 + index in vlrs_ of the LASzip VLR, 0: none
+    unsigned threads_ = 0;
+    std::unique_ptr<Laz> laz_;  ///< set for a LAZ file
 };
 
 /// All points of a LAS file (convenience for small files; use LasReader to stream).
