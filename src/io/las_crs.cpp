@@ -169,8 +169,9 @@ LasFileCrs las_file_crs(const LasHeader& header, std::span<const LasVlr> vlrs) {
             out.warnings.push_back("GeoTIFF keys but the global encoding's WKT bit is set");
         }
         if (wkt != nullptr) {
-            out.warnings.push_back("both a WKT record and GeoTIFF keys (LAS 1.4 allows one); "
-                                   "the clear WKT bit chooses the GeoTIFF keys");
+            out.warnings.push_back(
+                "both a WKT record and GeoTIFF keys (LAS 1.4 allows one); "
+                "the clear WKT bit chooses the GeoTIFF keys");
         }
         if (las_format_is_extended(header.point_format)) {
             out.warnings.push_back("GeoTIFF keys in a point format " +

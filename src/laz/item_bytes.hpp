@@ -7,6 +7,20 @@
 
 namespace beamtrace::laz {
 
+/// A value of type T stored little-endian at p (x86-64 and every LAS reader's host order).
+template <typename T>
+[[nodiscard]] T load(const std::uint8_t* p) {
+    T value;
+    std::memcpy(&value, p, sizeof(T));
+    return value;
+}
+
+/// Stores `value` at p, little-endian.
+template <typename T>
+void store(std::uint8_t* p, T value) {
+    std::memcpy(p, &value, sizeof(T));
+}
+
 inline std::uint16_t load_u16(const std::uint8_t* p) {
     return static_cast<std::uint16_t>(p[0] | (p[1] << 8));
 }

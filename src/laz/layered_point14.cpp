@@ -1,4 +1,5 @@
 #include "laz/layered_point14.hpp"
+#include "laz/item_bytes.hpp"
 
 #include <bit>
 #include <cstdlib>
@@ -72,18 +73,6 @@ class Median5 {
     std::array<std::int32_t, 5> v_{};
     bool drop_high_ = true;
 };
-
-template <typename T>
-[[nodiscard]] T load(const std::uint8_t* p) {
-    T value;
-    std::memcpy(&value, p, sizeof(T));
-    return value;
-}
-
-template <typename T>
-void store(std::uint8_t* p, T value) {
-    std::memcpy(p, &value, sizeof(T));
-}
 
 }  // namespace
 

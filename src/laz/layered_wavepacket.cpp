@@ -1,22 +1,11 @@
 #include "laz/layered_wavepacket.hpp"
+#include "laz/item_bytes.hpp"
 
 #include <cstring>
 
 namespace beamtrace::laz {
 
 namespace {
-
-template <typename T>
-[[nodiscard]] T load(const std::uint8_t* p) {
-    T value;
-    std::memcpy(&value, p, sizeof(T));
-    return value;
-}
-
-template <typename T>
-void store(std::uint8_t* p, T value) {
-    std::memcpy(p, &value, sizeof(T));
-}
 
 // Byte offsets of the fields in the item.
 constexpr std::size_t kOffset = 1;
