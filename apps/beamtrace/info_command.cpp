@@ -2,6 +2,7 @@
 // VLRs and CRS; with --stats the statistics of its points (io/las_stats.hpp); --json for scripts.
 #include <array>
 #include <charconv>
+#include <cmath>
 #include <cstdio>
 #include <memory>
 #include <optional>
@@ -39,11 +40,34 @@ std::string triple(const Vec3d& v) {
     return shortest(v.x) + " " + shortest(v.y) + " " + shortest(v.z);
 }
 
+/// `v` with the decimals of the coordinate step `step` (0.01: two) where it is that close to
+/// such a number (848935.2000000001 as 848935.20), else the shortest text.
+std::string at_step(double v, double step) {
+    for (int d = 0; d <= 9 && std::isfinite(v) && step > 0; ++d) {
+        const double steps = step * std::pow(10.0, d);
+        if (std::abs(steps - std::round(steps)) <= 1e-6 * steps) {
+            const double tens = std::pow(10.0, d);
+            if (std::abs(v - std::round(v * tens) / tens) > 1e-6 * step) {
+                break;
+            }
+            char buf[64];
+            std::snprintf(buf, sizeof buf, "%.*f", d, v);
+            return buf;
+        }
+    }
+    return shortest(v);
+}
+
+std::string triple(const Vec3d& v, const Vec3d& step) {
+    return at_step(v.x, step.x) + " " + at_step(v.y, step.y) + " " + at_step(v.z, step.z);
+}
+
 void print_point(std::size_t index, const LasPoint& p, const LasHeader& h) {
     std::printf("  #%zu: xyz %s, intensity %u, return %u of %u, class %u%s%s%s%s", index,
-                triple({p.x, p.y, p.z}).c_str(), p.intensity, p.return_number, p.number_of_returns,
-                p.classification, p.synthetic ? " synthetic" : "", p.key_point ? " key-point" : "",
-                p.withheld ? " withheld" : "", p.overlap ? " overlap" : "");
+                triple({p.x, p.y, p.z}, h.scale).c_str(), p.intensity, p.return_number,
+                p.number_of_returns, p.classification, p.synthetic ? " synthetic" : "",
+                p.key_point ? " key-point" : "", p.withheld ? " withheld" : "",
+                p.overlap ? " overlap" : "");
     std::printf(", scan angle %s deg, source %u", shortest(p.scan_angle_deg).c_str(),
                 p.point_source_id);
     if (las_format_has_gps_time(h.point_format)) {
@@ -75,8 +99,8 @@ void print_header(const std::string& file, const LasHeader& h) {
     std::printf("points by return:    %s\n", by_return.c_str());
     std::printf("scale:               %s\n", triple(h.scale).c_str());
     std::printf("offset:              %s\n", triple(h.offset).c_str());
-    std::printf("min:                 %s\n", triple(h.min).c_str());
-    std::printf("max:                 %s\n", triple(h.max).c_str());
+    std::printf("min:                 %s\n", triple(h.min, h.scale).c_str());
+    std::printf("max:                 %s\n", triple(h.max, h.scale).c_str());
     std::printf("global encoding:     0x%04x (GPS time: %s%s)\n", h.global_encoding,
                 h.gps_time_is_standard() ? "adjusted standard GPS time" : "GPS week time",
                 h.crs_is_wkt() ? ", CRS: WKT" : "");
@@ -213,8 +237,8 @@ int run(const InfoOptions& o) {
 std::function<int()> add_info_command(CLI::App& app) {
     auto opts = std::make_shared<InfoOptions>();
     CLI::App* cmd = app.add_subcommand(
-        "info", "Print the header, VLRs, EVLRs and CRS of a LAS file (1.0-1.4); --stats, --json");
-    cmd->add_option("file", opts->file, "LAS file")->required();
+        "info", "Print the header, VLRs, EVLRs and CRS of a LAS or LAZ file (LAS 1.0-1.4); --stats, --json");
+    cmd->add_option("file", opts->file, "LAS or LAZ file")->required();
     cmd->add_option("--points", opts->points, "Also print the first N points")
         ->capture_default_str();
     cmd->add_flag("--stats", opts->stats,

@@ -55,6 +55,17 @@ TEST(InfoCli, PrintsTheCrsOfGeoTiffKeysAndWkt) {
     }
 }
 
+TEST(InfoCli, CoordinatesWithTheDecimalsOfTheScale) {
+    // autzen_trim's header holds 848935.2000000001 (a double near 848935.20) and scale 0.01.
+    const fs::path path = test::shared_data("las/laz/autzen_trim.laz");
+    BEAMTRACE_REQUIRE_FILE(path);
+    const auto r = info(path, "--points 1");
+    ASSERT_EQ(r.exit_code, 0) << r.out;
+    EXPECT_TRUE(has(r.out, "min:                 636001.76 848935.20 406.26\n")) << r.out;
+    EXPECT_TRUE(has(r.out, "max:                 637179.22 849497.90 520.51\n")) << r.out;
+    EXPECT_TRUE(has(r.out, "#0: xyz 637177.98 849393.95 411.19,")) << r.out;
+}
+
 TEST(InfoCli, StatsAsTextAndJson) {
     const fs::path path = test::shared_data("las/las/simple.las");
     BEAMTRACE_REQUIRE_FILE(path);
