@@ -209,6 +209,7 @@ LasReader::LasReader(std::filesystem::path path, unsigned threads)
 }
 
 LasReader::~LasReader() {
+    laz_.reset();  // waits for a LAZ batch being decoded ahead (it reads through fd_)
     if (fd_ >= 0) {
         ::close(fd_);
     }

@@ -1,7 +1,9 @@
 // The LAZ path of LasReader: the LASzip VLR and chunk table at open, then the chunks decoded a
-// batch at a time, in parallel, into the reader's buffer of raw records. The records are those
-// of the uncompressed twin, so decoding them into points is the LAS path's.
+// batch at a time, in parallel, into the reader's buffer of raw records, the next batch while the
+// caller reads the current one. The records are those of the uncompressed twin, so decoding them
+// into points is the LAS path's.
 #include <algorithm>
+#include <future>
 #include <string>
 #include <vector>
 
@@ -119,6 +121,72 @@ void LasReader::fill_laz_stream() {
     }
 }
 
+namespace {
+
+/// The chunks of a batch from `first`: one per decoding thread at least, and more while they
+/// hold fewer than `threads` times LasReader::kChunkPoints points (small COPC nodes).
+std::size_t batch_chunks(const std::vector<laz::Chunk>& chunks, std::size_t first,
+                         unsigned threads) {
+    std::size_t count = 0;
+    std::uint64_t points = 0;
+    while (first + count < chunks.size() &&
+           (count < threads || points + chunks[first + count].points <=
+                                   std::uint64_t{threads} * LasReader::kChunkPoints)) {
+        points += chunks[first + count].points;
+        ++count;
+    }
+    return count;
+}
+
+}  // namespace
+
+void LasReader::decode_laz_batch(LazBatch& b, std::size_t first) const {
+    const Laz& z = *laz_;
+    const std::size_t record = header_.point_record_length;
+    b.first = first;
+    b.count = batch_chunks(z.chunks, first, z.pool->size());
+    b.points = 0;
+    b.starts.assign(b.count + 1, 0);
+    b.compressed.resize(std::max(b.compressed.size(), b.count));
+    b.errors.assign(b.count, {});
+    for (std::size_t k = 0; k < b.count; ++k) {
+        const laz::Chunk& c = z.chunks[first + k];
+        b.points += c.points;
+        b.starts[k + 1] = b.starts[k] + static_cast<std::size_t>(c.points) * record;
+        b.compressed[k].resize(static_cast<std::size_t>(c.bytes));
+        read_exact(b.compressed[k].data(), b.compressed[k].size(), c.offset, "LAZ chunk");
+    }
+    if (b.records.size() < b.starts[b.count]) {
+        b.records.resize(b.starts[b.count]);
+    }
+    const laz::LazVlr& vlr = z.vlr;
+    z.pool->parallel_for(b.count, 1, [&](std::size_t begin, std::size_t end) {
+        for (std::size_t k = begin; k < end; ++k) {
+            const std::span out(b.records.data() + b.starts[k], b.starts[k + 1] - b.starts[k]);
+            const auto n = static_cast<std::size_t>(z.chunks[first + k].points);
+            try {
+                if (vlr.compressor == laz::Compressor::layered_chunked) {
+                    laz::decode_layered_chunk(vlr.items, b.compressed[k], n, out);
+                } else {
+                    laz::decode_pointwise_chunk(vlr.items, b.compressed[k], n, out);
+                }
+            } catch (const laz::CorruptData& e) {
+                b.errors[k] = e.what();
+            } catch (const std::exception& e) {
+                b.errors[k] = std::string("decoder failed: ") + e.what();
+            }
+        }
+    });
+}
+
+void LasReader::start_laz_batch(std::size_t first) {
+    Laz& z = *laz_;
+    if (first < z.chunks.size()) {
+        z.ready =
+            std::async(std::launch::async, [this, &z, first] { decode_laz_batch(z.ahead, first); });
+    }
+}
+
 void LasReader::fill_laz_chunk() {
     Laz& z = *laz_;
     if (z.vlr.compressor == laz::Compressor::pointwise) {
@@ -128,63 +196,38 @@ void LasReader::fill_laz_chunk() {
     if (!z.pool) {
         z.pool = std::make_unique<ThreadPool>(threads_);
     }
-    const std::size_t first = z.next_chunk;
-    const std::size_t count = std::min<std::size_t>(z.pool->size(), z.chunks.size() - first);
-    if (count == 0) {
+    if (!z.ready.valid()) {
+        start_laz_batch(z.next_chunk);
+    }
+    if (!z.ready.valid()) {
         fail("LAZ: no chunk holds point " + std::to_string(next_));
     }
-    const std::size_t record = header_.point_record_length;
-    std::uint64_t points = 0;
-    z.compressed.resize(std::max(z.compressed.size(), count));
-    z.errors.assign(count, {});
-    for (std::size_t k = 0; k < count; ++k) {
-        const laz::Chunk& c = z.chunks[first + k];
-        points += c.points;
-        z.compressed[k].resize(static_cast<std::size_t>(c.bytes));
-        read_exact(z.compressed[k].data(), z.compressed[k].size(), c.offset, "LAZ chunk");
-    }
-    if (chunk_.size() < points * record) {
-        chunk_.resize(static_cast<std::size_t>(points * record));
-    }
-    std::vector<std::size_t> starts(count + 1, 0);
-    for (std::size_t k = 0; k < count; ++k) {
-        starts[k + 1] = starts[k] + static_cast<std::size_t>(z.chunks[first + k].points) * record;
-    }
-    const laz::LazVlr& vlr = z.vlr;
-    z.pool->parallel_for(count, 1, [&](std::size_t begin, std::size_t end) {
-        for (std::size_t k = begin; k < end; ++k) {
-            const std::span out(chunk_.data() + starts[k], starts[k + 1] - starts[k]);
-            const std::size_t n = static_cast<std::size_t>(z.chunks[first + k].points);
-            try {
-                if (vlr.compressor == laz::Compressor::layered_chunked) {
-                    laz::decode_layered_chunk(vlr.items, z.compressed[k], n, out);
-                } else {
-                    laz::decode_pointwise_chunk(vlr.items, z.compressed[k], n, out);
-                }
-            } catch (const laz::CorruptData& e) {
-                z.errors[k] = e.what();
-            } catch (const std::exception& e) {
-                z.errors[k] = std::string("decoder failed: ") + e.what();
-            }
-        }
-    });
-    for (std::size_t k = 0; k < count; ++k) {
-        if (!z.errors[k].empty()) {
-            const laz::Chunk& c = z.chunks[first + k];
-            fail("LAZ chunk " + std::to_string(first + k + 1) + " of " +
+    std::future<void> ready = std::move(z.ready);
+    ready.get();  // rethrows a read error of the batch
+    LazBatch& b = z.ahead;
+    for (std::size_t k = 0; k < b.count; ++k) {
+        if (!b.errors[k].empty()) {
+            const laz::Chunk& c = z.chunks[b.first + k];
+            fail("LAZ chunk " + std::to_string(b.first + k + 1) + " of " +
                  std::to_string(z.chunks.size()) + " (points " + std::to_string(c.first_point) +
                  " to " + std::to_string(c.first_point + c.points - 1) + ", byte " +
-                 std::to_string(c.offset) + "): " + z.errors[k]);
+                 std::to_string(c.offset) + "): " + b.errors[k]);
         }
     }
-    z.next_chunk = first + count;
-    chunk_points_ = static_cast<std::size_t>(points);
+    chunk_.swap(b.records);
+    z.next_chunk = b.first + b.count;
+    chunk_points_ = static_cast<std::size_t>(b.points);
     chunk_next_ = static_cast<std::size_t>(z.skip);
     z.skip = 0;
+    start_laz_batch(z.next_chunk);
 }
 
 void LasReader::seek_laz(std::uint64_t index) {
     Laz& z = *laz_;
+    if (z.ready.valid()) {
+        z.ready.wait();  // a batch decoded ahead from where the reader stood: dropped
+        z.ready = {};
+    }
     if (z.vlr.compressor == laz::Compressor::pointwise) {
         z.stream.reset();  // one stream: decode again from its start
         z.skip = index;

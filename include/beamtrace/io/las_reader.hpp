@@ -13,6 +13,8 @@
 
 namespace beamtrace {
 
+struct LazBatch;  // src/io/detail/las_reader_laz.hpp
+
 /// Opens a LAS file, parses and validates the header, VLRs and EVLRs, and then streams the points
 /// in chunks, so that files larger than memory can be read:
 ///
@@ -81,6 +83,8 @@ class LasReader {
     struct Laz;
     void open_laz(std::uint64_t file_size);
     void fill_laz_chunk();
+    void decode_laz_batch(LazBatch& batch, std::size_t first) const;
+    void start_laz_batch(std::size_t first);
     void fill_laz_stream();
     void seek_laz(std::uint64_t index);
 
