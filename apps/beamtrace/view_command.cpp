@@ -32,9 +32,10 @@ void print_stats(const IngestStats& s, const ViewSession& session, bool quiet) {
         return;
     }
     std::printf(
-        "loaded %d sections: %llu of %llu points in %.3f s (%.1f M points/s); %.1f MB "
-        "resident\n",
-        session.grid().loaded_sections(), static_cast<unsigned long long>(s.points_inserted),
+        "loaded %d sections of %g-unit cells: %llu of %llu points in %.3f s (%.1f M "
+        "points/s); %.1f MB resident\n",
+        session.grid().loaded_sections(), session.grid().config().cell_size,
+        static_cast<unsigned long long>(s.points_inserted),
         static_cast<unsigned long long>(s.points_read), s.seconds,
         s.seconds > 0 ? static_cast<double>(s.points_read) / s.seconds / 1e6 : 0.0,
         static_cast<double>(session.budgeted_bytes()) / 1e6);
@@ -169,7 +170,9 @@ void add_camera_options(CLI::App* cmd, ViewJobConfig& job) {
 /// The height field, its memory budget and the threads: job.session.
 void add_field_options(CLI::App* cmd, ViewSessionConfig& session) {
     HeightFieldConfig& f = session.field;
-    cmd->add_option("--cell-size", f.cell_size, "Finest cell edge in the files' units")
+    cmd->add_option("--cell-size", f.cell_size,
+                    "Finest cell edge in the files' units (0 = from the point density: 1.5 x "
+                    "the mean point spacing of the headers' footprints, rounded up to 1-2-5)")
         ->capture_default_str();
     cmd->add_option("--levels", f.levels, "Quadtree levels per section")->capture_default_str();
     cmd->add_option("--section-cells", f.section_cells,
@@ -195,6 +198,10 @@ void add_field_options(CLI::App* cmd, ViewSessionConfig& session) {
     cmd->add_option("--stack-gap", f.stack_gap,
                     "--height-stacks: vertical gap that separates intervals, in the files' units "
                     "(0 = 3 cells)")
+        ->capture_default_str();
+    cmd->add_option("--fill-gaps", f.gap_fill_cells,
+                    "Close runs of up to N empty cells between occupied ones (rows, then "
+                    "columns) at the lower height, so scan lines read as a surface (0 = off)")
         ->capture_default_str();
     cmd->add_option("--threads", session.threads, "Worker threads (0 = all cores)")
         ->capture_default_str();

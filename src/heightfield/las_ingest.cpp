@@ -1,5 +1,7 @@
 #include "beamtrace/heightfield/las_ingest.hpp"
 
+#include "beamtrace/heightfield/gap_fill.hpp"
+
 #include <fcntl.h>
 #include <unistd.h>
 
@@ -271,6 +273,7 @@ IngestStats ingest_into(const LasSourceSet& sources, const HeightFieldConfig& fi
     if (!stats.cancelled) {
         pool.parallel_for(targets_in.size(), 1, [&](std::size_t begin, std::size_t end) {
             for (std::size_t i = begin; i < end; ++i) {
+                fill_gaps(*targets_in[i].section, field.gap_fill_cells);
                 targets_in[i].section->build_mipmap();
             }
         });

@@ -81,4 +81,23 @@ void LasSourceSet::add_file(const std::filesystem::path& path) {
     files_.push_back(std::move(source));
 }
 
+double auto_cell_size(const LasSourceSet& sources) {
+    double area = 0.0;
+    for (const Bounds2& b : sources.bounds()) {
+        area += std::max(0.0, b.max_x - b.min_x) * std::max(0.0, b.max_y - b.min_y);
+    }
+    if (sources.point_count() == 0 || !(area > 0) || !std::isfinite(area)) {
+        return 1.0;
+    }
+    const double want =
+        kAutoCellSpacings * std::sqrt(area / static_cast<double>(sources.point_count()));
+    double step = std::pow(10.0, std::floor(std::log10(want)));
+    for (const double m : {1.0, 2.0, 5.0, 10.0}) {
+        if (m * step >= want * (1.0 - 1e-12)) {
+            return m * step;
+        }
+    }
+    return 10.0 * step;
+}
+
 }  // namespace beamtrace

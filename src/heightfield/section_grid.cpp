@@ -28,6 +28,9 @@ void HeightFieldConfig::validate() const {
     if (!(stack_gap >= 0.0) || !std::isfinite(stack_gap)) {
         problems += "stack gap " + std::to_string(stack_gap) + " is not a number >= 0; ";
     }
+    if (gap_fill_cells < 0 || gap_fill_cells > 64) {
+        problems += "gap fill " + std::to_string(gap_fill_cells) + " cells is outside 0 to 64; ";
+    }
     if (problems.empty() && memory_budget_bytes < section_bytes()) {
         problems += "memory budget " + std::to_string(memory_budget_bytes) +
                     " bytes is smaller than one section (" + std::to_string(section_bytes()) +

@@ -31,12 +31,48 @@ void ViewCamera::validate() const {
     }
 }
 
+namespace {
+
+/// Whether the four corners of the footprint of [lo, hi] at height lo.z (the ground, not the
+/// highest outlier) lie within `margin` of the frame of `camera`.
+bool frames_footprint(const ViewCamera& camera, const Vec3d& lo, const Vec3d& hi, double margin) {
+    const CameraRays rays(camera);
+    const double deg = std::numbers::pi / 180.0;
+    const double tan_x = std::tan(camera.hfov_deg * deg / 2.0) * margin;
+    const double tan_y = tan_x * camera.height / camera.width;
+    const Vec3d right = rays.right();
+    const Vec3d up = rays.up();
+    for (int c = 0; c < 4; ++c) {
+        const Vec3d p((c & 1) ? hi.x : lo.x, (c & 2) ? hi.y : lo.y, lo.z);
+        const Vec3d v = p - camera.position;
+        const double z = dot(v, rays.forward());
+        if (!(z > 0) || std::abs(dot(v, right)) > tan_x * z || std::abs(dot(v, up)) > tan_y * z) {
+            return false;
+        }
+    }
+    return true;
+}
+
+}  // namespace
+
 ViewCamera overview_camera(const Vec3d& lo, const Vec3d& hi, ViewCamera camera) {
-    const double extent = std::max(hi.x - lo.x, hi.y - lo.y);
-    camera.position = {0.5 * (lo.x + hi.x) - 0.3 * (hi.x - lo.x), 0.5 * (lo.y + hi.y),
-                       hi.z + 0.1 * extent};
-    camera.yaw_deg = 0.0;
-    camera.pitch_deg = -30.0;
+    // The longer side of the footprint across the image: facing +y (yaw -90, x to the right)
+    // when the data is wider in x, else facing +x (yaw 0).
+    camera.yaw_deg = (hi.x - lo.x) >= (hi.y - lo.y) ? -90.0 : 0.0;
+    camera.pitch_deg = kOverviewPitchDeg;
+    const Vec3d centre = (lo + hi) * 0.5;
+    const double extent = std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z, 1e-9});
+    camera.position = centre;
+    const Vec3d back = CameraRays(camera).forward() * -1.0;
+    // The nearest distance from the centre that frames the box (bisection: farther frames it
+    // more surely), then a little margin.
+    double near = 0.0, far = 100.0 * extent;
+    for (int k = 0; k < 60; ++k) {
+        const double mid = 0.5 * (near + far);
+        camera.position = centre + back * mid;
+        (frames_footprint(camera, lo, hi, 0.95) ? far : near) = mid;
+    }
+    camera.position = centre + back * far;
     return camera;
 }
 

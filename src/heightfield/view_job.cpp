@@ -46,14 +46,13 @@ double unit_factor(std::string unit) {
 
 /// Checks of the one-image and fly-through modes.
 void check_offline(const ViewJobConfig& c, std::vector<std::string>& problems) {
-    if (c.pose.has_value() == !c.path.empty()) {
+    if (c.pose.has_value() && !c.path.empty()) {
         problems.emplace_back(
-            "view: give exactly one of --camera x,y,z,yaw,pitch and --path FILE.csv (or "
-            "--interactive)");
+            "view: give one of --camera x,y,z,yaw,pitch and --path FILE.csv, not both (neither: "
+            "an overview of all the data)");
     }
     if (c.output.empty()) {
-        problems.emplace_back(
-            "view: --output is required (a PNG file with --camera, a folder with --path)");
+        problems.emplace_back("view: --output is required (a PNG file, or a folder with --path)");
     }
     if (!c.screenshot.empty() || c.frames != 0) {
         problems.emplace_back("view: --screenshot and --frames go with --interactive");
@@ -177,9 +176,16 @@ ViewFramesResult run_view_frames(const ViewJobConfig& job, ViewSession& session,
     if (!job.mp4.empty()) {
         video = std::make_unique<Mp4Writer>(job.mp4, job.camera.width, job.camera.height, job.fps);
     }
-    FrameLoop loop{job, session, poses, hooks, video.get(), job.camera, {}, {}, {}};
+    std::vector<CameraPose> overview;
+    if (poses.empty() && job.path.empty()) {
+        overview.push_back(
+            overview_camera(session.sources().min(), session.sources().max(), job.camera).pose());
+    }
+    FrameLoop loop{job,   session,     overview.empty() ? poses : overview,
+                   hooks, video.get(), job.camera,
+                   {},    {},          {}};
     try {
-        for (std::size_t i = 0; i < poses.size(); ++i) {
+        for (std::size_t i = 0; i < loop.poses.size(); ++i) {
             loop.run(i);
         }
         throw_if_cancelled(job.cancel, "view");
@@ -191,7 +197,7 @@ ViewFramesResult run_view_frames(const ViewJobConfig& job, ViewSession& session,
         throw;
     }
     ViewFramesResult result = loop.result;
-    result.frames = poses.size();
+    result.frames = loop.poses.size();
     if (video) {
         video->commit();
         result.mp4_frames = video->frames();

@@ -1,6 +1,9 @@
 // ViewJobConfig: the view settings the CLI binds to, their text forms and how the modes combine.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <numbers>
+
 #include <string>
 
 #include "beamtrace/core/error.hpp"
@@ -39,7 +42,11 @@ TEST(ViewJob, ParsesSizesAndByteSizes) {
 
 TEST(ViewJob, ModesCombineOneWay) {
     ViewJobConfig job;
-    ASSERT_EQ(job.validate().size(), 2u);  // neither --camera nor --path, and no --output
+    ASSERT_EQ(job.validate().size(), 1u);  // neither --camera nor --path (the overview): --output
+    EXPECT_NE(job.validate()[0].find("--output"), std::string::npos);
+    job.output = "overview.png";
+    EXPECT_TRUE(job.validate().empty());
+    EXPECT_TRUE(job.poses().empty());
     job.pose = CameraPose{{1, 2, 3}, 10, -20};
     job.output = "x.png";
     EXPECT_TRUE(job.validate().empty());
@@ -63,15 +70,31 @@ TEST(ViewJob, ModesCombineOneWay) {
     EXPECT_TRUE(live.poses().empty());
 }
 
-TEST(ViewJob, OverviewCameraLooksDownAlongXFromAboveTheData) {
+TEST(ViewJob, OverviewCameraLooksStraightDownAndFitsTheFootprint) {
     ViewCamera base;
     base.width = 320;
+    base.height = 180;
+    base.hfov_deg = 60.0;
+    // Wider in x: facing +y (yaw -90) so that x runs across the image; the footprint's
+    // half-width 50 at ground level fills 95 % of the half field of view.
     const ViewCamera c = overview_camera({0, 0, 0}, {100, 50, 20}, base);
-    EXPECT_EQ(c.position, (Vec3d{20, 25, 30}));
-    EXPECT_EQ(c.yaw_deg, 0.0);
-    EXPECT_EQ(c.pitch_deg, -30.0);
+    EXPECT_EQ(c.yaw_deg, -90.0);
+    EXPECT_EQ(c.pitch_deg, -90.0);
     EXPECT_EQ(c.width, 320);
-    EXPECT_GT(CameraRays(c).forward().x, 0.0);
+    EXPECT_NEAR(c.position.x, 50.0, 1e-9);
+    EXPECT_NEAR(c.position.y, 25.0, 1e-9);
+    const double fit = 50.0 / (std::tan(std::numbers::pi / 6.0) * 0.95);
+    EXPECT_NEAR(c.position.z, fit, 1e-6);
+    const CameraRays rays(c);
+    EXPECT_NEAR(rays.forward().z, -1.0, 1e-12);
+    EXPECT_GT(rays.right().x, 0.99);  // image right is +x
+
+    // Longer in y: facing +x (yaw 0), y across the image (image right is -y), fitted on the
+    // ground (lo.z = 5), not on the top of the box.
+    const ViewCamera t = overview_camera({0, 0, 5}, {50, 200, 9}, base);
+    EXPECT_EQ(t.yaw_deg, 0.0);
+    EXPECT_LT(CameraRays(t).right().y, -0.99);
+    EXPECT_NEAR(t.position.z - 5.0, 100.0 / (std::tan(std::numbers::pi / 6.0) * 0.95), 1e-6);
 }
 
 class ViewFrames : public test::TempDirTest {};

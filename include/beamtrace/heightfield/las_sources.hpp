@@ -47,4 +47,11 @@ class LasSourceSet {
     std::vector<std::string> warnings_;
 };
 
+/// The finest cell edge that suits the files' point density (the `view` default, cell_size 0):
+/// kAutoCellSpacings mean point spacings, sqrt(footprint / points) with the footprint the sum
+/// of the files' header xy areas, rounded up to a 1-2-5 step (0.1, 0.2, 0.5, 1, 2, ...), so that
+/// nearly every cell of a surface holds a point. 1 when the files hold no points or no area.
+inline constexpr double kAutoCellSpacings = 1.5;
+[[nodiscard]] double auto_cell_size(const LasSourceSet& sources);
+
 }  // namespace beamtrace

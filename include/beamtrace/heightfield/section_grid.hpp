@@ -16,7 +16,9 @@ namespace beamtrace {
 
 /// Settings of the height field. Lengths are in the LAS files' units (metres or feet).
 struct HeightFieldConfig {
-    double cell_size = 1.0;  ///< edge of a finest cell (the thesis found 1.0 right for autzen)
+    /// Edge of a finest cell (the thesis found 1.0 right for autzen); 0 (the default): a
+    /// ViewSession takes auto_cell_size() of its files (heightfield/las_sources.hpp).
+    double cell_size = 0.0;
     int levels = 8;          ///< quadtree levels per section (thesis: 8)
     int section_cells = 32;  ///< cells per side of a section's coarsest level (thesis: 32)
     int sections = 4;        ///< the window holds sections x sections sections (thesis: 4)
@@ -28,6 +30,10 @@ struct HeightFieldConfig {
     int height_stacks = 0;
     /// Points closer than this (vertically) to an interval join it; 0: 3 x cell_size.
     double stack_gap = 0.0;
+    /// Runs of at most this many empty finest cells between two occupied ones (in a row or a
+    /// column) are closed at the lower of the two heights, so that scan lines and rings of
+    /// sparse data read as a surface (heightfield/gap_fill.hpp); 0: none.
+    int gap_fill_cells = 2;
 
     /// Throws ConfigError listing every problem.
     void validate() const;

@@ -29,9 +29,14 @@ struct ViewCamera {
     void validate() const;
 };
 
-/// The start of an interactive view of data within [lo, hi]: above the middle of the data, a
-/// tenth of its extent over its highest point, set back along -x, looking 30 degrees down along
-/// +x. Keeps the field of view and image size of `camera`.
+/// Pitch of overview_camera() [deg].
+inline constexpr double kOverviewPitchDeg = -90.0;
+
+/// A view of all data within [lo, hi] (the default of `view` without --camera, and the start of
+/// an interactive view): looking kOverviewPitchDeg down at the box's centre across its longer
+/// horizontal side (yaw -90, facing +y, when it is wider in x; else yaw 0, facing +x), from the
+/// nearest distance at which the box's eight corners lie within 95 % of the frame. Keeps the
+/// field of view and image size of `camera`.
 [[nodiscard]] ViewCamera overview_camera(const Vec3d& lo, const Vec3d& hi, ViewCamera camera);
 
 /// Unit ray directions through pixel centres; pixel (0, 0) is the top-left.
@@ -47,6 +52,8 @@ class CameraRays {
         return normalize(forward_ + right_ * u + up_ * v);
     }
     [[nodiscard]] const Vec3d& forward() const { return forward_; }
+    [[nodiscard]] const Vec3d& right() const { return right_; }  ///< horizontal, image right
+    [[nodiscard]] const Vec3d& up() const { return up_; }        ///< image up
 
   private:
     Vec3d forward_, right_, up_;

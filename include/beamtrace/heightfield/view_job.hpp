@@ -42,7 +42,7 @@ struct ViewJobConfig {
     /// when valid (the camera and height field are checked by their own validate()).
     [[nodiscard]] std::vector<std::string> validate() const;
     /// The poses to render: `pose`, or the camera path's (read from the file; InputError);
-    /// empty for an interactive view without `pose`.
+    /// empty without either (run_view_frames: the overview; interactive: starts there).
     [[nodiscard]] std::vector<CameraPose> poses() const;
 };
 
@@ -71,7 +71,8 @@ struct ViewFramesResult {
 };
 
 /// Renders `poses` (job.pose: one PNG at job.output; job.path: frame_NNNNN.png into the folder
-/// job.output, created, and the MP4 job.mp4 when given). Before frame i renders, frame i + 1's
+/// job.output, created, and the MP4 job.mp4 when given; no pose and no path: one PNG from
+/// overview_camera() of all the data). Before frame i renders, frame i + 1's
 /// sections start loading in the background (job.prefetch); every frame is the same as without.
 /// Throws OutputError, ConfigError, and Interrupted (job.cancel; the frames written are removed,
 /// and the folder if this call created it).

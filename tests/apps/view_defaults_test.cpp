@@ -1,0 +1,82 @@
+// `beamtrace view FILE --output v.png` with no other option: an overview of all the data whose
+// cell size follows the point density, so that the data covers most of the frame (counted
+// from the command's own "(N of M pixels hit)" and checked in the PNG).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstddef>
+#include <regex>
+#include <string>
+#include <vector>
+
+#include "beamtrace/heightfield/las_sources.hpp"
+#include "beamtrace/io/png_reader.hpp"
+#include "test_support.hpp"
+
+namespace beamtrace {
+namespace {
+
+namespace fs = std::filesystem;
+
+/// Runs `view` on `input` with defaults only; returns the fraction of pixels hit that it
+/// reports, after checking the PNG has the default size.
+double default_view_coverage(const fs::path& input, const fs::path& png) {
+    const auto r = test::run_command(std::string(BEAMTRACE_CLI_PATH) + " view '" + input.string() +
+                                     "' --output '" + png.string() + "' 2>&1");
+    EXPECT_EQ(r.exit_code, 0) << r.out;
+    std::smatch m;
+    const std::regex hit(R"(\((\d+) of (\d+) pixels hit\))");
+    if (!std::regex_search(r.out, m, hit)) {
+        ADD_FAILURE() << "no pixel count in: " << r.out;
+        return 0.0;
+    }
+    const double reported = std::stod(m[1].str()) / std::stod(m[2].str());
+    // The same from the image: pixels that differ from the (uniform) sky of the top-left corner.
+    const RgbImage image = read_png_rgb8(png);
+    EXPECT_EQ(image.width, 1920);
+    EXPECT_EQ(image.height, 1080);
+    std::size_t data = 0;
+    for (std::size_t i = 0; i + 2 < image.rgb.size(); i += 3) {
+        data +=
+            !std::equal(image.rgb.begin() + static_cast<std::ptrdiff_t>(i),
+                        image.rgb.begin() + static_cast<std::ptrdiff_t>(i + 3), image.rgb.begin());
+    }
+    EXPECT_NEAR(static_cast<double>(data) / (static_cast<double>(image.rgb.size()) / 3.0), reported,
+                0.02);
+    return reported;
+}
+
+TEST(ViewDefaults, CellSizeFollowsThePointDensityOfTheHeaders) {
+    const fs::path las = test::shared_data("las/las/autzen_trim.las");
+    BEAMTRACE_REQUIRE_FILE(las);
+    // 110 000 points on 1177.46 x 562.70 ft: mean spacing 2.453 ft, x 1.5 = 3.68, up to 5.
+    const std::vector<fs::path> one = {las};
+    EXPECT_EQ(auto_cell_size(LasSourceSet(one)), 5.0);
+    // The same file four times: four times the points on four footprints (tiles add up).
+    const std::vector<fs::path> four = {las, las, las, las};
+    EXPECT_EQ(auto_cell_size(LasSourceSet(four)), 5.0);
+}
+
+TEST(ViewDefaults, DefaultOverviewCoversMostOfTheFrameForRealFiles) {
+    test::TempDir dir;
+    for (const char* name : {"las/las/autzen_trim.las", "las/las/autzen.las"}) {
+        const fs::path las = test::shared_data(name);
+        BEAMTRACE_REQUIRE_FILE(las);
+        EXPECT_GE(default_view_coverage(las, dir / "v.png"), 0.40) << name;
+    }
+}
+
+TEST(ViewDefaults, DefaultOverviewCoversMostOfTheFrameForAirborneSurveys) {
+    test::TempDir dir;
+    for (const char* name : {"airborne_line", "airborne_srtm"}) {
+        const fs::path out = dir / name;
+        const auto r = test::run_command(std::string(BEAMTRACE_CLI_PATH) + " survey " +
+                                         BEAMTRACE_EXAMPLES_DIR + "/surveys/" + name +
+                                         ".yaml --quiet --output '" + out.string() + "' 2>&1");
+        ASSERT_EQ(r.exit_code, 0) << r.out;
+        EXPECT_GE(default_view_coverage(out / "points.las", dir / "v.png"), 0.40) << name;
+    }
+}
+
+}  // namespace
+}  // namespace beamtrace
