@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "beamtrace/core/angle_text.hpp"
 #include "beamtrace/core/error.hpp"
 #include "beamtrace/core/vec3_text.hpp"
 #include "beamtrace/pipeline/scan_job.hpp"
@@ -22,6 +23,19 @@ struct ScanCommand {
     bool quiet = false;
     bool progress = false;
 };
+
+/// Prints a warning when `rad`, from a radians option, is more than a full turn.
+void warn_if_beyond_turn(double rad, const char* what) {
+    if (const std::string w = radians_beyond_turn_warning(rad, what); !w.empty()) {
+        std::fprintf(stderr, "beamtrace: warning: %s\n", w.c_str());
+    }
+}
+
+double angle_rad(const std::string& text, const char* what) {
+    const double v = parse_angle_option(text, what, AngleUnit::rad);
+    warn_if_beyond_turn(v, what);
+    return v;
+}
 
 int run(ScanCommand& cmd) {
     ScanJobConfig& c = cmd.job;
@@ -78,9 +92,13 @@ std::function<int()> add_scan_command(CLI::App& app) {
     cmd->add_option_function<std::string>(
         "--orientation",
         [&sensor](const std::string& s) {
-            sensor.orientation_rad = parse_vec3(s, "--orientation");
+            const Vec3d rpy = parse_angle_vec3(s, "--orientation", AngleUnit::rad);
+            for (int k = 0; k < 3; ++k) {
+                warn_if_beyond_turn(rpy[k], "--orientation");
+            }
+            sensor.orientation_rad = rpy;
         },
-        "Sensor roll,pitch,yaw in radians");
+        "Sensor roll,pitch,yaw in radians (each may carry its unit: 0,-90deg,0)");
     // The defaults are ImageSensorConfig's (the demo scene brings its own sensor).
     const ImageSensorConfig dflt_sensor;
     const auto dflt = [](auto v) {
@@ -90,10 +108,13 @@ std::function<int()> add_scan_command(CLI::App& app) {
     };
     cmd->add_option("--width", sensor.width, "Image width in pixels" + dflt(dflt_sensor.width));
     cmd->add_option("--height", sensor.height, "Image height in pixels" + dflt(dflt_sensor.height));
-    cmd->add_option("--hfov", sensor.hfov_rad,
-                    "Horizontal field of view in radians" + dflt(dflt_sensor.hfov_rad));
-    cmd->add_option("--vfov", sensor.vfov_rad,
-                    "Vertical field of view in radians" + dflt(dflt_sensor.vfov_rad));
+    cmd->add_option_function<std::string>(
+        "--hfov", [&sensor](const std::string& s) { sensor.hfov_rad = angle_rad(s, "--hfov"); },
+        "Horizontal field of view in radians, or with its unit (60deg)" +
+            dflt(dflt_sensor.hfov_rad));
+    cmd->add_option_function<std::string>(
+        "--vfov", [&sensor](const std::string& s) { sensor.vfov_rad = angle_rad(s, "--vfov"); },
+        "Vertical field of view in radians, or with its unit (45deg)" + dflt(dflt_sensor.vfov_rad));
     cmd->add_option("--rays", job.rays_file, "Rays file for --pattern rays: CSV ox,oy,oz,dx,dy,dz")
         ->check(CLI::ExistingFile);
     cmd->add_option_function<std::string>(

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "beamtrace/core/angle_text.hpp"
 #include "beamtrace/core/error.hpp"
 
 namespace beamtrace {
@@ -68,6 +69,16 @@ std::optional<ParsedCameraPose> try_parse_camera_pose(std::string_view text,
     std::vector<double> v(n);
     for (std::size_t i = 0; i < n; ++i) {
         const std::string_view f = fields[i];
+        if (i >= 3) {  // yaw, pitch and the extras are angles in degrees: "30", "30deg", "0.5rad"
+            const auto a = parse_angle(f, AngleUnit::deg);
+            if (!a) {
+                why = "field " + std::to_string(i + 1) + " '" + std::string(f) +
+                      "' is not an angle (a finite number of degrees, or 0.5rad)";
+                return std::nullopt;
+            }
+            v[i] = a->value;
+            continue;
+        }
         const auto [end, ec] = std::from_chars(f.data(), f.data() + f.size(), v[i]);
         if (f.empty() || ec != std::errc() || end != f.data() + f.size() || !std::isfinite(v[i])) {
             why = "field " + std::to_string(i + 1) + " '" + std::string(f) +

@@ -6,11 +6,13 @@
 #include <cmath>
 #include <filesystem>
 #include <initializer_list>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <system_error>
 #include <vector>
 
+#include "beamtrace/core/angle_text.hpp"
 #include "beamtrace/core/error.hpp"
 #include "beamtrace/core/vec3.hpp"
 #include "text/file_bytes.hpp"
@@ -94,10 +96,20 @@ class YamlChecker {
         return exists;
     }
 
+    /// A finite number. A key whose name ends in `_deg` or `_rad` (before any [index]) is an
+    /// angle: its value may carry a unit ("60deg", "1.05rad", core/angle_text.hpp), and a plain
+    /// number in degrees that reads as radians (1.5708) is an error. A `wavelength_nm` outside
+    /// 200-12 000 nm is an error (micrometres typed into nanometres).
     bool number(const YAML::Node& node, const std::string& key, double& out) {
         if (!node.IsScalar()) {
             error(node, key, "expected a number");
             return false;
+        }
+        if (const auto unit = angle_unit_of(key)) {
+            return angle(node, key, *unit, out);
+        }
+        if (key.ends_with("wavelength_nm")) {
+            return wavelength(node, key, out);
         }
         try {
             const double v = node.as<double>();
@@ -111,6 +123,62 @@ class YamlChecker {
             error(node, key, "expected a number, got " + quote_value(node.Scalar()));
             return false;
         }
+    }
+
+    /// The unit of an angle key (`..._deg`, `..._deg[2]`, `..._rad`), or nullopt.
+    static std::optional<AngleUnit> angle_unit_of(std::string_view key) {
+        while (key.ends_with("]") && key.find('[') != std::string_view::npos) {
+            key = key.substr(0, key.rfind('['));
+        }
+        if (key.ends_with("_deg")) {
+            return AngleUnit::deg;
+        }
+        if (key.ends_with("_rad")) {
+            return AngleUnit::rad;
+        }
+        return std::nullopt;
+    }
+
+    bool angle(const YAML::Node& node, const std::string& key, AngleUnit unit, double& out) {
+        const auto a = parse_angle(node.Scalar(), unit);
+        if (!a) {
+            double v = 0.0;
+            const bool non_finite = YAML::convert<double>::decode(node, v) && !std::isfinite(v);
+            error(node, key,
+                  non_finite ? std::string("expected a finite number")
+                             : "expected a number (an angle in " +
+                                   std::string(unit == AngleUnit::deg ? "degrees" : "radians") +
+                                   "; a unit may follow: 60deg, 1.05rad), got " +
+                                   quote_value(node.Scalar()));
+            return false;
+        }
+        if (unit == AngleUnit::deg && !a->explicit_unit) {
+            if (const auto pi = radian_lookalike(a->value)) {
+                error(node, key, radian_lookalike_message(a->value, *pi));
+                return false;
+            }
+        }
+        out = a->value;
+        return true;
+    }
+
+    bool wavelength(const YAML::Node& node, const std::string& key, double& out) {
+        double v = 0.0;
+        try {
+            v = node.as<double>();
+        } catch (const YAML::Exception&) {
+            error(node, key, "expected a number, got " + quote_value(node.Scalar()));
+            return false;
+        }
+        if (!(v >= 200.0 && v <= 12000.0)) {
+            error(node, key,
+                  quote_value(node.Scalar()) +
+                      " nm is outside 200-12000 nm, the wavelengths of LiDAR (micrometres? " +
+                      "1.064 um is 1064 nm)");
+            return false;
+        }
+        out = v;
+        return true;
     }
 
     bool vec3(const YAML::Node& node, const std::string& key, Vec3d& out) {
