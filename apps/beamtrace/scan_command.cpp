@@ -22,6 +22,7 @@ struct ScanCommand {
     ScanSensorOptions sensor;
     bool quiet = false;
     bool progress = false;
+    bool allow_empty = false;
 };
 
 /// Prints a warning when `rad`, from a radians option, is more than a full turn.
@@ -63,6 +64,16 @@ int run(ScanCommand& cmd) {
         for (const auto& p : r.outputs) {
             std::printf("wrote %s\n", p.string().c_str());
         }
+    }
+    std::fflush(stdout);
+    for (const auto& why : r.few_hits_reasons) {
+        std::fprintf(stderr, "beamtrace: warning: %s\n", why.c_str());
+    }
+    if (r.hits == 0 && r.rays > 0 && !o.allow_empty) {
+        std::fprintf(stderr,
+                     "beamtrace: error: scan: no ray hit the scene (see above; the outputs are "
+                     "written; --allow-empty accepts an empty result)\n");
+        return 3;
     }
     return 0;
 }
@@ -139,6 +150,8 @@ std::function<int()> add_scan_command(CLI::App& app) {
         "--exclude-faces",
         [&job](const std::string& s) { job.exclude_faces = parse_face_ranges(s); },
         "Face IDs to leave out of points.ply, e.g. 5804-5805,12");
+    cmd->add_flag("--allow-empty", cmd_state->allow_empty,
+                  "Exit 0 even when no ray hits (else: the reasons, and exit 3)");
     cmd->add_flag("--quiet", cmd_state->quiet, "No progress bar and no summary");
     cmd->add_flag("--progress", cmd_state->progress,
                   "Show the progress bar even when not on a terminal");

@@ -18,7 +18,11 @@ struct SurveyCommand {
     SurveyRunConfig run;
     bool quiet = false;
     bool progress = false;
+    bool allow_empty = false;
 };
+
+/// Exit status of a survey or scan that wrote no point (without --allow-empty).
+constexpr int kEmptyResultExit = 3;
 
 int run(const SurveyCommand& o) {
     const SurveySpec spec = load_survey_spec(o.file);
@@ -55,6 +59,17 @@ int run(const SurveyCommand& o) {
             std::printf("wrote %s\n", p.string().c_str());
         }
     }
+    std::fflush(stdout);
+    for (const auto& why : r.few_points_reasons) {
+        std::fprintf(stderr, "beamtrace: warning: %s\n", why.c_str());
+    }
+    if (r.points == 0 && r.pulses > 0 && !o.allow_empty) {
+        std::fprintf(stderr,
+                     "beamtrace: error: %s: the survey gave no points (see above; the outputs "
+                     "are written; --allow-empty accepts an empty result)\n",
+                     o.file.c_str());
+        return kEmptyResultExit;
+    }
     return 0;
 }
 
@@ -71,6 +86,8 @@ std::function<int()> add_survey_command(CLI::App& app) {
         ->required()
         ->check(CLI::ExistingFile);
     cmd->add_option("--output", rc.output_dir, "Output directory")->required();
+    cmd->add_flag("--allow-empty", opts->allow_empty,
+                  "Exit 0 even when no pulse gives a point (else: the reasons, and exit 3)");
     cmd->add_option("--threads", rc.threads, "Worker threads (0 = all cores)")
         ->capture_default_str();
     cmd->add_option("--seed", rc.seed, "Random seed (recorded in the LAS file)")

@@ -12,6 +12,7 @@
 #include "beamtrace/scene/demo_scene.hpp"
 #include "beamtrace/sensor/rays_file.hpp"
 #include "core/created_dirs.hpp"
+#include "pipeline/detail/survey_diagnosis.hpp"
 
 namespace beamtrace {
 namespace {
@@ -250,6 +251,7 @@ ScanResult run_scan(const ScanJobConfig& config, const ProgressFn& progress) {
     result.outputs = write_scan_outputs(config, rays, hits, width, height, result.points_written);
     created.keep();
     result.write_s = seconds_since(t0);
+    result.few_hits_reasons = detail::diagnose_scan(rays, result.hits, scene.geometry.bounds());
     return result;
 }
 

@@ -14,6 +14,7 @@
 #include "core/created_dirs.hpp"
 #include "pipeline/detail/ordered_blocks.hpp"
 #include "pipeline/detail/survey_block.hpp"
+#include "pipeline/detail/survey_diagnosis.hpp"
 #include "pipeline/detail/survey_materials.hpp"
 #include "pipeline/detail/survey_outputs.hpp"
 #include "pipeline/detail/survey_physics.hpp"
@@ -269,6 +270,9 @@ SurveyResult run_survey(const SurveySpec& spec, const SurveyRunConfig& run,
     result.outputs = sinks.commit();
     created.keep();
     result.survey_s = seconds_since(t0);
+    result.few_points_reasons =
+        detail::diagnose_survey(spec, *in.pattern, *in.trajectory, *backend,
+                                in.scene.geometry.bounds(), result.pulses, result.points, pool);
     return result;
 }
 

@@ -9,14 +9,10 @@
 
 namespace beamtrace::detail {
 
-std::optional<double> survey_nominal_range_m(const SurveySpec& spec, const ScanPattern& pattern,
-                                             const Trajectory& trajectory, const Backend& backend,
-                                             ThreadPool& pool) {
+RayBatch pilot_rays(const SurveySpec& spec, const ScanPattern& pattern,
+                    const Trajectory& trajectory, std::size_t max_pulses) {
     const std::uint64_t total = pattern.pulse_count();
-    const auto k_count = static_cast<std::size_t>(std::min<std::uint64_t>(kPilotPulses, total));
-    if (k_count == 0) {
-        return std::nullopt;
-    }
+    const auto k_count = static_cast<std::size_t>(std::min<std::uint64_t>(max_pulses, total));
     // The pilot's pulses, one at a time (they are far apart), into one batch.
     PulseBatch pulses, one;
     pulses.resize(k_count);
@@ -37,6 +33,17 @@ std::optional<double> survey_nominal_range_m(const SurveySpec& spec, const ScanP
     std::vector<float> scan_angle(k_count);
     SurveyRaySource::Scratch scratch;
     source.generate(pulses, 0, rays, 0, origin.data(), axis.data(), scan_angle.data(), scratch);
+    return rays;
+}
+
+std::optional<double> survey_nominal_range_m(const SurveySpec& spec, const ScanPattern& pattern,
+                                             const Trajectory& trajectory, const Backend& backend,
+                                             ThreadPool& pool) {
+    const RayBatch rays = pilot_rays(spec, pattern, trajectory);
+    const std::size_t k_count = rays.size();
+    if (k_count == 0) {
+        return std::nullopt;
+    }
     HitBatch hits;
     hits.resize(k_count);
     backend.intersect(rays, 0, k_count, hits, pool);

@@ -73,6 +73,8 @@ struct ScanResult {
     std::vector<ScenePart> parts;
     std::vector<std::filesystem::path> outputs;
     double load_s = 0, build_s = 0, trace_s = 0, write_s = 0;
+    /// When fewer than 0.1 % of the rays hit: why it may be, a line each; empty otherwise.
+    std::vector<std::string> few_hits_reasons;
 };
 
 /// Runs the scan. Throws ConfigError, InputError or OutputError with context; outputs appear

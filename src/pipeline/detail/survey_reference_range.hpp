@@ -8,6 +8,7 @@
 #include <optional>
 
 #include "beamtrace/accel/backend.hpp"
+#include "beamtrace/core/ray_batch.hpp"
 #include "beamtrace/core/thread_pool.hpp"
 #include "beamtrace/physics/pulse.hpp"
 #include "beamtrace/pipeline/survey.hpp"
@@ -19,6 +20,13 @@ inline constexpr std::size_t kPilotPulses = 1024;
 /// R_ref = this times the nominal range: a white Lambertian facing the sensor at the nominal
 /// range reads 65535 / 4 (two bits of headroom for nearer, brighter or specular targets).
 inline constexpr double kReferenceRangeFraction = 0.5;
+
+/// The pilot's rays: pulses floor((2k + 1) P / (2 K)), k < K = min(max_pulses, P), of the P
+/// pulses of `pattern`, each along its beam axis from the platform's pose (no noise, no
+/// sub-rays), with the survey's range limits.
+[[nodiscard]] RayBatch pilot_rays(const SurveySpec& spec, const ScanPattern& pattern,
+                                  const Trajectory& trajectory,
+                                  std::size_t max_pulses = kPilotPulses);
 
 /// The median first-hit range of the pilot: pulses floor((2k + 1) P / (2 K)), k < K =
 /// min(kPilotPulses, P), of the P pulses of `pattern`, each traced along its beam axis from the
