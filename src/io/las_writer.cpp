@@ -25,7 +25,6 @@ constexpr std::size_t kChunkPoints = std::size_t{1} << 16;
 constexpr std::size_t kHeaderBytes = 375;
 constexpr std::size_t kVlrHeaderBytes = 54;
 constexpr std::size_t kEvlrHeaderBytes = 60;
-constexpr double kScanAngleStepDeg = 0.006;
 
 template <typename T>
 void store(std::uint8_t* p, T value) {

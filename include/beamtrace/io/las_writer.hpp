@@ -50,6 +50,9 @@ struct LasRecordBlock {
 /// What LasWriter writes besides the points. Defaults give a valid LAS 1.4 / format 6 file with
 /// millimetre coordinates around the origin (±2147 km); use las_config_for_extent() for data
 /// elsewhere.
+/// The step of the scan angle of point formats 6-10 (a signed 16-bit count of 0.006 degree).
+inline constexpr double kScanAngleStepDeg = 0.006;
+
 struct LasWriterConfig {
     int point_format = 6;  ///< 6 (GPS time), 7 (+ RGB) or 8 (+ RGB + NIR)
     Vec3d scale{0.001, 0.001, 0.001};

@@ -1,9 +1,14 @@
 // points.csv: one row per point (x,y,z,gps_time,range_m,classification,point_source_id,beam,
-// scan_angle_deg and, with physics, intensity,return_number,number_of_returns), shortest
-// round-trip numbers, streamed.
+// scan_angle_deg and, with physics, intensity,return_number,number_of_returns), streamed.
+// Numbers read like the LAS file's: coordinates and ranges at the LAS scale's decimals, times
+// as the LAS file holds them, scan angles in the LAS format's 0.006 degree steps, trailing zeros
+// dropped, no "-0".
+#include <algorithm>
 #include <charconv>
+#include <cmath>
 #include <string>
 
+#include "beamtrace/io/las_writer.hpp"
 #include "beamtrace/io/point_sink.hpp"
 #include "io/sinks/byte_file_sink.hpp"
 
@@ -11,31 +16,79 @@ namespace beamtrace {
 
 namespace {
 
-/// Longest CSV row: 3 doubles, a double time, a float, 3 + 3 integers, a float (to_chars
-/// shortest forms, 24 characters at most each).
-constexpr std::size_t kMaxCsvRow = 400;
+/// Longest CSV row: 6 fixed numbers of at most 309 digits, a point and 9 decimals each (any
+/// finite double), 3 + 3 integers.
+constexpr std::size_t kMaxCsvRow = 2048;
+
+/// How each column kind is written.
+struct CsvDecimals {
+    Vec3d scale{0.001, 0.001, 0.001}, offset;  ///< the LAS file's: x, y, z are its values
+    int xyz = 3;                               ///< decimals of the scale (0.001 m: 3)
+    int angle = 3;                             ///< 0.001 degree
+};
+
+/// The fewest decimals that write `step` exactly (0.001: 3, 0.0025: 4).
+int decimals_of(double step) {
+    for (int d = 0; d < 12; ++d) {
+        const double scaled = step * std::pow(10.0, d);
+        if (std::abs(scaled - std::round(scaled)) < 1e-9 * scaled) {
+            return d;
+        }
+    }
+    return 12;
+}
+
+/// Writes `v` with at most `decimals` decimals at `c`: trailing zeros and a bare point dropped,
+/// and a value that rounds to zero written "0" (never "-0").
+char* put_fixed(char* c, char* end, double v, int decimals) {
+    char* const start = c;
+    c = std::to_chars(c, end, v, std::chars_format::fixed, decimals).ptr;
+    if (decimals > 0) {
+        while (c[-1] == '0') {
+            --c;
+        }
+        if (c[-1] == '.') {
+            --c;
+        }
+    }
+    if (c - start == 2 && start[0] == '-' && start[1] == '0') {
+        start[0] = '0';
+        c = start + 1;
+    }
+    return c;
+}
 
 /// Appends one CSV row to `out`.
-void append_csv_row(std::string& out, const BlockPoint& p, bool physics) {
+void append_csv_row(std::string& out, const BlockPoint& p, bool physics, const CsvDecimals& d) {
     char row[kMaxCsvRow];
     char* c = row;
     char* const end = row + kMaxCsvRow;
-    const auto num = [&](double v) {
-        c = std::to_chars(c, end, v).ptr;
+    const auto num = [&](double v, int decimals) {
+        c = put_fixed(c, end, v, decimals);
         *c++ = ',';
     };
-    num(p.x);
-    num(p.y);
-    num(p.z);
-    num(p.gps_time);
-    c = std::to_chars(c, end, p.range_m).ptr;
+    // The coordinate the LAS file holds: the nearest step of its scale from its offset (as
+    // LasWriter rounds), so the two files agree to the last digit.
+    const double xyz[3] = {p.x, p.y, p.z};
+    for (int k = 0; k < 3; ++k) {
+        const double steps = std::round((xyz[k] - d.offset[k]) * (1.0 / d.scale[k]));
+        num(std::isfinite(steps) ? steps * d.scale[k] + d.offset[k] : xyz[k], d.xyz);
+    }
+    // The time as the LAS file holds it (a double): its shortest round-trip form, but never
+    // with an exponent (0.00000078125, not 7.8125e-07).
+    c = std::to_chars(c, end, p.gps_time + 0.0, std::chars_format::fixed).ptr;
+    *c++ = ',';
+    c = std::to_chars(c, end, p.range_m).ptr;  // a float, as in points.pcd: shortest form
     *c++ = ',';
     for (unsigned v :
          {unsigned{p.classification}, unsigned{p.point_source_id}, unsigned{p.channel}}) {
         c = std::to_chars(c, end, v).ptr;
         *c++ = ',';
     }
-    c = std::to_chars(c, end, p.scan_angle_deg).ptr;
+    // The scan angle as the LAS file holds it: whole steps of 0.006 degree.
+    const double angle =
+        std::round(static_cast<double>(p.scan_angle_deg) * (1.0 / kScanAngleStepDeg));
+    c = put_fixed(c, end, angle * kScanAngleStepDeg, d.angle);
     if (physics) {
         for (unsigned v :
              {unsigned{p.intensity}, unsigned{p.return_number}, unsigned{p.number_of_returns}}) {
@@ -51,6 +104,12 @@ class CsvSink final : public detail::ByteFileSink {
   public:
     explicit CsvSink(const SinkFacts& facts)
         : ByteFileSink(facts.output_dir / "points.csv"), physics_(facts.physics) {
+        // The LAS sink's scale and offset (0.001 m, or coarser for a huge extent).
+        const LasWriterConfig las = las_config_for_extent(facts.lo_m, facts.hi_m, 0.001);
+        decimals_.scale = las.scale;
+        decimals_.offset = las.offset;
+        decimals_.xyz = std::max(
+            {decimals_of(las.scale.x), decimals_of(las.scale.y), decimals_of(las.scale.z)});
         file().write(
             std::string(
                 "x,y,z,gps_time,range_m,classification,point_source_id,beam,scan_angle_deg") +
@@ -59,12 +118,13 @@ class CsvSink final : public detail::ByteFileSink {
     void encode(const PointBlock& block, SinkBuffer& out) const override {
         std::string& bytes = static_cast<ByteBuffer&>(out).bytes;
         for (const BlockPoint& p : block.points) {
-            append_csv_row(bytes, p, physics_);
+            append_csv_row(bytes, p, physics_, decimals_);
         }
     }
 
   private:
     bool physics_;
+    CsvDecimals decimals_;
 };
 
 }  // namespace
