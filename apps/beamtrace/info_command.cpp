@@ -236,8 +236,9 @@ int run(const InfoOptions& o) {
 
 std::function<int()> add_info_command(CLI::App& app) {
     auto opts = std::make_shared<InfoOptions>();
-    CLI::App* cmd = app.add_subcommand(
-        "info", "Print the header, VLRs, EVLRs and CRS of a LAS or LAZ file (LAS 1.0-1.4); --stats, --json");
+    CLI::App* cmd = app.add_subcommand("info",
+                                       "Print the header, VLRs, EVLRs and CRS of a LAS or LAZ file "
+                                       "(LAS 1.0-1.4); --stats, --json");
     cmd->add_option("file", opts->file, "LAS or LAZ file")->required();
     cmd->add_option("--points", opts->points, "Also print the first N points")
         ->capture_default_str();

@@ -64,6 +64,9 @@ int run(ScanCommand& cmd) {
         for (const auto& p : r.outputs) {
             std::printf("wrote %s\n", p.string().c_str());
         }
+        for (const auto& note : r.notes) {
+            std::printf("%s\n", note.c_str());
+        }
     }
     std::fflush(stdout);
     for (const auto& why : r.few_hits_reasons) {

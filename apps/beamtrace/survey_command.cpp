@@ -58,6 +58,9 @@ int run(const SurveyCommand& o) {
         for (const auto& p : r.outputs) {
             std::printf("wrote %s\n", p.string().c_str());
         }
+        for (const auto& note : r.notes) {
+            std::printf("%s\n", note.c_str());
+        }
     }
     std::fflush(stdout);
     for (const auto& why : r.few_points_reasons) {

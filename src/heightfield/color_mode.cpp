@@ -1,5 +1,7 @@
 #include "beamtrace/heightfield/color_mode.hpp"
 
+#include "beamtrace/io/colormap.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <string>
@@ -41,35 +43,8 @@ Rgb8 height_ramp(double x) {
 }
 
 Rgb8 classification_color(std::uint8_t cls) {
-    switch (cls) {
-        case 2:  // ground
-            return {166, 124, 82};
-        case 3:  // low vegetation
-            return {144, 238, 144};
-        case 4:  // medium vegetation
-            return {60, 179, 113};
-        case 5:  // high vegetation
-            return {34, 110, 34};
-        case 6:  // building
-            return {220, 90, 60};
-        case 7:   // low noise
-        case 18:  // high noise
-            return {255, 0, 255};
-        case 9:  // water
-            return {40, 100, 230};
-        case 10:  // rail
-            return {120, 80, 60};
-        case 11:  // road surface
-            return {90, 90, 90};
-        case 13:  // wire guard
-        case 14:  // wire conductor
-        case 15:  // transmission tower
-            return {255, 220, 0};
-        case 17:  // bridge deck
-            return {200, 200, 120};
-        default:  // never classified, unclassified, others
-            return {180, 180, 180};
-    }
+    const auto c = asprs_class_rgb(cls);
+    return {c[0], c[1], c[2]};
 }
 
 Rgb8 attribute_color(ColorMode mode, std::uint32_t attribute, double intensity_full_scale) {

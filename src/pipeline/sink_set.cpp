@@ -11,6 +11,9 @@ std::vector<std::filesystem::path> SinkSet::commit() {
             for (auto& f : sink->commit()) {
                 files.push_back(std::move(f));
             }
+            for (auto& n : sink->notes()) {
+                notes_.push_back(std::move(n));
+            }
             sink.reset();
         }
     } catch (...) {

@@ -268,6 +268,7 @@ SurveyResult run_survey(const SurveySpec& spec, const SurveyRunConfig& run,
     result.points = stream_blocks(stages, sinks, window, pool, progress, run.cancel);
     throw_if_cancelled(run.cancel, "survey");
     result.outputs = sinks.commit();
+    result.notes = sinks.notes();
     created.keep();
     result.survey_s = seconds_since(t0);
     result.few_points_reasons =

@@ -116,6 +116,8 @@ class PointSink {
     [[nodiscard]] virtual std::vector<std::filesystem::path> commit() = 0;
     /// Removes whatever was written; the sink accepts nothing afterwards.
     virtual void abort() noexcept = 0;
+    /// After commit(): lines for the run's summary (e.g. the span of range.png's colours).
+    [[nodiscard]] virtual std::vector<std::string> notes() const { return {}; }
 };
 
 }  // namespace beamtrace

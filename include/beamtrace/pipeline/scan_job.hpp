@@ -72,6 +72,7 @@ struct ScanResult {
     std::size_t points_written = 0;  ///< hits minus excluded faces
     std::vector<ScenePart> parts;
     std::vector<std::filesystem::path> outputs;
+    std::vector<std::string> notes;  ///< the outputs' lines for the summary (range.png's span)
     double load_s = 0, build_s = 0, trace_s = 0, write_s = 0;
     /// When fewer than 0.1 % of the rays hit: why it may be, a line each; empty otherwise.
     std::vector<std::string> few_hits_reasons;

@@ -89,6 +89,7 @@ struct SurveyResult {
     std::optional<double> nominal_range_m;
     double build_s = 0, survey_s = 0;
     std::vector<std::filesystem::path> outputs;
+    std::vector<std::string> notes;  ///< the outputs' lines for the summary (range.png's span)
     /// When the survey gave no or very few points (fewer than 0.1 % of its pulses): why it may
     /// be, a line each (the scanner looks away from the scene, hits outside the range gate,
     /// returns below the detection threshold); empty otherwise.

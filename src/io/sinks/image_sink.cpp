@@ -1,6 +1,7 @@
 // range.npy, range.png and (for surveys) labels.png of an image scanner firing one frame: each
 // pulse's first point is pixel (row v, column u) of pulse u * height + v; pixels without a
-// point are 0.
+// point are 0 (black in the PNGs). labels.png shows each pixel's class in its ASPRS colour.
+#include <cstdio>
 #include <future>
 #include <new>
 #include <string>
@@ -74,12 +75,21 @@ class ImageSink final : public PointSink {
         }
         // The PNGs beside the .npy (PNG compression is most of it: 40 ms of a 110 ms panorama
         // survey when written one after the other).
+        if (const auto span = valid_range_span(range_)) {
+            char line[160];
+            std::snprintf(line, sizeof line,
+                          "range.png: jet from %.3f m (blue) to %.3f m (red); misses black",
+                          span->first, span->second);
+            notes_.emplace_back(line);
+        } else {
+            notes_.emplace_back("range.png: no hit (all black)");
+        }
         auto png = std::async(std::launch::async, [&] {
             write_png_rgb8(files[1], w, h, range_image_rgb(range_, w, h));
         });
         auto labels = std::async(std::launch::async, [&] {
             if (labels_) {
-                write_png_gray16(files[2], w, h, label_);
+                write_png_rgb8(files[2], w, h, class_image_rgb(label_, range_, w, h));
             }
         });
         try {
@@ -102,6 +112,7 @@ class ImageSink final : public PointSink {
         return files;
     }
     void abort() noexcept override {}  // nothing is written before commit()
+    [[nodiscard]] std::vector<std::string> notes() const override { return notes_; }
 
   private:
     /// After a failure: none of the three is left.
@@ -117,6 +128,7 @@ class ImageSink final : public PointSink {
     bool labels_;
     std::vector<float> range_;
     std::vector<std::uint16_t> label_;
+    std::vector<std::string> notes_;
 };
 
 }  // namespace

@@ -60,9 +60,12 @@ class SinkSet {
     [[nodiscard]] std::vector<std::filesystem::path> commit();
     /// Aborts every sink not yet committed.
     void abort() noexcept;
+    /// After commit(): the sinks' notes for the summary, in sink order.
+    [[nodiscard]] const std::vector<std::string>& notes() const { return notes_; }
 
   private:
     std::vector<std::unique_ptr<PointSink>> sinks_;
+    std::vector<std::string> notes_;
 };
 
 }  // namespace beamtrace::detail
