@@ -25,6 +25,12 @@ void ProgressBar::update(std::size_t done, std::size_t total) {
         return;
     }
     const auto now = std::chrono::steady_clock::now();
+    if (done == 0) {
+        // The work proper starts now (loading and building came before): the rate counts
+        // from here.
+        start_ = now;
+        return;
+    }
     if (done < total && now - last_draw_ < std::chrono::milliseconds(100)) {
         return;
     }

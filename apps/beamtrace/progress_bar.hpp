@@ -15,6 +15,8 @@ class ProgressBar {
     ProgressBar(const ProgressBar&) = delete;
     ProgressBar& operator=(const ProgressBar&) = delete;
 
+    /// Draws `done` of `total` (at most every 0.1 s) with the rate since the last update with
+    /// done == 0 (the start of the stage), or since construction.
     void update(std::size_t done, std::size_t total);
     void finish();
 

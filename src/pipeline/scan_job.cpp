@@ -234,6 +234,9 @@ ScanResult run_scan(const ScanJobConfig& config, const ProgressFn& progress) {
     t0 = Clock::now();
     HitBatch hits;
     hits.resize(rays.size());
+    if (progress) {
+        progress(0, rays.size());  // the trace starts: rates count from here
+    }
     for (std::size_t b = 0; b < rays.size(); b += kTraceChunk) {
         throw_if_cancelled(config.cancel, "scan");
         const std::size_t e = std::min(rays.size(), b + kTraceChunk);

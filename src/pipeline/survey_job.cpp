@@ -127,6 +127,10 @@ std::uint64_t stream_blocks(const BlockStages& stages, detail::SinkSet& sinks, s
                      static_cast<std::size_t>(pulses));
         }
     });
+    if (progress) {
+        progress(
+            0, static_cast<std::size_t>(pulses));  // the survey stage starts: rates count from here
+    }
     detail::WorkShelf shelf;
     pool.parallel_for(blocks, 1, [&](std::size_t kb, std::size_t ke) {
         for (std::size_t k = kb; k < ke; ++k) {
