@@ -6,7 +6,7 @@ cd "$(dirname "$0")/.."
 ./scripts/install-deps.sh
 # Only the CLI is built; the test and bench settings of an existing build/ are left as they are.
 cmake -S . -B build -DCMAKE_BUILD_TYPE=Release >/dev/null
-cmake --build build -j"$(nproc)" --target beamtrace
+cmake --build build -j"$(nproc)" --target beamtrace beamtrace_pushbroom_rays
 ./build/beamtrace scan --demo --output out/demo "$@"
 ./build/beamtrace survey examples/surveys/car_hdl64.yaml --output out/car_hdl64
 ./build/beamtrace info out/car_hdl64/points.las
