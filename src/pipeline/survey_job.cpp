@@ -250,6 +250,11 @@ SurveyResult run_survey(const SurveySpec& spec, const SurveyRunConfig& run,
     SinkFacts facts = detail::survey_sink_facts(spec, run, in.scene, *in.pattern, *in.trajectory,
                                                 sim ? &*sim : nullptr, result.pulses);
     facts.provenance.insert(facts.provenance.find('\n') + 1, provenance_line);
+    if (const auto box =
+            detail::pilot_hit_bounds(spec, *in.pattern, *in.trajectory, *backend, pool)) {
+        facts.footprint_m = {Vec3d(box->lo) + in.scene.origin_m,
+                             Vec3d(box->hi) + in.scene.origin_m};
+    }
     detail::SinkSet sinks = detail::open_survey_sinks(spec, facts);
     t0 = Clock::now();
     const detail::SurveyRaySource source{&spec, in.trajectory.get(), sim ? &*sim : nullptr,

@@ -43,6 +43,7 @@ SinkFacts survey_sink_facts(const SurveySpec& spec, const SurveyRunConfig& run, 
     f.lo_m = Vec3d(bounds.lo) + scene.origin_m;
     f.hi_m = Vec3d(bounds.hi) + scene.origin_m;
     f.las_point_format = spec.point_format;
+    f.pulses = pulses;
     f.crs_wkt = scene.crs.wkt;
     f.provenance = "# beamtrace " BEAMTRACE_VERSION " survey, seed " + std::to_string(run.seed) +
                    "\n" + spec.text;

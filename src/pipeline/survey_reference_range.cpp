@@ -36,6 +36,32 @@ RayBatch pilot_rays(const SurveySpec& spec, const ScanPattern& pattern,
     return rays;
 }
 
+std::optional<Aabb> pilot_hit_bounds(const SurveySpec& spec, const ScanPattern& pattern,
+                                     const Trajectory& trajectory, const Backend& backend,
+                                     ThreadPool& pool) {
+    const RayBatch rays = pilot_rays(spec, pattern, trajectory);
+    HitBatch hits;
+    hits.resize(rays.size());
+    backend.intersect(rays, 0, rays.size(), hits, pool);
+    Aabb box;
+    bool any = false;
+    for (std::size_t k = 0; k < rays.size(); ++k) {
+        if (hits.hit(k)) {
+            const double t = hits.t[k];
+            box.extend(Vec3f(Vec3d{rays.ox[k] + rays.dx[k] * t, rays.oy[k] + rays.dy[k] * t,
+                                   rays.oz[k] + rays.dz[k] * t}));
+            any = true;
+        }
+    }
+    if (!any) {
+        return std::nullopt;
+    }
+    const Vec3f grow = (box.hi - box.lo) * 0.1f + Vec3f{1e-3f, 1e-3f, 1e-3f};
+    box.lo = box.lo - grow;
+    box.hi = box.hi + grow;
+    return box;
+}
+
 std::optional<double> survey_nominal_range_m(const SurveySpec& spec, const ScanPattern& pattern,
                                              const Trajectory& trajectory, const Backend& backend,
                                              ThreadPool& pool) {

@@ -54,8 +54,9 @@ TEST(SurveySinks, EveryOutputIsListedInRegistryOrderAndIdenticalAtAnyThreadCount
     for (const auto& f : one.outputs) {
         names.push_back(f.filename().string());
     }
-    EXPECT_EQ(names, (std::vector<std::string>{"points.las", "waveforms.bin", "points.csv",
-                                               "points.ply", "trajectory.csv", "points.pcd"}));
+    EXPECT_EQ(names,
+              (std::vector<std::string>{"points.las", "waveforms.bin", "points.csv", "points.ply",
+                                        "trajectory.csv", "points.pcd", "preview.png"}));
     EXPECT_EQ(files_in(dir / "one"), std::set<std::string>(names.begin(), names.end()));
     ASSERT_EQ(two.outputs.size(), one.outputs.size());
     for (const std::string& n : names) {
@@ -73,7 +74,9 @@ TEST(SurveySinks, OutputKeysComeFromTheRegistry) {
         (void)parse_survey_spec(head + "output: {pcd: false, ply: true}\n", dir / "s.yaml"));
     const SurveySpec spec =
         parse_survey_spec(head + "output: {pcd: true, csv: true}\n", dir / "s.yaml");
-    EXPECT_EQ(spec.outputs, (std::vector<std::string>{"csv", "pcd"}));
+    EXPECT_EQ(spec.outputs, (std::vector<std::string>{"preview", "csv", "pcd"}));
+    EXPECT_EQ(parse_survey_spec(head + "output: {preview: false}\n", dir / "s.yaml").outputs,
+              std::vector<std::string>{});
     try {
         (void)parse_survey_spec(head + "output: {pcd: 3, laz: true}\n", dir / "s.yaml");
         FAIL() << "no error";
@@ -81,7 +84,7 @@ TEST(SurveySinks, OutputKeysComeFromTheRegistry) {
         const std::string what = e.what();
         EXPECT_NE(what.find("output.pcd: expected true or false"), std::string::npos) << what;
         EXPECT_NE(what.find("output.laz: unknown key (expected one of: point_format, "
-                            "trajectory_rate_hz, csv, ply, pcd)"),
+                            "trajectory_rate_hz, csv, ply, pcd, preview)"),
                   std::string::npos)
             << what;
     }

@@ -67,6 +67,10 @@ struct SinkFacts {
     std::filesystem::path output_dir;
     bool physics = false;  ///< intensity and return numbers are simulated (CSV columns)
     Vec3d lo_m, hi_m;      ///< world bounds of the scene (LAS scale and offset)
+    /// Where most points will be (world; the survey's pilot hits, grown): preview.png's frame.
+    /// Unset: lo_m, hi_m.
+    std::optional<std::pair<Vec3d, Vec3d>> footprint_m;
+    std::uint64_t pulses = 0;  ///< pulses of the run (0: unknown): preview.png's pixel size
     int las_point_format = 6;
     std::string provenance;  ///< recorded in the LAS VLR (version, seed, survey file)
     std::string crs_wkt;     ///< the scene's CRS, an OGC WKT VLR of the LAS output (empty: none)

@@ -42,9 +42,10 @@ struct SurveySpec {
     Mount mount;                            ///< lever arm and boresight
     int point_format = 6;                   ///< LAS point format (6, 7 or 8)
     /// The switchable outputs turned on by `output: {<key>: true}`: names of point sinks of the
-    /// registry (io/point_sink_registry.hpp), e.g. "ply", "csv", "pcd". points.las is always
+    /// registry (io/point_sink_registry.hpp), e.g. "ply", "csv", "pcd"; "preview" unless
+    /// `output: {preview: false}`. points.las is always
     /// written; waveforms, images and the trajectory whenever the survey calls for them.
-    std::vector<std::string> outputs;
+    std::vector<std::string> outputs{"preview"};
     double trajectory_rate_hz = 10.0;  ///< samples per second in trajectory.csv (0: none)
     std::string text;                  ///< the file's text (recorded in the LAS VLR)
     /// The `physics:` block (docs/physics.md); nullopt: ideal single rays, no intensity/noise.

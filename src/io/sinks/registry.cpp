@@ -14,6 +14,7 @@ std::unique_ptr<PointSink> make_image_sink(const SinkFacts& facts);
 std::unique_ptr<PointSink> make_ply_sink(const SinkFacts& facts);
 std::unique_ptr<PointSink> make_trajectory_sink(const SinkFacts& facts);
 std::unique_ptr<PointSink> make_pcd_sink(const SinkFacts& facts);
+std::unique_ptr<PointSink> make_preview_sink(const SinkFacts& facts);
 
 namespace {
 
@@ -46,6 +47,10 @@ std::span<const SinkEntry> point_sinks() {
         {"trajectory", "trajectory.csv", "", "the platform at output.trajectory_rate_hz",
          with_trajectory, make_trajectory_sink},
         {"pcd", "points.pcd", "pcd", "binary PCD (Point Cloud Library)", always, make_pcd_sink},
+        {"preview", "preview.png", "preview",
+         "a top-down quick look: heights in colour, hill-shaded, with a scale bar (on unless "
+         "output.preview: false)",
+         always, make_preview_sink},
     };
     return kSinks;
 }

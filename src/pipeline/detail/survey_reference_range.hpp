@@ -28,6 +28,13 @@ inline constexpr double kReferenceRangeFraction = 0.5;
                                   const Trajectory& trajectory,
                                   std::size_t max_pulses = kPilotPulses);
 
+/// The box of the pilot's first hits (scene coordinates), grown by a tenth of its size on every
+/// side; nullopt when none hits. Where a survey's points will be, for preview.png.
+[[nodiscard]] std::optional<Aabb> pilot_hit_bounds(const SurveySpec& spec,
+                                                   const ScanPattern& pattern,
+                                                   const Trajectory& trajectory,
+                                                   const Backend& backend, ThreadPool& pool);
+
 /// The median first-hit range of the pilot: pulses floor((2k + 1) P / (2 K)), k < K =
 /// min(kPilotPulses, P), of the P pulses of `pattern`, each traced along its beam axis from the
 /// platform's pose (no noise, no sub-rays) with `backend`; nullopt when none hits. Deterministic.

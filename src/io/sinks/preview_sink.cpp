@@ -1,0 +1,285 @@
+// preview.png: a quick look at a survey's points from straight above, north up. The highest
+// point of each pixel (the survey's footprint, from its pilot, or the scene's, on
+// kPreviewPixels across; points beyond it are left out) coloured by height (jet,
+// blue low) and hill-shaded from the north-west, short gaps between scan lines closed, cropped
+// to the data, with a scale bar. Written at commit; the summary names its scale and heights.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <string>
+
+#include "beamtrace/io/colormap.hpp"
+#include "beamtrace/io/png_writer.hpp"
+#include "beamtrace/io/point_sink.hpp"
+#include "io/sinks/preview_font.hpp"
+
+namespace beamtrace {
+
+namespace {
+
+constexpr int kPreviewPixels = 1024;  ///< the footprint's longer side, before cropping
+constexpr int kGapPixels = 2;         ///< runs of empty pixels closed between two hits
+constexpr float kEmpty = -std::numeric_limits<float>::infinity();
+
+struct PreviewHit {
+    std::uint32_t index;
+    float z;
+};
+
+struct PreviewBuffer final : SinkBuffer {
+    std::vector<PreviewHit> hits;
+    void clear() override { hits.clear(); }
+};
+
+/// Heights of pixels, rows from the north edge down.
+struct Raster {
+    int width = 1, height = 1;
+    double cell_m = 1.0, west = 0.0, north = 0.0;
+    std::vector<float> z;
+    [[nodiscard]] float at(int x, int y) const {
+        return z[static_cast<std::size_t>(y) * static_cast<std::size_t>(width) +
+                 static_cast<std::size_t>(x)];
+    }
+    float& at(int x, int y) {
+        return z[static_cast<std::size_t>(y) * static_cast<std::size_t>(width) +
+                 static_cast<std::size_t>(x)];
+    }
+};
+
+/// kPreviewPixels across the longer side of [lo, hi], or coarser: 1.5 mean point spacings
+/// where `points` would leave finer pixels mostly empty.
+Raster raster_for(const Vec3d& lo, const Vec3d& hi, std::uint64_t points) {
+    Raster r;
+    const double dx = std::max(hi.x - lo.x, 1e-6), dy = std::max(hi.y - lo.y, 1e-6);
+    const double spacing = points > 0 ? std::sqrt(dx * dy / static_cast<double>(points)) : 0.0;
+    r.cell_m = std::max(std::max(dx, dy) / kPreviewPixels, 1.5 * spacing);
+    r.width = std::clamp(static_cast<int>(std::ceil(dx / r.cell_m)), 1, kPreviewPixels);
+    r.height = std::clamp(static_cast<int>(std::ceil(dy / r.cell_m)), 1, kPreviewPixels);
+    r.west = lo.x;
+    r.north = hi.y;
+    r.z.assign(static_cast<std::size_t>(r.width) * static_cast<std::size_t>(r.height), kEmpty);
+    return r;
+}
+
+/// Closes runs of at most kGapPixels empty pixels between two hits along a row (dx = 1) or a
+/// column (dx = 0) at the lower of the two heights.
+void close_gaps(Raster& r, bool rows) {
+    const int lines = rows ? r.height : r.width, n = rows ? r.width : r.height;
+    for (int l = 0; l < lines; ++l) {
+        int last = -1;
+        for (int k = 0; k < n; ++k) {
+            const float z = rows ? r.at(k, l) : r.at(l, k);
+            if (z == kEmpty) {
+                continue;
+            }
+            if (last >= 0 && k - last - 1 > 0 && k - last - 1 <= kGapPixels) {
+                const float fill = std::min(z, rows ? r.at(last, l) : r.at(l, last));
+                for (int j = last + 1; j < k; ++j) {
+                    (rows ? r.at(j, l) : r.at(l, j)) = fill;
+                }
+            }
+            last = k;
+        }
+    }
+}
+
+struct Crop {
+    int x0 = 0, y0 = 0, x1 = 0, y1 = 0;  ///< [x0, x1) x [y0, y1)
+    float z_lo = 0.0f, z_hi = 0.0f;
+    [[nodiscard]] int width() const { return x1 - x0; }
+    [[nodiscard]] int height() const { return y1 - y0; }
+};
+
+/// The hits' box with a margin, and their height range; nullopt without hits.
+std::optional<Crop> crop_of(const Raster& r) {
+    Crop c{r.width, r.height, -1, -1, std::numeric_limits<float>::infinity(), kEmpty};
+    for (int y = 0; y < r.height; ++y) {
+        for (int x = 0; x < r.width; ++x) {
+            if (const float z = r.at(x, y); z != kEmpty) {
+                c = {std::min(c.x0, x),     std::min(c.y0, y),   std::max(c.x1, x + 1),
+                     std::max(c.y1, y + 1), std::min(c.z_lo, z), std::max(c.z_hi, z)};
+            }
+        }
+    }
+    if (c.x1 < 0) {
+        return std::nullopt;
+    }
+    const int margin = std::max(8, std::max(c.width(), c.height()) / 50);
+    c.x0 = std::max(0, c.x0 - margin);
+    c.y0 = std::max(0, c.y0 - margin);
+    c.x1 = std::min(r.width, c.x1 + margin);
+    c.y1 = std::min(r.height, c.y1 + margin);
+    return c;
+}
+
+/// Brightness of pixel (x, y) lit from the north-west, 45 degrees up: 1 on flat ground.
+double hill_shade(const Raster& r, int x, int y) {
+    const auto z = [&](int u, int v) {
+        u = std::clamp(u, 0, r.width - 1);
+        v = std::clamp(v, 0, r.height - 1);
+        const float h = r.at(u, v);
+        return h == kEmpty ? static_cast<double>(r.at(x, y)) : static_cast<double>(h);
+    };
+    const double gx = (z(x + 1, y) - z(x - 1, y)) / (2.0 * r.cell_m);  // east
+    const double gy = (z(x, y - 1) - z(x, y + 1)) / (2.0 * r.cell_m);  // north
+    const Vec3d n = normalize(Vec3d{-gx, -gy, 1.0});
+    const Vec3d light = normalize(Vec3d{-1.0, 1.0, std::sqrt(2.0)});
+    return std::clamp(0.35 + 0.65 * std::max(0.0, dot(n, light)) / light.z, 0.0, 1.0);
+}
+
+void put(std::vector<std::uint8_t>& rgb, int w, int h, int x, int y,
+         std::array<std::uint8_t, 3> c) {
+    if (x >= 0 && y >= 0 && x < w && y < h) {
+        const auto i = 3 * (static_cast<std::size_t>(y) * static_cast<std::size_t>(w) +
+                            static_cast<std::size_t>(x));
+        std::copy(c.begin(), c.end(), rgb.begin() + static_cast<std::ptrdiff_t>(i));
+    }
+}
+
+/// Draws `text` with its top-left at (x, y), each font pixel `s` x `s`, in `c`.
+void draw_text(std::vector<std::uint8_t>& rgb, int w, int h, int x, int y, int s,
+               const std::string& text, std::array<std::uint8_t, 3> c) {
+    for (std::size_t k = 0; k < text.size(); ++k) {
+        const auto rows = detail::glyph_rows(text[k]);
+        const int gx = x + static_cast<int>(k) * (detail::kGlyphWidth + 1) * s;
+        for (int row = 0; row < detail::kGlyphHeight; ++row) {
+            for (int col = 0; col < detail::kGlyphWidth; ++col) {
+                if ((rows[static_cast<std::size_t>(row)] >> (detail::kGlyphWidth - 1 - col)) & 1) {
+                    for (int i = 0; i < s * s; ++i) {
+                        put(rgb, w, h, gx + col * s + i % s, y + row * s + i / s, c);
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// The 1-2-5 length nearest below a quarter of `width_m`, and its text ("50 m", "2 km").
+std::pair<double, std::string> scale_bar_length(double width_m) {
+    const double want = width_m / 4.0;
+    double step = std::pow(10.0, std::floor(std::log10(want)));
+    for (const double m : {5.0, 2.0, 1.0}) {
+        if (m * step <= want) {
+            step *= m;
+            break;
+        }
+    }
+    char text[32];
+    if (step >= 1000.0) {
+        std::snprintf(text, sizeof text, "%g km", step / 1000.0);
+    } else {
+        std::snprintf(text, sizeof text, "%g m", step);
+    }
+    return {step, text};
+}
+
+/// A white bar with a black edge and its length above it, at the bottom left.
+void draw_scale_bar(std::vector<std::uint8_t>& rgb, int w, int h, double cell_m) {
+    const auto [length_m, text] = scale_bar_length(w * cell_m);
+    const int px = static_cast<int>(std::lround(length_m / cell_m));
+    const int s = w >= 400 ? 2 : 1;
+    const int x0 = 6 * s, y0 = h - 8 * s, thick = 2 * s;
+    if (px < 4 || h < 40 * s) {
+        return;
+    }
+    for (int y = y0 - 1; y <= y0 + thick; ++y) {
+        for (int x = x0 - 1; x <= x0 + px; ++x) {
+            const bool edge = y == y0 - 1 || y == y0 + thick || x == x0 - 1 || x == x0 + px;
+            put(rgb, w, h, x, y,
+                edge ? std::array<std::uint8_t, 3>{0, 0, 0}
+                     : std::array<std::uint8_t, 3>{255, 255, 255});
+        }
+    }
+    const int ty = y0 - (detail::kGlyphHeight + 3) * s;
+    for (const auto& [dx, dy] : {std::pair{1, 1}, {-1, 0}, {1, 0}, {0, -1}, {0, 1}}) {
+        draw_text(rgb, w, h, x0 + dx, ty + dy, s, text, {0, 0, 0});
+    }
+    draw_text(rgb, w, h, x0, ty, s, text, {255, 255, 255});
+}
+
+std::vector<std::uint8_t> render(const Raster& r, const Crop& c) {
+    std::vector<std::uint8_t> rgb(
+        3 * static_cast<std::size_t>(c.width()) * static_cast<std::size_t>(c.height()), 40);
+    const double span = static_cast<double>(c.z_hi) - static_cast<double>(c.z_lo);
+    for (int y = c.y0; y < c.y1; ++y) {
+        for (int x = c.x0; x < c.x1; ++x) {
+            const float z = r.at(x, y);
+            if (z == kEmpty) {
+                continue;
+            }
+            const double t = span > 0 ? (static_cast<double>(z) - c.z_lo) / span : 0.5;
+            auto colour = jet_color(t);
+            const double shade = hill_shade(r, x, y);
+            for (auto& ch : colour) {
+                ch = static_cast<std::uint8_t>(std::lround(ch * shade));
+            }
+            put(rgb, c.width(), c.height(), x - c.x0, y - c.y0, colour);
+        }
+    }
+    draw_scale_bar(rgb, c.width(), c.height(), r.cell_m);
+    return rgb;
+}
+
+class PreviewSink final : public PointSink {
+  public:
+    explicit PreviewSink(const SinkFacts& facts)
+        : path_(facts.output_dir / "preview.png"),
+          raster_(facts.footprint_m ? raster_for(facts.footprint_m->first,
+                                                 facts.footprint_m->second, facts.pulses)
+                                    : raster_for(facts.lo_m, facts.hi_m, facts.pulses)) {}
+
+    [[nodiscard]] std::unique_ptr<SinkBuffer> make_buffer() const override {
+        return std::make_unique<PreviewBuffer>();
+    }
+    void encode(const PointBlock& block, SinkBuffer& out) const override {
+        auto& hits = static_cast<PreviewBuffer&>(out).hits;
+        for (const BlockPoint& p : block.points) {
+            const double u = std::floor((p.x - raster_.west) / raster_.cell_m);
+            const double v = std::floor((raster_.north - p.y) / raster_.cell_m);
+            if (u >= 0 && v >= 0 && u < raster_.width && v < raster_.height) {
+                hits.push_back(
+                    {static_cast<std::uint32_t>(v * raster_.width + u), static_cast<float>(p.z)});
+            }
+        }
+    }
+    void write(const SinkBuffer& encoded) override {
+        for (const PreviewHit& h : static_cast<const PreviewBuffer&>(encoded).hits) {
+            float& z = raster_.z[h.index];
+            z = std::max(z, h.z);
+        }
+    }
+    std::vector<std::filesystem::path> commit() override {
+        close_gaps(raster_, true);
+        close_gaps(raster_, false);
+        const auto crop = crop_of(raster_);
+        if (!crop) {
+            notes_.emplace_back("preview.png: not written (no point)");
+            return {};
+        }
+        write_png_rgb8(path_, crop->width(), crop->height(), render(raster_, *crop));
+        char line[256];
+        std::snprintf(line, sizeof line,
+                      "preview.png: %d x %d pixels of %.3g m, north up, heights %.2f to %.2f m "
+                      "(jet: blue low), scale bar %s",
+                      crop->width(), crop->height(), raster_.cell_m, crop->z_lo, crop->z_hi,
+                      scale_bar_length(crop->width() * raster_.cell_m).second.c_str());
+        notes_.emplace_back(line);
+        return {path_};
+    }
+    void abort() noexcept override {}  // nothing is written before commit()
+    [[nodiscard]] std::vector<std::string> notes() const override { return notes_; }
+
+  private:
+    std::filesystem::path path_;
+    Raster raster_;
+    std::vector<std::string> notes_;
+};
+
+}  // namespace
+
+std::unique_ptr<PointSink> make_preview_sink(const SinkFacts& facts) {
+    return std::make_unique<PreviewSink>(facts);
+}
+
+}  // namespace beamtrace

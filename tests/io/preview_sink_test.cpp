@@ -1,0 +1,81 @@
+// preview.png: north up, heights in jet over the data's range, cropped to the data, a white
+// scale bar at the bottom left, and a note with its scale.
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "beamtrace/io/png_reader.hpp"
+#include "beamtrace/io/point_sink_registry.hpp"
+#include "test_support.hpp"
+
+namespace beamtrace {
+namespace {
+
+/// A 10 m x 10 m ground at z 0 sampled every 5 cm, with a 5 m block over its north-east quarter.
+PointBlock ground_with_block() {
+    PointBlock block;
+    for (int i = 0; i < 200; ++i) {
+        for (int j = 0; j < 200; ++j) {
+            BlockPoint& p = block.points.emplace_back();
+            p.x = 0.025 + 0.05 * i;
+            p.y = 0.025 + 0.05 * j;
+            p.z = (p.x > 5 && p.y > 5) ? 5.0 : 0.0;
+        }
+    }
+    return block;
+}
+
+TEST(PreviewSink, NorthUpHeightsInColourCroppedWithAScaleBar) {
+    test::TempDir dir;
+    SinkFacts facts;
+    facts.output_dir = dir.path();
+    facts.lo_m = {-100, -100, 0};
+    facts.hi_m = {100, 100, 10};
+    facts.footprint_m = {{-1, -1, 0}, {11, 11, 5}};
+    facts.pulses = 40000;
+    auto sink = point_sink("preview").make(facts);
+    const PointBlock block = ground_with_block();
+    auto buffer = sink->make_buffer();
+    sink->encode(block, *buffer);
+    sink->write(*buffer);
+    const auto files = sink->commit();
+    ASSERT_EQ(files.size(), 1u);
+    ASSERT_EQ(sink->notes().size(), 1u);
+    const std::string note = sink->notes()[0];
+    EXPECT_NE(note.find("pixels of 0.09 m, north up, heights 0.00 to 5.00 m"), std::string::npos)
+        << note;
+
+    const RgbImage img = read_png_rgb8(files[0]);
+    // 1.5 point spacings (0.09 m) per pixel: 10 m of data is 111 pixels, plus 8 of margin on
+    // each side (the footprint reaches 1 m beyond the data).
+    EXPECT_EQ(img.width, 111 + 16);
+    EXPECT_EQ(img.height, 111 + 16);
+    const auto px = [&](int x, int y) {
+        const auto i = 3 * (static_cast<std::size_t>(y) * img.width + x);
+        return std::array<int, 3>{img.rgb[i], img.rgb[i + 1], img.rgb[i + 2]};
+    };
+    const auto ne = px(img.width * 3 / 4, img.height / 4);  // north-east: high, red
+    const auto sw = px(img.width / 3, img.height * 2 / 3);  // south-west: low, blue
+    EXPECT_GT(ne[0], 100);
+    EXPECT_LT(ne[2], 20);
+    EXPECT_GT(sw[2], 100);
+    EXPECT_LT(sw[0], 20);
+    EXPECT_EQ(px(2, 2), (std::array<int, 3>{40, 40, 40}));  // the margin: no data
+    // The scale bar (1 m: a quarter of the width, 1-2-5 below) is white at the bottom left.
+    EXPECT_NE(note.find("scale bar 2 m"), std::string::npos) << note;
+    EXPECT_EQ(px(10, img.height - 8), (std::array<int, 3>{255, 255, 255}));
+}
+
+TEST(PreviewSink, NoPointsNoFile) {
+    test::TempDir dir;
+    SinkFacts facts;
+    facts.output_dir = dir.path();
+    facts.lo_m = {0, 0, 0};
+    facts.hi_m = {1, 1, 1};
+    auto sink = point_sink("preview").make(facts);
+    EXPECT_TRUE(sink->commit().empty());
+    EXPECT_FALSE(std::filesystem::exists(dir / "preview.png"));
+}
+
+}  // namespace
+}  // namespace beamtrace
