@@ -76,6 +76,8 @@ void add_light_options(CLI::App* cmd, RenderJobConfig& job) {
         "dir:AZ,EL[,E] (degrees; az counter-clockwise from +x) or point:X,Y,Z[,P] "
         "(E = P/r^2); repeat for several; default: one directional light");
     cmd->add_option("--ambient", r.ambient, "Ambient irradiance")->capture_default_str();
+    cmd->add_flag("--sky", r.sky,
+                  "Rays that miss see a sky (pale horizon to blue zenith) instead of --background");
     cmd->add_option("--background", r.background, "Radiance where rays miss")
         ->capture_default_str();
     cmd->add_option("--exposure", job.exposure, "Radiance scale before clamping to [0, 1]")

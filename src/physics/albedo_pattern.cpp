@@ -41,26 +41,50 @@ double solid_cell(const AlbedoPattern& p, const Vec3d& x_m) {
     return k;
 }
 
+/// The cell index as a double (exact for any cell a scene reaches).
+double cell_of(const AlbedoPattern& pattern, const PatternFrame& frame, const Vec3d& point_m) {
+    switch (frame.surface) {
+        case PatternSurface::sphere: {
+            const Vec3d n = (point_m - frame.origin_m) * (1.0 / frame.radius_m);
+            return sphere_cell(pattern, frame.attitude.conjugate().rotate(n));
+        }
+        case PatternSurface::plane: {
+            const Vec3d r = point_m - frame.origin_m;
+            return plane_cell(pattern, dot(r, frame.u_axis), dot(r, frame.w_axis));
+        }
+        case PatternSurface::solid:
+            break;
+    }
+    return solid_cell(pattern, point_m);
+}
+
 }  // namespace
+
+std::int64_t pattern_cell(const AlbedoPattern& pattern, const PatternFrame& frame,
+                          const Vec3d& point_m) {
+    if (pattern.kind == AlbedoPatternKind::uniform) {
+        return 0;
+    }
+    const double k = cell_of(pattern, frame, point_m);
+    return std::isfinite(k) && std::fabs(k) < 1e18 ? static_cast<std::int64_t>(k) : 0;
+}
+
+Vec3d pattern_color(const AlbedoPattern& pattern, const PatternFrame& frame, const Vec3d& point_m,
+                    const Vec3d& base) {
+    if (pattern.colors.empty()) {
+        return base;
+    }
+    const auto n = static_cast<std::int64_t>(pattern.colors.size());
+    const std::int64_t k = ((pattern_cell(pattern, frame, point_m) % n) + n) % n;
+    return pattern.colors[static_cast<std::size_t>(k)];
+}
 
 bool in_alternate_cell(const AlbedoPattern& pattern, const PatternFrame& frame,
                        const Vec3d& point_m) {
     if (pattern.kind == AlbedoPatternKind::uniform) {
         return false;
     }
-    switch (frame.surface) {
-        case PatternSurface::sphere: {
-            const Vec3d n = (point_m - frame.origin_m) * (1.0 / frame.radius_m);
-            return odd(sphere_cell(pattern, frame.attitude.conjugate().rotate(n)));
-        }
-        case PatternSurface::plane: {
-            const Vec3d r = point_m - frame.origin_m;
-            return odd(plane_cell(pattern, dot(r, frame.u_axis), dot(r, frame.w_axis)));
-        }
-        case PatternSurface::solid:
-            break;
-    }
-    return odd(solid_cell(pattern, point_m));
+    return odd(cell_of(pattern, frame, point_m));
 }
 
 }  // namespace beamtrace

@@ -25,6 +25,13 @@ struct Surface {
     std::int32_t part = -1;
 };
 
+/// The sky's colour along direction `d` (RenderConfig::sky).
+Vec3d sky_color(const Vec3d& d) {
+    const double up = std::clamp(d.z, 0.0, 1.0);
+    const Vec3d horizon{0.85, 0.9, 1.0}, zenith{0.3, 0.5, 0.9};
+    return horizon + (zenith - horizon) * std::sqrt(up);
+}
+
 /// Offset of shadow-ray origins along the normal: clears float triangles and rounding.
 double surface_offset(const Vec3d& p) {
     const double m = std::max({std::fabs(p.x), std::fabs(p.y), std::fabs(p.z)});
@@ -111,6 +118,10 @@ RenderImage Renderer::render(const RenderConfig& config) const {
                     }
                 }
                 if (kind < 0) {
+                    if (config.sky) {
+                        surf[i].color = sky_color(d);
+                        radiance[i] = 1.0;
+                    }
                     continue;
                 }
                 Surface& s = surf[i];
@@ -147,7 +158,7 @@ RenderImage Renderer::render(const RenderConfig& config) const {
                 }
                 const Material& m = scene_.materials[s.material];
                 s.albedo = albedo(m, frame, s.position_m);
-                s.color = m.color;
+                s.color = pattern_color(m.pattern, frame, s.position_m, m.color);
                 if (dot(s.normal, d) > 0.0) {
                     s.normal = -s.normal;  // two-sided: shade the side the camera sees
                 }

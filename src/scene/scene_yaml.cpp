@@ -209,13 +209,21 @@ void parse_part(Checker& c, const YAML::Node& n, std::size_t index, SceneSpec& s
     spec.parts.push_back(std::move(p));
 }
 
-/// `pattern: {kind: stripes|checker|none, count: 8, size_m: 1, reflectance: 0.1}`.
+/// `color: [r, g, b]`, each in [0, 1].
+void parse_color(Checker& c, const YAML::Node& n, const std::string& key, Vec3d& color) {
+    if (c.vec3(n, key, color) && !(color.x >= 0.0 && color.x <= 1.0 && color.y >= 0.0 &&
+                                   color.y <= 1.0 && color.z >= 0.0 && color.z <= 1.0)) {
+        c.error(n, key, "every channel must be in [0, 1]");
+    }
+}
+
+/// `pattern: {kind: stripes|checker|none, count: 8, size_m: 1, reflectance: 0.1, colors: [...]}`.
 void parse_pattern(Checker& c, const YAML::Node& n, const std::string& key, AlbedoPattern& p) {
     if (!n.IsMap()) {
         c.error(n, key, "expected a map with kind, count, size_m, reflectance");
         return;
     }
-    c.only_keys(n, key, {"kind", "count", "size_m", "reflectance"});
+    c.only_keys(n, key, {"kind", "count", "size_m", "reflectance", "colors"});
     const auto kind = n["kind"];
     if (!kind || !kind.IsScalar() ||
         (kind.Scalar() != "stripes" && kind.Scalar() != "checker" && kind.Scalar() != "none")) {
@@ -237,13 +245,16 @@ void parse_pattern(Checker& c, const YAML::Node& n, const std::string& key, Albe
         !(r >= 0.0 && r <= 1.0)) {
         c.error(n["reflectance"], key + ".reflectance", "must be in [0, 1]");
     }
-}
-
-/// `color: [r, g, b]`, each in [0, 1].
-void parse_color(Checker& c, const YAML::Node& n, const std::string& key, Vec3d& color) {
-    if (c.vec3(n, key, color) && !(color.x >= 0.0 && color.x <= 1.0 && color.y >= 0.0 &&
-                                   color.y <= 1.0 && color.z >= 0.0 && color.z <= 1.0)) {
-        c.error(n, key, "every channel must be in [0, 1]");
+    if (const auto cs = n["colors"]) {
+        if (!cs.IsSequence() || cs.size() == 0 || cs.size() > 1000) {
+            c.error(cs, key + ".colors", "expected a list of 1 to 1000 colours [r, g, b]");
+            return;
+        }
+        for (std::size_t i = 0; i < cs.size(); ++i) {
+            Vec3d colour{1, 1, 1};
+            parse_color(c, cs[i], key + ".colors[" + std::to_string(i) + "]", colour);
+            p.colors.push_back(colour);
+        }
     }
 }
 

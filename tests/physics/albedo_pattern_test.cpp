@@ -12,7 +12,7 @@ namespace {
 Material patterned(AlbedoPatternKind kind, int count, double size_m) {
     Material m;
     m.reflectance = 0.9;
-    m.pattern = {kind, count, size_m, 0.2};
+    m.pattern = {kind, count, size_m, 0.2, {}};
     return m;
 }
 

@@ -43,7 +43,7 @@ RenderImage render_floor(const Material& m) {
 TEST(RenderMaterial, PatternIsThePhysicsAlbedoAtEachPixel) {
     Material m;
     m.reflectance = 0.8;
-    m.pattern = {AlbedoPatternKind::checker, 8, 1.0, 0.2};
+    m.pattern = {AlbedoPatternKind::checker, 8, 1.0, 0.2, {}};
     Material plain = m;
     plain.pattern = {};
     const RenderImage img = render_floor(m);

@@ -12,6 +12,9 @@
 #pragma once
 
 #include <cstdint>
+#include <vector>
+
+#include <cstdint>
 
 #include "beamtrace/core/quat.hpp"
 #include "beamtrace/core/vec3.hpp"
@@ -29,6 +32,9 @@ struct AlbedoPattern {
     int count = 8;                       ///< sphere: segments in longitude, >= 2
     double size_m = 1.0;                 ///< plane/solid: stripe width or checker cell, > 0
     double alternate_reflectance = 0.1;  ///< albedo of the odd stripes/cells, [0, 1]
+    /// `render` only: the cells' colours in turn (cell k takes colors[k mod n], linear RGB in
+    /// [0, 1]; the beach ball's stripes); empty: the material's colour everywhere.
+    std::vector<Vec3d> colors;
 };
 
 /// The surface a pattern is laid on (see the file comment).
@@ -51,6 +57,16 @@ struct PatternFrame {
         return {PatternSurface::plane, point_m, 1.0, Quat{}, u_axis, w_axis};
     }
 };
+
+/// The index of the cell of `pattern` holding `point_m` (scene coordinates, on the surface of
+/// `frame`): the stripe or checker cell count from the pattern's origin; 0 for a uniform one.
+[[nodiscard]] std::int64_t pattern_cell(const AlbedoPattern& pattern, const PatternFrame& frame,
+                                        const Vec3d& point_m);
+
+/// The colour at `point_m` of a material of colour `base` with `pattern`: colors[cell mod n],
+/// or `base` when the pattern has no colours.
+[[nodiscard]] Vec3d pattern_color(const AlbedoPattern& pattern, const PatternFrame& frame,
+                                  const Vec3d& point_m, const Vec3d& base);
 
 /// True when `point_m` (scene coordinates, on the surface of `frame`) lies in an odd cell of
 /// `pattern`, whose albedo is the alternate reflectance; false for a uniform pattern.

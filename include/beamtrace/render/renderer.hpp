@@ -23,7 +23,10 @@ struct RenderConfig {
     std::vector<Light> lights;  ///< none: ambient light only
     double ambient = 0.1;       ///< ambient irradiance: every hit gets ambient * albedo
     double background = 0.0;    ///< radiance of pixels that see nothing
-    bool shadows = true;        ///< trace occlusion rays towards every light
+    /// Pixels that see nothing show a sky instead of `background`: radiance 1 coloured from a
+    /// pale horizon (0.85, 0.9, 1) up to a blue zenith (0.3, 0.5, 0.9) by the ray's elevation.
+    bool sky = false;
+    bool shadows = true;  ///< trace occlusion rays towards every light
     /// The specular lobe's form (physics/material.hpp): the assignment's phenomenological one, or
     /// the energy-conserving normalised Phong BRDF.
     Brdf brdf = Brdf::phenomenological;
