@@ -104,7 +104,7 @@ void parse_part(Checker& c, const YAML::Node& n, std::size_t index, SceneSpec& s
     }
     c.only_keys(n, key,
                 {"name", "mesh", "raster", "sphere", "plane", "transform", "array", "material",
-                 "label", "part_id"});
+                 "label", "part_id", "up_axis"});
     PartSpec p;
     p.part_id = static_cast<std::uint16_t>(std::min<std::size_t>(index + 1, 65535));
     int kinds = 0;
@@ -184,6 +184,15 @@ void parse_part(Checker& c, const YAML::Node& n, std::size_t index, SceneSpec& s
     }
     if (const auto a = n["array"]) {
         parse_array(c, a, key + ".array", p.array);
+    }
+    if (const auto u = n["up_axis"]) {
+        if (p.kind != PartKind::mesh) {
+            c.error(u, key + ".up_axis", "only a mesh part has an up axis of its own");
+        } else if (!u.IsScalar() || (u.Scalar() != "y" && u.Scalar() != "z")) {
+            c.error(u, key + ".up_axis", "expected y (the mesh's +y is up) or z (the default)");
+        } else {
+            p.transform.y_up = u.Scalar() == "y";
+        }
     }
     if (p.exact_sphere) {
         const Vec3d& k = p.transform.scale;
@@ -333,6 +342,11 @@ Affine3 PartTransform::to_affine() const {
         a.linear.m[i][0] = r.m[i][0] * scale.x;
         a.linear.m[i][1] = r.m[i][1] * scale.y;
         a.linear.m[i][2] = r.m[i][2] * scale.z;
+        if (y_up) {  // first (x, y, z) -> (x, -z, y): columns 1, 2 become 2, -1
+            const double c1 = a.linear.m[i][1];
+            a.linear.m[i][1] = a.linear.m[i][2];
+            a.linear.m[i][2] = -c1;
+        }
     }
     a.translation = translate_m;
     return a;

@@ -24,10 +24,14 @@ struct PartTransform {
     /// with this [roll pitch yaw] would look. Files give `rotate_deg: [roll, pitch, yaw]`.
     RollPitchYaw rotate;
     Vec3d scale{1, 1, 1};
+    /// The mesh is y-up (`up_axis: y`): before everything else, (x, y, z) -> (x, -z, y), a
+    /// quarter turn about +x that takes its +y to +z.
+    bool y_up = false;
 
     [[nodiscard]] Vec3d apply(const Vec3d& p) const {
+        const Vec3d q = y_up ? Vec3d{p.x, -p.z, p.y} : p;
         return translate_m +
-               Quat::from_rpy(rotate).rotate({p.x * scale.x, p.y * scale.y, p.z * scale.z});
+               Quat::from_rpy(rotate).rotate({q.x * scale.x, q.y * scale.y, q.z * scale.z});
     }
     /// The same map as a matrix and a translation.
     [[nodiscard]] Affine3 to_affine() const;
