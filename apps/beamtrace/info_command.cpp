@@ -161,21 +161,36 @@ std::string counts(const std::array<std::uint64_t, N>& by_value) {
     return text.empty() ? "-" : text;
 }
 
-void print_field(const char* name, const LasFieldStats& f) {
-    std::printf("  %-18s min %s  max %s  mean %s\n", name, shortest(f.min).c_str(),
-                shortest(f.max).c_str(), shortest(f.mean).c_str());
+/// min and max at the values' step (a coordinate's scale, 1 for integers; 0: shortest), the
+/// mean with `mean_decimals` decimals.
+void print_field(const char* name, const LasFieldStats& f, double step, int mean_decimals) {
+    const auto value = [&](double v) { return step > 0 ? at_step(v, step) : shortest(v); };
+    char mean[64];
+    std::snprintf(mean, sizeof mean, "%.*f", mean_decimals, f.mean);
+    std::printf("  %-18s min %s  max %s  mean %s\n", name, value(f.min).c_str(),
+                value(f.max).c_str(), mean);
 }
 
-void print_stats(const LasStats& s) {
+/// Decimals of a coordinate step (0.001: 3), at most 9.
+int decimals_of(double step) {
+    int d = 0;
+    while (d < 9 && std::abs(step * std::pow(10.0, d) - std::round(step * std::pow(10.0, d))) >
+                        1e-6 * step * std::pow(10.0, d)) {
+        ++d;
+    }
+    return d;
+}
+
+void print_stats(const LasStats& s, const Vec3d& scale) {
     std::printf("statistics:          %llu points read\n",
                 static_cast<unsigned long long>(s.points));
     if (s.points > 0) {
-        print_field("x:", s.x);
-        print_field("y:", s.y);
-        print_field("z:", s.z);
-        print_field("intensity:", s.intensity);
+        print_field("x:", s.x, scale.x, decimals_of(scale.x) + 1);
+        print_field("y:", s.y, scale.y, decimals_of(scale.y) + 1);
+        print_field("z:", s.z, scale.z, decimals_of(scale.z) + 1);
+        print_field("intensity:", s.intensity, 1.0, 1);
         if (s.gps_time) {
-            print_field("gps time:", *s.gps_time);
+            print_field("gps time:", *s.gps_time, 0.0, 6);
         }
     }
     std::printf("  %-18s %s\n", "classification:", counts(s.by_classification).c_str());
@@ -219,7 +234,7 @@ int run(const InfoOptions& o) {
     print_vlrs(reader);
     print_crs(crs);
     if (stats) {
-        print_stats(*stats);
+        print_stats(*stats, h.scale);
     }
     if (o.points > 0) {
         std::vector<LasPoint> points(o.points);

@@ -26,7 +26,22 @@ std::size_t fill_line(HeightSection& s, int x0, int y0, int dx, int dy, int max_
             }
             filled += static_cast<std::size_t>(gap);
         }
+        if (last < 0 && k > 0 && k <= max_gap) {
+            // A run at the section's first edge: its other end is in the next section over, so
+            // it takes this side's height (else every section border would show as a seam).
+            for (int j = 0; j < k; ++j) {
+                s.insert(x0 + j * dx, y0 + j * dy, s.height(0, x, y), s.attribute(x, y));
+            }
+            filled += static_cast<std::size_t>(k);
+        }
         last = k;
+    }
+    if (last >= 0 && n - 1 - last > 0 && n - 1 - last <= max_gap) {  // the same at the far edge
+        const int lx = x0 + last * dx, ly = y0 + last * dy;
+        for (int j = last + 1; j < n; ++j) {
+            s.insert(x0 + j * dx, y0 + j * dy, s.height(0, lx, ly), s.attribute(lx, ly));
+        }
+        filled += static_cast<std::size_t>(n - 1 - last);
     }
     return filled;
 }

@@ -81,6 +81,19 @@ void LasSourceSet::add_file(const std::filesystem::path& path) {
     files_.push_back(std::move(source));
 }
 
+int auto_levels(const LasSourceSet& sources, const HeightFieldConfig& field) {
+    const double extent =
+        std::max(sources.max().x - sources.min().x, sources.max().y - sources.min().y);
+    const double want = 2.0 * extent / std::max(1, field.sections);  // the data in half the window
+    int levels = 1;
+    while (levels < field.levels && static_cast<double>(field.section_cells) *
+                                            std::ldexp(1.0, levels - 1) * field.cell_size <
+                                        want) {
+        ++levels;
+    }
+    return levels;
+}
+
 double auto_cell_size(const LasSourceSet& sources) {
     double area = 0.0;
     for (const Bounds2& b : sources.bounds()) {

@@ -56,9 +56,12 @@ bool frames_footprint(const ViewCamera& camera, const Vec3d& lo, const Vec3d& hi
 }  // namespace
 
 ViewCamera overview_camera(const Vec3d& lo, const Vec3d& hi, ViewCamera camera) {
-    // The longer side of the footprint across the image: facing +y (yaw -90, x to the right)
-    // when the data is wider in x, else facing +x (yaw 0).
-    camera.yaw_deg = (hi.x - lo.x) >= (hi.y - lo.y) ? -90.0 : 0.0;
+    // North up (facing +y, yaw -90: x to the right, like a map), unless the footprint turned
+    // a quarter (facing +x, yaw 0: y across) fills the frame a quarter larger or more.
+    const double dx = std::max(hi.x - lo.x, 1e-9), dy = std::max(hi.y - lo.y, 1e-9);
+    const double w = camera.width, h = camera.height;
+    const double north_up = std::min(w / dx, h / dy), turned = std::min(w / dy, h / dx);
+    camera.yaw_deg = turned >= 1.25 * north_up ? 0.0 : -90.0;
     camera.pitch_deg = kOverviewPitchDeg;
     const Vec3d centre = (lo + hi) * 0.5;
     const double extent = std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z, 1e-9});

@@ -25,6 +25,7 @@ ViewSession::ViewSession(std::span<const std::filesystem::path> inputs,
     : config_(config), sources_(inputs), pool_(config.threads) {
     if (config_.field.cell_size == 0.0) {
         config_.field.cell_size = auto_cell_size(sources_);
+        config_.field.levels = auto_levels(sources_, config_.field);
     }
     config_.field.validate();
     grid_ = std::make_unique<SectionGrid>(config_.field, sources_.min());

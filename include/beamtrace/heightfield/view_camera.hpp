@@ -33,10 +33,11 @@ struct ViewCamera {
 inline constexpr double kOverviewPitchDeg = -90.0;
 
 /// A view of all data within [lo, hi] (the default of `view` without --camera, and the start of
-/// an interactive view): looking kOverviewPitchDeg down at the box's centre across its longer
-/// horizontal side (yaw -90, facing +y, when it is wider in x; else yaw 0, facing +x), from the
-/// nearest distance at which the box's eight corners lie within 95 % of the frame. Keeps the
-/// field of view and image size of `camera`.
+/// an interactive view): looking straight down (kOverviewPitchDeg) at the box's centre, north
+/// up (yaw -90, facing +y) unless the footprint turned a quarter (yaw 0, facing +x) fills the
+/// frame 1.25 times larger or more, from the nearest height at which the footprint's corners at
+/// the lowest height lo.z lie within 95 % of the frame. Keeps the field of view and image size
+/// of `camera`.
 [[nodiscard]] ViewCamera overview_camera(const Vec3d& lo, const Vec3d& hi, ViewCamera camera);
 
 /// Unit ray directions through pixel centres; pixel (0, 0) is the top-left.
