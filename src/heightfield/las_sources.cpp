@@ -84,7 +84,9 @@ void LasSourceSet::add_file(const std::filesystem::path& path) {
 int auto_levels(const LasSourceSet& sources, const HeightFieldConfig& field) {
     const double extent =
         std::max(sources.max().x - sources.min().x, sources.max().y - sources.min().y);
-    const double want = 2.0 * extent / std::max(1, field.sections);  // the data in half the window
+    // One section twice the data's extent: the data lies in one or two sections of any window
+    // whose camera is within a few extents of it (the window follows the camera).
+    const double want = 2.0 * extent;
     int levels = 1;
     while (levels < field.levels && static_cast<double>(field.section_cells) *
                                             std::ldexp(1.0, levels - 1) * field.cell_size <

@@ -3,7 +3,8 @@
 // and build/beamtrace_pushbroom_rays are this build's, examples/ and ../shared/data the real
 // ones, out/ empty), each block as one bash script under `set -euo pipefail`. A block preceded
 // by `<!-- docs-test: skip: REASON -->` is not run (the set-up itself, builds and installs).
-// Every `--output PATH` a block names must exist afterwards.
+// Every `--output PATH` a block names must exist afterwards, and every picture the docs show
+// (`](images/NAME.png)`) must be what the blocks made: out/images/NAME.png, byte for byte.
 #include <gtest/gtest.h>
 
 #include <fstream>
@@ -91,6 +92,30 @@ fs::path make_root(const test::TempDir& dir) {
     return repo;
 }
 
+/// Every picture docs/*.md shows equals the file of that name the blocks wrote to out/images.
+void expect_pictures_made_by_the_blocks(const fs::path& repo) {
+    const fs::path docs = fs::path(BEAMTRACE_SOURCE_DIR) / "docs";
+    const std::regex picture(R"(\]\(images/([A-Za-z0-9_.-]+\.png)\))");
+    std::size_t shown = 0;
+    for (const auto& e : fs::directory_iterator(docs)) {
+        if (e.path().extension() != ".md") {
+            continue;
+        }
+        const std::string text = test::read_file(e.path());
+        for (auto it = std::sregex_iterator(text.begin(), text.end(), picture);
+             it != std::sregex_iterator(); ++it, ++shown) {
+            const std::string name = (*it)[1].str();
+            SCOPED_TRACE(e.path().filename().string() + ": images/" + name);
+            const fs::path made = repo / "out" / "images" / name;
+            ASSERT_TRUE(fs::exists(made)) << "no command in the docs makes it";
+            EXPECT_TRUE(test::read_file(made) == test::read_file(docs / "images" / name))
+                << "docs/images/" << name << " is not what the commands make now (copy "
+                << "out/images/" << name << " there)";
+        }
+    }
+    EXPECT_GE(shown, 4u);  // the tutorial's
+}
+
 TEST(DocsCommands, EveryShellBlockOfTheReadmeAndDocsRunsAsWritten) {
     if (!fs::exists(BEAMTRACE_SHARED_DATA_DIR)) {
         BEAMTRACE_SKIP_OR_FAIL("../shared/data is missing: " BEAMTRACE_SHARED_DATA_DIR);
@@ -114,6 +139,7 @@ TEST(DocsCommands, EveryShellBlockOfTheReadmeAndDocsRunsAsWritten) {
             EXPECT_TRUE(fs::exists(repo / promised)) << promised << " was not written";
         }
     }
+    expect_pictures_made_by_the_blocks(repo);
 }
 
 }  // namespace

@@ -55,9 +55,9 @@ inline constexpr double kAutoCellSpacings = 1.5;
 [[nodiscard]] double auto_cell_size(const LasSourceSet& sources);
 
 /// With an automatic cell size: the fewest quadtree levels (at most field.levels) whose sections
-/// are at least 2 x the files' extent / field.sections, so that the data fits in half the
-/// window. Small files get small sections (less memory, less empty space); large ones keep
-/// field.levels.
+/// are at least twice the files' extent, so that the window around a camera near the data
+/// holds all of it. Small files get small sections (less memory, less empty space); large ones
+/// keep field.levels.
 [[nodiscard]] int auto_levels(const LasSourceSet& sources, const HeightFieldConfig& field);
 
 }  // namespace beamtrace
