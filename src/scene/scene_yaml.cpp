@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "beamtrace/core/error.hpp"
+#include "beamtrace/physics/material_library.hpp"
 #include "beamtrace/scene/scene_spec.hpp"
 #include "text/quote.hpp"
 #include "text/yaml_checker.hpp"
@@ -307,6 +308,10 @@ void parse_material(Checker& c, const YAML::Node& n, std::size_t index, SceneSpe
     if (const auto lib = n["library"]) {
         if (!lib.IsScalar() || lib.Scalar().empty()) {
             c.error(lib, key + ".library", "expected a material name (docs/physics.md)");
+        } else if (!library_material(lib.Scalar(), 905.0)) {
+            c.error(lib, key + ".library",
+                    "unknown library material " + detail::quote_value(lib.Scalar()) +
+                        " (known: " + material_library_names() + ")");
         } else {
             m.library = lib.Scalar();
         }
