@@ -35,6 +35,22 @@ struct LasSimplePoint {
     std::uint8_t user_data = 0;
 };
 
+/// Where the wave packets of formats 9 and 10 are (global encoding bit 1 or 2).
+enum class LasWaveformStorage : std::uint8_t {
+    none,      ///< formats 6-8
+    internal,  ///< the Waveform Data Packets EVLR of the LAS file (close_with_waveform_data)
+    external,  ///< a `.wdp` file beside it, written by the caller
+};
+
+/// A point's wave packet fields (formats 9, 10; see io/las_wave_packets.hpp).
+struct LasWavePacket {
+    std::uint8_t descriptor_index = 0;  ///< 0: no waveform
+    std::uint64_t offset = 0;           ///< from the start of the packet record's header
+    std::uint32_t size = 0;             ///< bytes
+    float location_ps = 0.0f;           ///< from the first sample to the point
+    float dx = 0.0f, dy = 0.0f, dz = 0.0f;
+};
+
 /// Point records encoded away from the writer (LasWriter::encode into a block, on any thread),
 /// appended in order by LasWriter::write_block: the bytes plus what the header needs of them.
 struct LasRecordBlock {
@@ -51,7 +67,10 @@ struct LasRecordBlock {
 /// millimetre coordinates around the origin (±2147 km); use las_config_for_extent() for data
 /// elsewhere.
 struct LasWriterConfig {
-    int point_format = 6;  ///< 6 (GPS time), 7 (+ RGB) or 8 (+ RGB + NIR)
+    /// 6 (GPS time), 7 (+ RGB), 8 (+ RGB + NIR), 9 (6 + wave packet) or 10 (8 + wave packet)
+    int point_format = 6;
+    /// Formats 9 and 10 need internal or external, and Wave Packet Descriptor VLRs in `vlrs`.
+    LasWaveformStorage waveform_storage = LasWaveformStorage::none;
     Vec3d scale{0.001, 0.001, 0.001};
     Vec3d offset{0.0, 0.0, 0.0};
     std::string system_identifier = "beamtrace";                       ///< <= 32 characters
@@ -112,10 +131,18 @@ class LasWriter {
     /// block) for a point the file cannot hold; the writer is unaffected.
     void encode(const LasPoint& point, LasRecordBlock& block) const;
     void encode(const LasSimplePoint& point, LasRecordBlock& block) const;
+    /// The same with the wave packet fields (formats 9, 10).
+    void encode(const LasSimplePoint& point, const LasWavePacket& packet,
+                LasRecordBlock& block) const;
+    /// Byte offset of the wave packet fields in a record (formats 9, 10).
+    [[nodiscard]] std::size_t wave_packet_field() const;
     /// Appends an encoded block (after any points given to write()).
     void write_block(const LasRecordBlock& block);
     /// Finalizes the header and commits the file. The writer accepts nothing afterwards.
     void close();
+    /// close() for waveform_storage internal: `packets` (a file of the packets, back to back) is
+    /// copied into the Waveform Data Packets EVLR, the first EVLR, right after the points.
+    void close_with_waveform_data(const std::filesystem::path& packets);
 
     /// Points accepted so far.
     [[nodiscard]] std::uint64_t point_count() const { return header_.point_count + chunk_points_; }
@@ -135,6 +162,7 @@ class LasWriter {
     template <class Point>
     void encode_into(const Point& p, LasRecordBlock& block) const;
     void flush_chunk();
+    void write_waveform_evlr();
     [[nodiscard]] std::array<std::uint8_t, 375> encode_header() const;
     [[noreturn]] void fail(const std::string& what);
 
@@ -148,6 +176,7 @@ class LasWriter {
     std::size_t chunk_points_ = 0;
     std::int32_t lo_[3] = {0, 0, 0};  ///< integer bounds of the points written so far
     std::int32_t hi_[3] = {0, 0, 0};
+    std::filesystem::path waveform_data_;  ///< close_with_waveform_data's packets
     bool failed_ = false;
     bool closed_ = false;
 };

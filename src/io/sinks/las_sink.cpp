@@ -6,6 +6,7 @@
 #include "beamtrace/io/las_crs.hpp"
 #include "beamtrace/io/las_writer.hpp"
 #include "beamtrace/io/point_sink.hpp"
+#include "io/sinks/wave_packet_stream.hpp"
 
 namespace beamtrace {
 
@@ -15,11 +16,25 @@ namespace {
 constexpr std::size_t kMaxProvenance = 60000;
 
 struct LasBuffer final : SinkBuffer {
-    LasRecordBlock block;
-    void clear() override { block.clear(); }
+    /// Mutable: write() completes the wave packet offsets, which only it knows.
+    mutable LasRecordBlock block;
+    std::string packets;  ///< the block's wave packets (formats 9, 10)
+    void clear() override {
+        block.clear();
+        packets.clear();
+    }
 };
 
-LasWriterConfig las_config(const SinkFacts& facts) {
+/// The wave packets of formats 9 and 10 (none for the others).
+std::unique_ptr<detail::WavePacketStream> wave_packets(const SinkFacts& facts) {
+    if (!facts.waveform || !las_format_has_wave_packet(facts.las_point_format)) {
+        return nullptr;
+    }
+    return std::make_unique<detail::WavePacketStream>(facts.output_dir / "points.las",
+                                                      *facts.waveform);
+}
+
+LasWriterConfig las_config(const SinkFacts& facts, const detail::WavePacketStream* waves) {
     LasWriterConfig las = las_config_for_extent(facts.lo_m, facts.hi_m, 0.001);
     las.point_format = facts.las_point_format;
     if (!facts.crs_wkt.empty()) {
@@ -34,14 +49,21 @@ LasWriterConfig las_config(const SinkFacts& facts) {
                     record.begin() + static_cast<std::ptrdiff_t>(
                                          std::min<std::size_t>(record.size(), kMaxProvenance)));
     las.vlrs.push_back(std::move(vlr));
+    if (waves != nullptr) {
+        las.waveform_storage = facts.waveform->storage;
+        for (auto& d : waves->vlrs()) {
+            las.vlrs.push_back(std::move(d));
+        }
+    }
     return las;
 }
 
 class LasSink final : public PointSink {
   public:
     explicit LasSink(const SinkFacts& facts)
-        : writer_(std::make_unique<LasWriter>(facts.output_dir / "points.las", las_config(facts))) {
-    }
+        : waves_(wave_packets(facts)),
+          writer_(std::make_unique<LasWriter>(facts.output_dir / "points.las",
+                                              las_config(facts, waves_.get()))) {}
 
     [[nodiscard]] std::unique_ptr<SinkBuffer> make_buffer() const override {
         return std::make_unique<LasBuffer>();
@@ -53,20 +75,35 @@ class LasSink final : public PointSink {
         if (las.bytes.size() < most) {
             las.bytes.resize(most);
         }
+        if (waves_) {
+            waves_->encode(block, *writer_, las, static_cast<LasBuffer&>(out).packets);
+            return;
+        }
         for (const BlockPoint& p : block.points) {
             writer_->encode(static_cast<const LasSimplePoint&>(p), las);
         }
     }
     void write(const SinkBuffer& encoded) override {
-        writer_->write_block(static_cast<const LasBuffer&>(encoded).block);
+        const auto& buffer = static_cast<const LasBuffer&>(encoded);
+        if (waves_) {
+            waves_->write(*writer_, buffer.block, buffer.packets);
+        }
+        writer_->write_block(buffer.block);
     }
     std::vector<std::filesystem::path> commit() override {
+        if (waves_) {
+            return waves_->commit(*writer_);
+        }
         writer_->close();
         return {writer_->path()};
     }
-    void abort() noexcept override { writer_.reset(); }
+    void abort() noexcept override {
+        writer_.reset();
+        waves_.reset();
+    }
 
   private:
+    std::unique_ptr<detail::WavePacketStream> waves_;
     std::unique_ptr<LasWriter> writer_;
 };
 
