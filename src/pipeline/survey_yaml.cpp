@@ -202,8 +202,9 @@ void parse_output(YamlChecker& c, const YAML::Node& o, SurveySpec& s) {
 /// formats 9 and 10 need it, and whole picoseconds per bin (the descriptor's spacing).
 void resolve_point_format(YamlChecker& c, const YAML::Node& root, SurveySpec& s) {
     const bool keep = s.physics && s.physics->keep_waveform;
-    const YAML::Node at =
-        root["output"] && root["output"]["point_format"] ? root["output"]["point_format"] : root;
+    const YAML::Node at = root["output"] && root["output"].IsMap() && root["output"]["point_format"]
+                              ? root["output"]["point_format"]
+                              : root;
     if (!keep) {
         if (las_format_has_wave_packet(s.point_format)) {
             c.error(at, "output.point_format",

@@ -54,8 +54,9 @@ TEST(SurveySinks, EveryOutputIsListedInRegistryOrderAndIdenticalAtAnyThreadCount
     for (const auto& f : one.outputs) {
         names.push_back(f.filename().string());
     }
-    EXPECT_EQ(names, (std::vector<std::string>{"points.las", "waveforms.bin", "points.csv",
-                                               "points.ply", "trajectory.csv", "points.pcd"}));
+    EXPECT_EQ(names,
+              (std::vector<std::string>{"points.las", "points.wdp", "waveforms.bin", "points.csv",
+                                        "points.ply", "trajectory.csv", "points.pcd"}));
     EXPECT_EQ(files_in(dir / "one"), std::set<std::string>(names.begin(), names.end()));
     ASSERT_EQ(two.outputs.size(), one.outputs.size());
     for (const std::string& n : names) {
@@ -81,7 +82,7 @@ TEST(SurveySinks, OutputKeysComeFromTheRegistry) {
         const std::string what = e.what();
         EXPECT_NE(what.find("output.pcd: expected true or false"), std::string::npos) << what;
         EXPECT_NE(what.find("output.laz: unknown key (expected one of: point_format, "
-                            "trajectory_rate_hz, csv, ply, pcd)"),
+                            "trajectory_rate_hz, wave_packets, csv, ply, pcd)"),
                   std::string::npos)
             << what;
     }
