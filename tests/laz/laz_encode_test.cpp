@@ -225,7 +225,9 @@ void fill_point14(std::uint8_t* r, std::mt19937& rng, std::array<SyntheticChanne
     r[16] = static_cast<std::uint8_t>(s.constant_attributes ? 2
                                       : uniform(0, 5) == 0  ? uniform(0, 255)
                                                             : 2);
-    r[17] = static_cast<std::uint8_t>(s.constant_attributes ? 9 : uniform(0, 255));
+    // User data: a few values mostly (adaptive models only adapt after ~130 symbols).
+    const int user = uniform(0, 9) == 0 ? uniform(0, 255) : 4 * uniform(0, 3);
+    r[17] = static_cast<std::uint8_t>(s.constant_attributes ? 9 : user);
     put(r + 18, static_cast<std::int16_t>(
                     s.constant_attributes ? -5 : uniform(-30000, 30000) / (1 + uniform(0, 1000))));
     put(r + 20, static_cast<std::uint16_t>(s.constant_attributes ? 17
