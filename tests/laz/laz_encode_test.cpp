@@ -55,7 +55,7 @@ TEST(LazEncode, LayeredChunksAreLaszipsBytes) {
     BEAMTRACE_REQUIRE_FILE(beamtrace::test::shared_data("las/laz"));
     // Every chunk of every layered sample: format 6 (LAStools 3.4r3; LASzip 2.2 with an EVLR),
     // 8 with BYTE14 (LASzip 2.2; 3.4r3, 14 chunks, 0.7 M points), COPC (variable chunks: format
-    // 6, and 7 with RGB14), 10 with WAVEPACKET14 (3.4r4). (Their points are of one scanner
+    // 6, and 7 with RGB14), 10 with WAVEPACKET14 (3.4r4). (Those with a LAS twin hold one scanner
     // channel: the synthetic round trips below switch channels.)
     EXPECT_EQ(reencode_chunks("las/laz/las14_prf6.laz", 10), 1u);
     EXPECT_EQ(reencode_chunks("las/laz/1_4_w_evlr.laz", 10), 1u);
