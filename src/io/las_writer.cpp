@@ -13,6 +13,7 @@
 #include "beamtrace/core/error.hpp"
 #include "beamtrace/io/las_crs.hpp"
 #include "io/detail/direct_sink.hpp"
+#include "io/detail/laz_chunk_writer.hpp"
 
 namespace beamtrace {
 
@@ -110,6 +111,11 @@ std::vector<std::string> LasWriterConfig::validate() const {
         if (!std::isfinite(offset[k])) {
             problems.push_back("offset." + axis + ": " + number(offset[k]) + " must be finite");
         }
+    }
+    if (compression == LasCompression::laz &&
+        (laz_chunk_size == 0 || laz_chunk_size == 0xFFFFFFFFU)) {
+        problems.push_back("laz_chunk_size: " + std::to_string(laz_chunk_size) +
+                           " (expected 1 to 4294967294 points)");
     }
     if (system_identifier.size() > 32) {
         problems.push_back("system_identifier: '" + system_identifier + "' is longer than 32");
@@ -238,23 +244,31 @@ LasWriter::LasWriter(std::filesystem::path path, LasWriterConfig config)
         steps_per_unit_[k] = 1.0 / h.scale[k];
     }
     h.offset = config_.offset;
+    if (config_.compression == LasCompression::laz) {
+        open_laz();
+    }
 
     file_ = std::make_unique<AtomicFile>(path_);
     sink_ = std::make_unique<detail::DirectSink>(file_->temp_path(), path_);
     const auto header = encode_header();  // a placeholder until close() knows the counts and bounds
     sink_->append(header.data(), header.size());
-    std::vector<std::uint8_t> b(kVlrHeaderBytes);
-    for (const auto& v : config_.vlrs) {
-        if (v.extended) {
-            continue;
-        }
-        std::fill(b.begin(), b.end(), std::uint8_t{0});
-        store_text(b.data() + 2, v.user_id, 16);
-        store<std::uint16_t>(b.data() + 18, v.record_id);
-        store<std::uint16_t>(b.data() + 20, static_cast<std::uint16_t>(v.data.size()));
-        store_text(b.data() + 22, v.description, 32);
-        sink_->append(b.data(), b.size());
+    const auto write_vlr = [this](const LasVlr& v) {
+        std::uint8_t b[kVlrHeaderBytes] = {};
+        store_text(b + 2, v.user_id, 16);
+        store<std::uint16_t>(b + 18, v.record_id);
+        store<std::uint16_t>(b + 20, static_cast<std::uint16_t>(v.data.size()));
+        store_text(b + 22, v.description, 32);
+        sink_->append(b, sizeof b);
         sink_->append(v.data.data(), v.data.size());
+    };
+    for (const auto& v : config_.vlrs) {
+        if (!v.extended) {
+            write_vlr(v);
+        }
+    }
+    if (laz_vlr_) {
+        write_vlr(*laz_vlr_);
+        start_laz_points();
     }
     chunk_.resize(kChunkPoints * h.point_record_length);
 }
@@ -285,7 +299,7 @@ std::array<std::uint8_t, 375> LasWriter::encode_header() const {
     store<std::uint16_t>(b + 94, h.header_size);
     store<std::uint32_t>(b + 96, h.offset_to_point_data);
     store<std::uint32_t>(b + 100, h.number_of_vlrs);
-    b[104] = static_cast<std::uint8_t>(h.point_format);
+    b[104] = static_cast<std::uint8_t>(h.point_format | (laz_vlr_ ? 0x80 : 0));
     store<std::uint16_t>(b + 105, h.point_record_length);
     // 107-130: legacy point counts stay 0 for formats 6-10.
     for (std::size_t k = 0; k < 3; ++k) {
@@ -465,7 +479,7 @@ void LasWriter::write_block(const LasRecordBlock& block) {
         header_.points_by_return[i] += block.by_return[i];
     }
     try {
-        sink_->append(block.bytes.data(), block.count * std::size_t{header_.point_record_length});
+        append_records(block.bytes.data(), block.count);
     } catch (...) {
         failed_ = true;
         file_.reset();
@@ -475,7 +489,7 @@ void LasWriter::write_block(const LasRecordBlock& block) {
 }
 
 void LasWriter::flush_chunk() {
-    sink_->append(chunk_.data(), chunk_points_ * header_.point_record_length);
+    append_records(chunk_.data(), chunk_points_);
     header_.point_count += chunk_points_;
     chunk_points_ = 0;
 }
@@ -501,15 +515,14 @@ void LasWriter::close() {
     }
     try {
         flush_chunk();
-        sink_->finish(file_->stream());  // the stream continues at the end of the points
+        // The stream continues at the end of the points.
+        const std::uint64_t points_end = finish_points();
         sink_.reset();
         LasHeader& h = header_;
         for (std::size_t k = 0; k < 3; ++k) {
             h.min[k] = h.point_count == 0 ? 0.0 : lo_[k] * h.scale[k] + h.offset[k];
             h.max[k] = h.point_count == 0 ? 0.0 : hi_[k] * h.scale[k] + h.offset[k];
         }
-        const std::uint64_t points_end =
-            h.offset_to_point_data + h.point_count * std::uint64_t{h.point_record_length};
         h.start_of_first_evlr = h.number_of_evlrs > 0 ? points_end : 0;
         if (config_.waveform_storage == LasWaveformStorage::internal) {
             h.start_of_waveform_data = points_end;
@@ -528,6 +541,7 @@ void LasWriter::close() {
             file_->write(b, sizeof b);
             file_->write(v.data.data(), v.data.size());
         }
+        write_laz_table_offset();
         if (::fseeko(file_->stream(), 0, SEEK_SET) != 0) {
             fail("cannot seek back to the header");
         }

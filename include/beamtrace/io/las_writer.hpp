@@ -1,4 +1,4 @@
-// Streaming writer for LAS 1.4 files with point data record formats 6, 7 and 8.
+// Streaming writer for LAS 1.4 files with point data record formats 6-10, plain or LAZ.
 #pragma once
 
 #include <array>
@@ -19,7 +19,8 @@ namespace beamtrace {
 class AtomicFile;
 namespace detail {
 class DirectSink;
-}
+class LazChunkWriter;
+}  // namespace detail
 
 /// The fields of a point as a simulator makes it; the record's other fields (flags, colours,
 /// NIR, extra bytes) are zero. Cheaper to fill and encode than a LasPoint.
@@ -49,6 +50,12 @@ struct LasWavePacket {
     std::uint32_t size = 0;             ///< bytes
     float location_ps = 0.0f;           ///< from the first sample to the point
     float dx = 0.0f, dy = 0.0f, dz = 0.0f;
+};
+
+/// How LasWriter stores the point records.
+enum class LasCompression : std::uint8_t {
+    none,  ///< plain LAS
+    laz,   ///< LASzip-compressed (LAZ): the format byte's bit 7, the LASzip VLR, chunks
 };
 
 /// Point records encoded away from the writer (LasWriter::encode into a block, on any thread),
@@ -87,6 +94,14 @@ struct LasWriterConfig {
     /// Bytes appended to every record; each point's extra_bytes must have exactly this size.
     /// Describe them with an Extra Bytes VLR (LASF_Spec / 4) in `vlrs`.
     std::uint16_t extra_bytes_per_point = 0;
+    /// laz: LASzip-compressed records (a .laz file, read back by LasReader and LASzip); the
+    /// header's counts and bounds are those of the points, as for none.
+    LasCompression compression = LasCompression::none;
+    /// laz: points per chunk (the last chunk may be shorter), 1 to 4294967294.
+    std::uint32_t laz_chunk_size = 50000;
+    /// laz: chunks encoded at once (0: one per hardware thread); the file is the same for any
+    /// value, and the writer holds at most `threads` chunks of records.
+    unsigned threads = 0;
 
     /// Every problem with these settings (empty when they are usable).
     [[nodiscard]] std::vector<std::string> validate() const;
@@ -163,6 +178,14 @@ class LasWriter {
     void encode_into(const Point& p, LasRecordBlock& block) const;
     void flush_chunk();
     void write_waveform_evlr();
+    // compression laz (src/io/las_writer_laz.cpp); the plain path where there is no laz_.
+    void open_laz();
+    void start_laz_points();
+    void append_records(const std::uint8_t* records, std::size_t count);
+    /// Writes what is left of the points (laz: the last chunks and the table); returns where
+    /// the point data ends.
+    [[nodiscard]] std::uint64_t finish_points();
+    void write_laz_table_offset();
     [[nodiscard]] std::array<std::uint8_t, 375> encode_header() const;
     [[noreturn]] void fail(const std::string& what);
 
@@ -176,7 +199,9 @@ class LasWriter {
     std::size_t chunk_points_ = 0;
     std::int32_t lo_[3] = {0, 0, 0};  ///< integer bounds of the points written so far
     std::int32_t hi_[3] = {0, 0, 0};
-    std::filesystem::path waveform_data_;  ///< close_with_waveform_data's packets
+    std::filesystem::path waveform_data_;          ///< close_with_waveform_data's packets
+    std::unique_ptr<LasVlr> laz_vlr_;              ///< compression laz: the LASzip VLR
+    std::unique_ptr<detail::LazChunkWriter> laz_;  ///< compression laz: the chunks
     bool failed_ = false;
     bool closed_ = false;
 };
