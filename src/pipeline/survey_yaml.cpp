@@ -223,6 +223,18 @@ void resolve_point_format(YamlChecker& c, const YAML::Node& root, SurveySpec& s)
     }
 }
 
+/// points.laz holds no wave packets (LAZ formats 9 and 10 are not written): `laz: true` with
+/// physics.waveform.keep is refused.
+void check_laz(YamlChecker& c, const YAML::Node& root, const SurveySpec& s) {
+    const bool laz = std::find(s.outputs.begin(), s.outputs.end(), "laz") != s.outputs.end();
+    if (laz && las_format_has_wave_packet(s.point_format)) {
+        c.error(root["output"]["laz"], "output.laz",
+                "not with physics.waveform.keep: true (the wave packets of point format " +
+                    std::to_string(s.point_format) +
+                    " are written to points.las only; set laz: false)");
+    }
+}
+
 }  // namespace
 
 SurveySpec parse_survey_spec(const std::string& yaml_text, const std::filesystem::path& source) {
@@ -258,6 +270,7 @@ SurveySpec parse_survey_spec(const std::string& yaml_text, const std::filesystem
         detail::parse_physics_block(c, ph, *s.physics);
     }
     resolve_point_format(c, root, s);
+    check_laz(c, root, s);
     c.throw_if_any("survey file");
     return s;
 }

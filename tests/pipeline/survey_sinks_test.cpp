@@ -74,15 +74,15 @@ TEST(SurveySinks, OutputKeysComeFromTheRegistry) {
         (void)parse_survey_spec(head + "output: {pcd: false, ply: true}\n", dir / "s.yaml"));
     const SurveySpec spec =
         parse_survey_spec(head + "output: {pcd: true, csv: true}\n", dir / "s.yaml");
-    EXPECT_EQ(spec.outputs, (std::vector<std::string>{"csv", "pcd"}));
+    EXPECT_EQ(spec.outputs, (std::vector<std::string>{"las", "csv", "pcd"}));
     try {
-        (void)parse_survey_spec(head + "output: {pcd: 3, laz: true}\n", dir / "s.yaml");
+        (void)parse_survey_spec(head + "output: {pcd: 3, lazz: true}\n", dir / "s.yaml");
         FAIL() << "no error";
     } catch (const ConfigError& e) {
         const std::string what = e.what();
         EXPECT_NE(what.find("output.pcd: expected true or false"), std::string::npos) << what;
-        EXPECT_NE(what.find("output.laz: unknown key (expected one of: point_format, "
-                            "trajectory_rate_hz, wave_packets, csv, ply, pcd)"),
+        EXPECT_NE(what.find("output.lazz: unknown key (expected one of: point_format, "
+                            "trajectory_rate_hz, wave_packets, las, laz, csv, ply, pcd)"),
                   std::string::npos)
             << what;
     }

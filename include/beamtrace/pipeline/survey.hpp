@@ -46,9 +46,10 @@ struct SurveySpec {
     /// Where format 9/10 wave packets go (output.wave_packets): points.wdp or an EVLR.
     LasWaveformStorage wave_packets = LasWaveformStorage::external;
     /// The switchable outputs turned on by `output: {<key>: true}`: names of point sinks of the
-    /// registry (io/point_sink_registry.hpp), e.g. "ply", "csv", "pcd". points.las is always
-    /// written; waveforms, images and the trajectory whenever the survey calls for them.
-    std::vector<std::string> outputs;
+    /// registry (io/point_sink_registry.hpp), e.g. "ply", "csv", "pcd", "laz" (points.laz). Only
+    /// "las" (points.las) is on by default (`las: false` turns it off); waveforms, images and the
+    /// trajectory are written whenever the survey calls for them.
+    std::vector<std::string> outputs{"las"};
     double trajectory_rate_hz = 10.0;  ///< samples per second in trajectory.csv (0: none)
     std::string text;                  ///< the file's text (recorded in the LAS VLR)
     /// The `physics:` block (docs/physics.md); nullopt: ideal single rays, no intensity/noise.

@@ -1,8 +1,9 @@
 // points.las: LAS 1.4 (formats 6-8), coordinates quantised to 1 mm around the scene, the
 // scene's CRS in an OGC WKT VLR when it has one, the provenance (version, seed, survey file) in a
-// VLR. Records are encoded on the pool threads.
+// VLR. Records are encoded on the pool threads. points.laz: the same file, LASzip-compressed.
 #include <algorithm>
 
+#include "beamtrace/core/error.hpp"
 #include "beamtrace/io/las_crs.hpp"
 #include "beamtrace/io/las_writer.hpp"
 #include "beamtrace/io/point_sink.hpp"
@@ -34,8 +35,10 @@ std::unique_ptr<detail::WavePacketStream> wave_packets(const SinkFacts& facts) {
                                                       *facts.waveform);
 }
 
-LasWriterConfig las_config(const SinkFacts& facts, const detail::WavePacketStream* waves) {
+LasWriterConfig las_config(const SinkFacts& facts, const detail::WavePacketStream* waves,
+                           LasCompression compression) {
     LasWriterConfig las = las_config_for_extent(facts.lo_m, facts.hi_m, 0.001);
+    las.compression = compression;
     las.point_format = facts.las_point_format;
     if (!facts.crs_wkt.empty()) {
         las.vlrs.push_back(las_wkt_vlr(facts.crs_wkt));
@@ -62,8 +65,13 @@ class LasSink final : public PointSink {
   public:
     explicit LasSink(const SinkFacts& facts)
         : waves_(wave_packets(facts)),
-          writer_(std::make_unique<LasWriter>(facts.output_dir / "points.las",
-                                              las_config(facts, waves_.get()))) {}
+          writer_(
+              std::make_unique<LasWriter>(facts.output_dir / "points.las",
+                                          las_config(facts, waves_.get(), LasCompression::none))) {}
+    /// points.laz: no wave packets (the survey refuses `laz` with kept waveforms).
+    LasSink(const SinkFacts& facts, LasCompression compression)
+        : writer_(std::make_unique<LasWriter>(facts.output_dir / "points.laz",
+                                              las_config(facts, nullptr, compression))) {}
 
     [[nodiscard]] std::unique_ptr<SinkBuffer> make_buffer() const override {
         return std::make_unique<LasBuffer>();
@@ -111,6 +119,14 @@ class LasSink final : public PointSink {
 
 std::unique_ptr<PointSink> make_las_sink(const SinkFacts& facts) {
     return std::make_unique<LasSink>(facts);
+}
+
+std::unique_ptr<PointSink> make_laz_sink(const SinkFacts& facts) {
+    if (las_format_has_wave_packet(facts.las_point_format)) {
+        throw ConfigError("points.laz: point format " + std::to_string(facts.las_point_format) +
+                          " (wave packets) is written as points.las only; turn output.laz off");
+    }
+    return std::make_unique<LasSink>(facts, LasCompression::laz);
 }
 
 }  // namespace beamtrace
