@@ -118,6 +118,9 @@ std::function<int()> add_scan_command(CLI::App& app) {
         "--exclude-faces",
         [&job](const std::string& s) { job.exclude_faces = parse_face_ranges(s); },
         "Face IDs to leave out of points.ply, e.g. 5804-5805,12");
+    cmd->add_flag("--laz", job.laz,
+                  "Also write points.laz: the points of points.ply as LAS 1.4 (format 6), "
+                  "LASzip-compressed");
     cmd->add_flag("--quiet", cmd_state->quiet, "No progress bar and no summary");
     cmd->add_flag("--progress", cmd_state->progress,
                   "Show the progress bar even when not on a terminal");

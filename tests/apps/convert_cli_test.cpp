@@ -5,7 +5,9 @@
 
 #include <filesystem>
 #include <string>
+#include <vector>
 
+#include "beamtrace/io/las_reader.hpp"
 #include "test_support.hpp"
 
 namespace beamtrace {
@@ -65,6 +67,32 @@ TEST(ConvertCli, ErrorsExit2AndWriteNothing) {
         EXPECT_TRUE(has(r.out, c.expected)) << r.out;
     }
     EXPECT_EQ(test::entry_count(dir.path()), 1u);  // the garbage input only
+}
+
+}  // namespace
+}  // namespace beamtrace
+
+namespace beamtrace {
+namespace {
+
+// `beamtrace scan --laz`: points.laz holds the points of points.ply.
+TEST(ScanLazCli, PointsLazHoldsThePointsOfPointsPly) {
+    test::TempDir dir;
+    const auto r = test::run_command(std::string(BEAMTRACE_CLI_PATH) +
+                                     " scan --demo --laz --quiet --threads 2 --output '" +
+                                     (dir / "out").string() + "'");
+    ASSERT_EQ(r.exit_code, 0) << r.out;
+    const std::string ply = test::read_file(dir / "out" / "points.ply");
+    const auto at = ply.find("element vertex ");
+    ASSERT_NE(at, std::string::npos);
+    const std::uint64_t vertices = std::stoull(ply.substr(at + 15));
+    LasReader laz(dir / "out" / "points.laz");
+    EXPECT_TRUE(laz.compressed());
+    EXPECT_EQ(laz.header().point_count, vertices);
+    EXPECT_EQ(laz.header().points_by_return[0], vertices);
+    std::vector<LasPoint> first(1);
+    ASSERT_EQ(laz.read(first), 1u);
+    EXPECT_EQ(first[0].return_number, 1);
 }
 
 }  // namespace
