@@ -274,6 +274,41 @@ TEST(LasWriterLaz, VlrsAndEvlrsAreKept) {
     EXPECT_GT(r.header().start_of_first_evlr, chunks.back().offset + chunks.back().bytes);
 }
 
+TEST(LasWriterLaz, WavePacketFormatsReadBackAsTheirTwin) {
+    test::TempDir dir;
+    for (const int format : {9, 10}) {
+        SCOPED_TRACE(format);
+        auto points = sample_points(format, 0, 1500, 3, 1);
+        for (std::size_t i = 0; i < points.size(); ++i) {
+            LasPoint& p = points[i];
+            p.wave_descriptor_index = i % 10 == 0 ? 0 : 1;
+            p.wave_data_offset = 60 + 96 * i;
+            p.wave_packet_size = 96;
+            p.wave_return_location = 1000.0f + static_cast<float>(i % 17);
+            p.wave_dx = 0.001f * static_cast<float>(i % 3);
+            p.wave_dy = -0.5f;
+            p.wave_dz = -1.0f;
+        }
+        const auto config = [&](LasCompression c) {
+            LasWriterConfig w = config_for(format, 0, c, 700, 2);
+            w.waveform_storage = LasWaveformStorage::external;
+            LasVlr d;
+            d.user_id = "LASF_Spec";
+            d.record_id = 100;
+            d.description = "wave packet descriptor";
+            d.data.assign(26, 0);
+            d.data[0] = 16;
+            w.vlrs.push_back(d);
+            return w;
+        };
+        const fs::path las = write_file(dir / "w.las", config(LasCompression::none), points);
+        const fs::path laz = write_file(dir / "w.laz", config(LasCompression::laz), points);
+        EXPECT_EQ(raw_records(laz), raw_records(las));
+        EXPECT_EQ(read_all(laz, 2), read_all(las));
+        EXPECT_EQ(read_all(laz)[1].wave_data_offset, 60u + 96u);
+    }
+}
+
 TEST(LasWriterLaz, AnEmptyFileReads) {
     test::TempDir dir;
     LasWriterConfig c = config_for(6, 0, LasCompression::laz);
