@@ -124,6 +124,12 @@ struct LasWriterConfig {
 /// fields out of their range (return number > 15, scanner channel > 3, |scan angle| > 180 deg,
 /// extra bytes of the wrong size). After any exception the writer accepts nothing more.
 ///
+/// With `compression` laz the file is LAZ (LASzip): the format byte's bit 7, the LASzip VLR after
+/// the other VLRs, the chunks (encoded `threads` at a time, the same bytes for any count) and
+/// the chunk table before the EVLRs. LasReader reads it back; laz-perf and laz-rs decode the same
+/// records except colours and extra bytes of points from several scanner channels (they differ
+/// from LASzip's version 3 items there, see tests/io/las_writer_laz_test.cpp).
+///
 /// Legacy (32-bit) point counts are written as 0, as LAS 1.4 R15 requires for formats 6-10; the
 /// global encoding has the WKT bit set, which those formats also require (other formats: only
 /// when `vlrs` holds an OGC WKT record, LASF_Projection / 2112, see io/las_crs.hpp).
