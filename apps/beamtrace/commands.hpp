@@ -22,5 +22,7 @@ std::function<int()> add_view_command(CLI::App& app);
 std::function<int()> add_render_command(CLI::App& app);
 /// Registers `bench [SURVEYS...]`: throughput against raw Embree on the surveys' own rays.
 std::function<int()> add_bench_command(CLI::App& app);
+/// Registers `convert IN OUT`: LAS <-> LAZ by OUT's extension (see docs/convert.md).
+std::function<int()> add_convert_command(CLI::App& app);
 
 }  // namespace beamtrace::cli

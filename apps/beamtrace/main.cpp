@@ -34,6 +34,7 @@ int main(int argc, char** argv) {
     const auto run_view = beamtrace::cli::add_view_command(app);
     const auto run_render = beamtrace::cli::add_render_command(app);
     const auto run_bench = beamtrace::cli::add_bench_command(app);
+    const auto run_convert = beamtrace::cli::add_convert_command(app);
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {
@@ -68,6 +69,9 @@ int main(int argc, char** argv) {
         }
         if (app.got_subcommand("bench")) {
             return run_bench();
+        }
+        if (app.got_subcommand("convert")) {
+            return run_convert();
         }
     } catch (const beamtrace::Interrupted& e) {
         // SIGINT/SIGTERM (interrupt.hpp): the temporaries are gone; 130 or 143.

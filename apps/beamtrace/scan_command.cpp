@@ -155,6 +155,9 @@ std::function<int()> add_scan_command(CLI::App& app) {
         "Face IDs to leave out of points.ply, e.g. 5804-5805,12");
     cmd->add_flag("--allow-empty", cmd_state->allow_empty,
                   "Exit 0 even when no ray hits (else: the reasons, and exit 3)");
+    cmd->add_flag("--laz", job.laz,
+                  "Also write points.laz: the points of points.ply as LAS 1.4 (format 6), "
+                  "LASzip-compressed");
     cmd->add_flag("--quiet", cmd_state->quiet, "No progress bar and no summary");
     cmd->add_flag("--progress", cmd_state->progress,
                   "Show the progress bar even when not on a terminal");

@@ -13,6 +13,7 @@
 #include "beamtrace/core/error.hpp"
 #include "beamtrace/io/las_crs.hpp"
 #include "io/detail/direct_sink.hpp"
+#include "io/detail/laz_chunk_writer.hpp"
 
 namespace beamtrace {
 
@@ -29,6 +30,19 @@ constexpr std::size_t kEvlrHeaderBytes = 60;
 template <typename T>
 void store(std::uint8_t* p, T value) {
     std::memcpy(p, &value, sizeof(T));
+}
+
+constexpr std::size_t kWavePacketBytes = 29;
+
+/// The 29 bytes of a wave packet: index, offset, size, location, dx, dy, dz.
+void store_wave_packet(const LasWavePacket& w, std::uint8_t* r) {
+    r[0] = w.descriptor_index;
+    store<std::uint64_t>(r + 1, w.offset);
+    store<std::uint32_t>(r + 9, w.size);
+    store<float>(r + 13, w.location_ps);
+    store<float>(r + 17, w.dx);
+    store<float>(r + 21, w.dy);
+    store<float>(r + 25, w.dz);
 }
 
 /// Copies `text` into a fixed-size, NUL-padded character field (validate() checked the length).
@@ -56,14 +70,37 @@ void store_text(std::uint8_t* p, std::string_view text, std::size_t size) {
     return buf;
 }
 
+/// Formats 9 and 10 need a place for the packets and at least one descriptor VLR; the others
+/// have no packets.
+void wave_packet_problems(const LasWriterConfig& c, std::vector<std::string>& problems) {
+    const bool packets = las_format_has_wave_packet(c.point_format);
+    const bool stored = c.waveform_storage != LasWaveformStorage::none;
+    if (packets && !stored) {
+        problems.push_back("point_format " + std::to_string(c.point_format) +
+                           ": wave packets need waveform_storage internal or external");
+    }
+    if (!packets && stored) {
+        problems.push_back("waveform_storage: point_format " + std::to_string(c.point_format) +
+                           " has no wave packets");
+    }
+    const bool described = std::any_of(c.vlrs.begin(), c.vlrs.end(), [](const LasVlr& v) {
+        return !v.extended && v.user_id == "LASF_Spec" && v.record_id >= 100 && v.record_id <= 354;
+    });
+    if (packets && !described) {
+        problems.push_back("point_format " + std::to_string(c.point_format) +
+                           ": no Wave Packet Descriptor VLR (LASF_Spec / 100-354) in vlrs");
+    }
+}
+
 }  // namespace
 
 std::vector<std::string> LasWriterConfig::validate() const {
     std::vector<std::string> problems;
-    if (point_format < 6 || point_format > 8) {
+    if (point_format < 6 || point_format > 10) {
         problems.push_back("point_format: " + std::to_string(point_format) +
-                           " is not supported (expected 6, 7 or 8)");
+                           " is not supported (expected 6, 7, 8, 9 or 10)");
     }
+    wave_packet_problems(*this, problems);
     for (std::size_t k = 0; k < 3; ++k) {
         const std::string axis(1, "xyz"[k]);
         if (!std::isfinite(scale[k]) || scale[k] <= 0.0) {
@@ -73,6 +110,11 @@ std::vector<std::string> LasWriterConfig::validate() const {
         if (!std::isfinite(offset[k])) {
             problems.push_back("offset." + axis + ": " + number(offset[k]) + " must be finite");
         }
+    }
+    if (compression == LasCompression::laz &&
+        (laz_chunk_size == 0 || laz_chunk_size == 0xFFFFFFFFU)) {
+        problems.push_back("laz_chunk_size: " + std::to_string(laz_chunk_size) +
+                           " (expected 1 to 4294967294 points)");
     }
     if (system_identifier.size() > 32) {
         problems.push_back("system_identifier: '" + system_identifier + "' is longer than 32");
@@ -162,6 +204,12 @@ LasWriter::LasWriter(std::filesystem::path path, LasWriterConfig config)
     if (config_.gps_time_is_standard) {
         h.global_encoding |= kLasGlobalEncodingStandardGpsTime;
     }
+    if (config_.waveform_storage == LasWaveformStorage::internal) {
+        h.global_encoding |= kLasGlobalEncodingInternalWaveform;
+        ++h.number_of_evlrs;  // the Waveform Data Packets record, written by close()
+    } else if (config_.waveform_storage == LasWaveformStorage::external) {
+        h.global_encoding |= kLasGlobalEncodingExternalWaveform;
+    }
     h.system_identifier = config_.system_identifier;
     h.generating_software = config_.generating_software;
     h.creation_day_of_year = config_.creation_day_of_year;
@@ -195,23 +243,31 @@ LasWriter::LasWriter(std::filesystem::path path, LasWriterConfig config)
         steps_per_unit_[k] = 1.0 / h.scale[k];
     }
     h.offset = config_.offset;
+    if (config_.compression == LasCompression::laz) {
+        open_laz();
+    }
 
     file_ = std::make_unique<AtomicFile>(path_);
     sink_ = std::make_unique<detail::DirectSink>(file_->temp_path(), path_);
     const auto header = encode_header();  // a placeholder until close() knows the counts and bounds
     sink_->append(header.data(), header.size());
-    std::vector<std::uint8_t> b(kVlrHeaderBytes);
-    for (const auto& v : config_.vlrs) {
-        if (v.extended) {
-            continue;
-        }
-        std::fill(b.begin(), b.end(), std::uint8_t{0});
-        store_text(b.data() + 2, v.user_id, 16);
-        store<std::uint16_t>(b.data() + 18, v.record_id);
-        store<std::uint16_t>(b.data() + 20, static_cast<std::uint16_t>(v.data.size()));
-        store_text(b.data() + 22, v.description, 32);
-        sink_->append(b.data(), b.size());
+    const auto write_vlr = [this](const LasVlr& v) {
+        std::uint8_t b[kVlrHeaderBytes] = {};
+        store_text(b + 2, v.user_id, 16);
+        store<std::uint16_t>(b + 18, v.record_id);
+        store<std::uint16_t>(b + 20, static_cast<std::uint16_t>(v.data.size()));
+        store_text(b + 22, v.description, 32);
+        sink_->append(b, sizeof b);
         sink_->append(v.data.data(), v.data.size());
+    };
+    for (const auto& v : config_.vlrs) {
+        if (!v.extended) {
+            write_vlr(v);
+        }
+    }
+    if (laz_vlr_) {
+        write_vlr(*laz_vlr_);
+        start_laz_points();
     }
     chunk_.resize(kChunkPoints * h.point_record_length);
 }
@@ -242,7 +298,7 @@ std::array<std::uint8_t, 375> LasWriter::encode_header() const {
     store<std::uint16_t>(b + 94, h.header_size);
     store<std::uint32_t>(b + 96, h.offset_to_point_data);
     store<std::uint32_t>(b + 100, h.number_of_vlrs);
-    b[104] = static_cast<std::uint8_t>(h.point_format);
+    b[104] = static_cast<std::uint8_t>(h.point_format | (laz_vlr_ ? 0x80 : 0));
     store<std::uint16_t>(b + 105, h.point_record_length);
     // 107-130: legacy point counts stay 0 for formats 6-10.
     for (std::size_t k = 0; k < 3; ++k) {
@@ -327,15 +383,21 @@ void LasWriter::encode_record(const LasPoint& p, std::uint64_t index, std::uint8
                  p.return_number, p.number_of_returns, p.classification, p.user_data},
                 flags, index, r, q);
     std::size_t pos = 30;
-    if (header_.point_format >= 7) {
+    if (las_format_has_rgb(header_.point_format)) {
         store<std::uint16_t>(r + 30, p.red);
         store<std::uint16_t>(r + 32, p.green);
         store<std::uint16_t>(r + 34, p.blue);
         pos = 36;
     }
-    if (header_.point_format == 8) {
+    if (las_format_has_nir(header_.point_format)) {
         store<std::uint16_t>(r + 36, p.nir);
         pos = 38;
+    }
+    if (las_format_has_wave_packet(header_.point_format)) {
+        store_wave_packet({p.wave_descriptor_index, p.wave_data_offset, p.wave_packet_size,
+                           p.wave_return_location, p.wave_dx, p.wave_dy, p.wave_dz},
+                          r + pos);
+        pos += kWavePacketBytes;
     }
     if (!p.extra_bytes.empty()) {
         std::memcpy(r + pos, p.extra_bytes.data(), p.extra_bytes.size());
@@ -416,7 +478,7 @@ void LasWriter::write_block(const LasRecordBlock& block) {
         header_.points_by_return[i] += block.by_return[i];
     }
     try {
-        sink_->append(block.bytes.data(), block.count * std::size_t{header_.point_record_length});
+        append_records(block.bytes.data(), block.count);
     } catch (...) {
         failed_ = true;
         file_.reset();
@@ -426,7 +488,7 @@ void LasWriter::write_block(const LasRecordBlock& block) {
 }
 
 void LasWriter::flush_chunk() {
-    sink_->append(chunk_.data(), chunk_points_ * header_.point_record_length);
+    append_records(chunk_.data(), chunk_points_);
     header_.point_count += chunk_points_;
     chunk_points_ = 0;
 }
@@ -452,16 +514,19 @@ void LasWriter::close() {
     }
     try {
         flush_chunk();
-        sink_->finish(file_->stream());  // the stream continues at the end of the points
+        // The stream continues at the end of the points.
+        const std::uint64_t points_end = finish_points();
         sink_.reset();
         LasHeader& h = header_;
         for (std::size_t k = 0; k < 3; ++k) {
             h.min[k] = h.point_count == 0 ? 0.0 : lo_[k] * h.scale[k] + h.offset[k];
             h.max[k] = h.point_count == 0 ? 0.0 : hi_[k] * h.scale[k] + h.offset[k];
         }
-        const std::uint64_t points_end =
-            h.offset_to_point_data + h.point_count * std::uint64_t{h.point_record_length};
         h.start_of_first_evlr = h.number_of_evlrs > 0 ? points_end : 0;
+        if (config_.waveform_storage == LasWaveformStorage::internal) {
+            h.start_of_waveform_data = points_end;
+            write_waveform_evlr();
+        }
         std::uint8_t b[kEvlrHeaderBytes];
         for (const auto& v : config_.vlrs) {
             if (!v.extended) {
@@ -475,6 +540,7 @@ void LasWriter::close() {
             file_->write(b, sizeof b);
             file_->write(v.data.data(), v.data.size());
         }
+        write_laz_table_offset();
         if (::fseeko(file_->stream(), 0, SEEK_SET) != 0) {
             fail("cannot seek back to the header");
         }
@@ -486,6 +552,50 @@ void LasWriter::close() {
         failed_ = true;
         file_.reset();
         throw;
+    }
+}
+
+// Wave packets (formats 9, 10).
+
+std::size_t LasWriter::wave_packet_field() const {
+    return header_.point_format == 10 ? 38 : 30;
+}
+
+void LasWriter::encode(const LasSimplePoint& point, const LasWavePacket& packet,
+                       LasRecordBlock& block) const {
+    encode_into(point, block);
+    std::uint8_t* r = block.bytes.data() + (block.count - 1) * header_.point_record_length;
+    store_wave_packet(packet, r + wave_packet_field());
+}
+
+void LasWriter::close_with_waveform_data(const std::filesystem::path& packets) {
+    waveform_data_ = packets;
+    close();
+}
+
+void LasWriter::write_waveform_evlr() {
+    std::FILE* in = waveform_data_.empty() ? nullptr : std::fopen(waveform_data_.c_str(), "rb");
+    if (in == nullptr) {
+        fail("internal waveform data: cannot read the staged packets '" + waveform_data_.string() +
+             "' (close_with_waveform_data)");
+    }
+    std::error_code ec;
+    const std::uint64_t size = std::filesystem::file_size(waveform_data_, ec);
+    std::uint8_t b[kEvlrHeaderBytes] = {};
+    store_text(b + 2, "LASF_Spec", 16);
+    store<std::uint16_t>(b + 18, 65535);
+    store<std::uint64_t>(b + 20, ec ? 0 : size);
+    store_text(b + 28, "Waveform Data Packets", 32);
+    file_->write(b, sizeof b);
+    std::vector<std::uint8_t> buffer(std::size_t{1} << 20);
+    std::uint64_t copied = 0;
+    for (std::size_t n; (n = std::fread(buffer.data(), 1, buffer.size(), in)) > 0;) {
+        file_->write(buffer.data(), n);
+        copied += n;
+    }
+    std::fclose(in);
+    if (ec || copied != size) {
+        fail("internal waveform data: short read of the staged packets");
     }
 }
 

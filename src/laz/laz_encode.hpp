@@ -21,7 +21,10 @@ namespace beamtrace::laz {
 /// Appends one layered chunk (compressor 3) of the `point_count` records in `records`
 /// (point_count * record length bytes) to `out`: the point count, the layer sizes and the
 /// layers. The items must be POINT14, RGB14, RGBNIR14, BYTE14 or WAVEPACKET14 of version 3
-/// (std::invalid_argument otherwise). src/laz/layered_encode.cpp.
+/// (std::invalid_argument otherwise). src/laz/layered_encode.cpp. As in LASzip, a layer whose
+/// values never change within the chunk is written as 0 bytes (XY and Z always have bytes), and
+/// GPS times are compared as doubles: a time that equals the channel's last one as a double
+/// but not in its bits (-0.0 after 0.0) decodes as the last one's bits.
 void encode_layered_chunk(std::span<const Item> items, std::span<const std::uint8_t> records,
                           std::size_t point_count, std::vector<std::uint8_t>& out);
 
@@ -29,8 +32,9 @@ void encode_layered_chunk(std::span<const Item> items, std::span<const std::uint
 /// `record_length` bytes per record (the extra bytes become a BYTE/BYTE14 item): point-wise
 /// chunked (compressor 2, items of version 2, WAVEPACKET13 of version 1) for formats 0-5,
 /// layered (compressor 3, version 3) for 6-10; `chunk_size` points per chunk
-/// (kVariableChunkSize: variable). Throws std::invalid_argument for an impossible format or
-/// length.
+/// (kVariableChunkSize: variable). LASzip library version 3.4 r3, options 0, no special EVLRs
+/// (-1, -1). Throws std::invalid_argument for an impossible format or length.
+/// src/laz/laz_vlr_write.cpp.
 [[nodiscard]] LazVlr laz_vlr_for(int point_format, std::size_t record_length,
                                  std::uint32_t chunk_size);
 
@@ -39,7 +43,7 @@ void encode_layered_chunk(std::span<const Item> items, std::span<const std::uint
 
 /// The chunk table as LASzip writes it after the last chunk: version 0, the chunk count, then
 /// each chunk's point count (variable chunks only) and byte size, integer-compressed.
-/// read_chunk_table() reads it back.
+/// read_chunk_table() reads it back. src/laz/chunk_table_write.cpp.
 [[nodiscard]] std::vector<std::uint8_t> encode_chunk_table(std::span<const Chunk> chunks,
                                                            bool variable_chunks);
 

@@ -1,5 +1,6 @@
 #include "beamtrace/pipeline/scan_job.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <system_error>
@@ -57,6 +58,29 @@ void scan_points(const RayBatch& rays, const HitBatch& hits, std::size_t b, std:
     }
 }
 
+/// points.laz (ScanJobConfig::laz) of the hits kept for points.ply, around their bounds.
+std::unique_ptr<PointSink> scan_laz_sink(const ScanJobConfig& config, const RayBatch& rays,
+                                         const HitBatch& hits) {
+    SinkFacts facts;
+    facts.output_dir = config.output_dir;
+    facts.provenance = "# beamtrace " BEAMTRACE_VERSION " scan";
+    PointBlock block;
+    bool any = false;
+    for (std::size_t b = 0; b < rays.size(); b += kTraceChunk) {
+        scan_points(rays, hits, b, std::min(rays.size(), b + kTraceChunk), &config.exclude_faces,
+                    block);
+        for (const BlockPoint& p : block.points) {
+            const Vec3d v(p.x, p.y, p.z);
+            for (std::size_t k = 0; k < 3; ++k) {
+                facts.lo_m[k] = any ? std::min(facts.lo_m[k], v[k]) : v[k];
+                facts.hi_m[k] = any ? std::max(facts.hi_m[k], v[k]) : v[k];
+            }
+            any = true;
+        }
+    }
+    return point_sink("laz").make(facts);
+}
+
 /// Streams the scan's hits to points.ply (without the excluded faces) and, with an image grid,
 /// to the range images (every hit), checking config.cancel between chunks; then writes
 /// hits.csv and commits the sinks. Returns the files (hits.csv first) and the points written.
@@ -76,6 +100,8 @@ std::vector<std::filesystem::path> write_scan_outputs(const ScanJobConfig& confi
     const std::unique_ptr<PointSink> ply = point_sink("ply").make(facts);
     const std::unique_ptr<PointSink> images =
         facts.image ? point_sink("images").make(facts) : nullptr;
+    const std::unique_ptr<PointSink> laz = config.laz ? scan_laz_sink(config, rays, hits) : nullptr;
+    const auto las_buffer = laz ? laz->make_buffer() : nullptr;
     PointBlock block;
     const auto buffer = ply->make_buffer();
     const auto pixels = images ? images->make_buffer() : nullptr;
@@ -87,6 +113,14 @@ std::vector<std::filesystem::path> write_scan_outputs(const ScanJobConfig& confi
         buffer->clear();
         ply->encode(block, *buffer);
         ply->write(*buffer);
+        if (laz) {
+            for (BlockPoint& p : block.points) {
+                p.return_number = p.number_of_returns = 1;  // one return per ray
+            }
+            las_buffer->clear();
+            laz->encode(block, *las_buffer);
+            laz->write(*las_buffer);
+        }
         if (images) {
             scan_points(rays, hits, b, e, nullptr, block);
             pixels->clear();
@@ -106,6 +140,11 @@ std::vector<std::filesystem::path> write_scan_outputs(const ScanJobConfig& confi
             files.push_back(std::move(f));
         }
         notes = images->notes();
+    }
+    if (laz) {
+        for (auto& f : laz->commit()) {
+            files.push_back(std::move(f));
+        }
     }
     return files;
 }

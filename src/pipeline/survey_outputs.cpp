@@ -50,8 +50,10 @@ SinkFacts survey_sink_facts(const SurveySpec& spec, const SurveyRunConfig& run, 
     f.comment = "beamtrace survey " + spec.source.filename().string();
     f.image = pattern.image_grid();
     if (sim != nullptr && sim->config().keep_waveform) {
-        f.waveform =
-            WaveformFacts{sim->config().waveform.bin_ns, sim->config().waveform.pulse_fwhm_ns};
+        const PhysicsConfig& c = sim->config();
+        f.waveform = WaveformFacts{c.waveform.bin_ns, c.waveform.pulse_fwhm_ns,
+                                   c.radiometry.detection_threshold_w, c.radiometry.peak_power_w,
+                                   spec.wave_packets};
     }
     f.trajectory = survey_trajectory_samples(spec, pattern, trajectory, scene.origin_m, pulses);
     f.trajectory_rate_hz = spec.trajectory_rate_hz;

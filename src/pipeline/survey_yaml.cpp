@@ -1,5 +1,6 @@
 // Survey files in YAML (docs/survey.md): every problem is collected and reported at once.
 #include <algorithm>
+#include <cmath>
 #include <numbers>
 
 #include "beamtrace/io/point_sink_registry.hpp"
@@ -154,7 +155,7 @@ void parse_output(YamlChecker& c, const YAML::Node& o, SurveySpec& s) {
                 "expected a map (point_format, trajectory_rate_hz, a switch per sink)");
         return;
     }
-    std::vector<std::string> known{"point_format", "trajectory_rate_hz"};
+    std::vector<std::string> known{"point_format", "trajectory_rate_hz", "wave_packets"};
     for (const SinkEntry& e : point_sinks()) {
         if (!e.key.empty()) {
             known.emplace_back(e.key);
@@ -162,8 +163,23 @@ void parse_output(YamlChecker& c, const YAML::Node& o, SurveySpec& s) {
     }
     c.only_keys_of(o, "output", known);
     long pf = 0;
-    if (o["point_format"] && c.integer(o["point_format"], "output.point_format", 6, 8, pf)) {
+    if (o["point_format"] && c.integer(o["point_format"], "output.point_format", 4, 10, pf)) {
+        if (pf == 4 || pf == 5) {
+            c.error(o["point_format"], "output.point_format",
+                    "the legacy wave packet formats 4 and 5 are not written; use 9 (format 6 + "
+                    "wave packets) or 10 (format 8 + wave packets)");
+        }
         s.point_format = static_cast<int>(pf);
+    }
+    if (const auto w = o["wave_packets"]) {
+        const std::string v = w.IsScalar() ? w.Scalar() : "";
+        if (v == "wdp" || v == "evlr") {
+            s.wave_packets =
+                v == "wdp" ? LasWaveformStorage::external : LasWaveformStorage::internal;
+        } else {
+            c.error(w, "output.wave_packets",
+                    "expected wdp (points.wdp) or evlr (inside points.las)");
+        }
     }
     for (const SinkEntry& e : point_sinks()) {
         const std::string key(e.key);
@@ -179,6 +195,43 @@ void parse_output(YamlChecker& c, const YAML::Node& o, SurveySpec& s) {
         c.number(o["trajectory_rate_hz"], "output.trajectory_rate_hz", s.trajectory_rate_hz) &&
         s.trajectory_rate_hz < 0) {
         c.error(o["trajectory_rate_hz"], "output.trajectory_rate_hz", "must not be negative");
+    }
+}
+
+/// physics.waveform.keep writes the wave packet twin of the point format (6 -> 9, 7 and 8 -> 10);
+/// formats 9 and 10 need it, and whole picoseconds per bin (the descriptor's spacing).
+void resolve_point_format(YamlChecker& c, const YAML::Node& root, SurveySpec& s) {
+    const bool keep = s.physics && s.physics->keep_waveform;
+    const YAML::Node at = root["output"] && root["output"].IsMap() && root["output"]["point_format"]
+                              ? root["output"]["point_format"]
+                              : root;
+    if (!keep) {
+        if (las_format_has_wave_packet(s.point_format)) {
+            c.error(at, "output.point_format",
+                    std::to_string(s.point_format) +
+                        " has wave packets: it needs physics.waveform.keep: true");
+        }
+        return;
+    }
+    if (s.point_format >= 6 && s.point_format <= 8) {
+        s.point_format = s.point_format == 6 ? 9 : 10;
+    }
+    const double ps = s.physics->waveform.bin_ns * 1000.0;
+    if (std::abs(ps - std::round(ps)) > 1e-6 || ps < 1) {
+        c.error(root["physics"], "physics.waveform.bin_ns",
+                "must be a whole number of picoseconds for the LAS wave packets (keep: true)");
+    }
+}
+
+/// points.laz holds no wave packets (LAZ formats 9 and 10 are not written): `laz: true` with
+/// physics.waveform.keep is refused.
+void check_laz(YamlChecker& c, const YAML::Node& root, const SurveySpec& s) {
+    const bool laz = std::find(s.outputs.begin(), s.outputs.end(), "laz") != s.outputs.end();
+    if (laz && las_format_has_wave_packet(s.point_format)) {
+        c.error(root["output"]["laz"], "output.laz",
+                "not with physics.waveform.keep: true (the wave packets of point format " +
+                    std::to_string(s.point_format) +
+                    " are written to points.las only; set laz: false)");
     }
 }
 
@@ -216,6 +269,8 @@ SurveySpec parse_survey_spec(const std::string& yaml_text, const std::filesystem
         s.physics.emplace();
         detail::parse_physics_block(c, ph, *s.physics);
     }
+    resolve_point_format(c, root, s);
+    check_laz(c, root, s);
     c.throw_if_any("survey file");
     return s;
 }

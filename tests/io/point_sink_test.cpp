@@ -151,14 +151,14 @@ TEST(PointSinks, RegistryNamesEachSinkOnceAndRefusesUnknownNames) {
         EXPECT_NE(e.applies, nullptr);
         EXPECT_EQ(&point_sink(e.name), &e);
     }
-    for (const char* n : {"las", "csv", "ply", "pcd", "images", "waveforms", "trajectory"}) {
+    for (const char* n : {"las", "laz", "csv", "ply", "pcd", "images", "waveforms", "trajectory"}) {
         EXPECT_EQ(names.count(n), 1u) << n;
     }
     try {
-        (void)point_sink("laz");
+        (void)point_sink("e57");
         FAIL() << "no exception";
     } catch (const ConfigError& e) {
-        EXPECT_NE(std::string(e.what()).find("unknown output 'laz' (known: las,"),
+        EXPECT_NE(std::string(e.what()).find("unknown output 'e57' (known: las, laz,"),
                   std::string::npos)
             << e.what();
     }

@@ -65,8 +65,8 @@ TEST(SurveyCli, BadSurveyFilesExitTwoWithOneLineAndNoOutput) {
          scene + "scanner: {type: rotating, beam_elevations_deg: [-10, 100]}\n"
                  "platform: {type: static}\n",
          kFloor, "survey.yaml:2: scanner: beam_elevations_deg[1]"},
-        {"point format", scene + kGoodScanner + "output: {point_format: 9}\n", kFloor,
-         "survey.yaml:4: output.point_format: expected an integer in [6, 8]"},
+        {"point format", scene + kGoodScanner + "output: {point_format: 11}\n", kFloor,
+         "survey.yaml:4: output.point_format: expected an integer in [4, 10]"},
         {"bad key in the scene", scene + kGoodScanner,
          "parts:\n  - plane: {point_m: [0, 0, -2], normal: [0, 0, 1], size_m: 40}\n"
          "    colour: red\n",

@@ -55,8 +55,9 @@ TEST(SurveySinks, EveryOutputIsListedInRegistryOrderAndIdenticalAtAnyThreadCount
         names.push_back(f.filename().string());
     }
     EXPECT_EQ(names,
-              (std::vector<std::string>{"points.las", "waveforms.bin", "points.csv", "points.ply",
-                                        "trajectory.csv", "points.pcd", "preview.png"}));
+              (std::vector<std::string>{"points.las", "points.wdp", "waveforms.bin", "points.csv",
+                                        "points.ply", "trajectory.csv", "points.pcd",
+                                        "preview.png"}));
     EXPECT_EQ(files_in(dir / "one"), std::set<std::string>(names.begin(), names.end()));
     ASSERT_EQ(two.outputs.size(), one.outputs.size());
     for (const std::string& n : names) {
@@ -74,17 +75,17 @@ TEST(SurveySinks, OutputKeysComeFromTheRegistry) {
         (void)parse_survey_spec(head + "output: {pcd: false, ply: true}\n", dir / "s.yaml"));
     const SurveySpec spec =
         parse_survey_spec(head + "output: {pcd: true, csv: true}\n", dir / "s.yaml");
-    EXPECT_EQ(spec.outputs, (std::vector<std::string>{"preview", "csv", "pcd"}));
+    EXPECT_EQ(spec.outputs, (std::vector<std::string>{"las", "preview", "csv", "pcd"}));
     EXPECT_EQ(parse_survey_spec(head + "output: {preview: false}\n", dir / "s.yaml").outputs,
-              std::vector<std::string>{});
+              std::vector<std::string>{"las"});
     try {
-        (void)parse_survey_spec(head + "output: {pcd: 3, laz: true}\n", dir / "s.yaml");
+        (void)parse_survey_spec(head + "output: {pcd: 3, lazz: true}\n", dir / "s.yaml");
         FAIL() << "no error";
     } catch (const ConfigError& e) {
         const std::string what = e.what();
         EXPECT_NE(what.find("output.pcd: expected true or false"), std::string::npos) << what;
-        EXPECT_NE(what.find("output.laz: unknown key (expected one of: point_format, "
-                            "trajectory_rate_hz, csv, ply, pcd, preview)"),
+        EXPECT_NE(what.find("output.lazz: unknown key (expected one of: point_format, "
+                            "trajectory_rate_hz, wave_packets, las, laz, csv, ply, pcd, preview)"),
                   std::string::npos)
             << what;
     }

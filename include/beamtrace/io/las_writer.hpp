@@ -1,4 +1,4 @@
-// Streaming writer for LAS 1.4 files with point data record formats 6, 7 and 8.
+// Streaming writer for LAS 1.4 files with point data record formats 6-10, plain or LAZ.
 #pragma once
 
 #include <array>
@@ -19,7 +19,8 @@ namespace beamtrace {
 class AtomicFile;
 namespace detail {
 class DirectSink;
-}
+class LazChunkWriter;
+}  // namespace detail
 
 /// The fields of a point as a simulator makes it; the record's other fields (flags, colours,
 /// NIR, extra bytes) are zero. Cheaper to fill and encode than a LasPoint.
@@ -33,6 +34,28 @@ struct LasSimplePoint {
     std::uint8_t number_of_returns = 0;
     std::uint8_t classification = 0;
     std::uint8_t user_data = 0;
+};
+
+/// Where the wave packets of formats 9 and 10 are (global encoding bit 1 or 2).
+enum class LasWaveformStorage : std::uint8_t {
+    none,      ///< formats 6-8
+    internal,  ///< the Waveform Data Packets EVLR of the LAS file (close_with_waveform_data)
+    external,  ///< a `.wdp` file beside it, written by the caller
+};
+
+/// A point's wave packet fields (formats 9, 10; see io/las_wave_packets.hpp).
+struct LasWavePacket {
+    std::uint8_t descriptor_index = 0;  ///< 0: no waveform
+    std::uint64_t offset = 0;           ///< from the start of the packet record's header
+    std::uint32_t size = 0;             ///< bytes
+    float location_ps = 0.0f;           ///< from the first sample to the point
+    float dx = 0.0f, dy = 0.0f, dz = 0.0f;
+};
+
+/// How LasWriter stores the point records.
+enum class LasCompression : std::uint8_t {
+    none,  ///< plain LAS
+    laz,   ///< LASzip-compressed (LAZ): the format byte's bit 7, the LASzip VLR, chunks
 };
 
 /// Point records encoded away from the writer (LasWriter::encode into a block, on any thread),
@@ -54,7 +77,10 @@ struct LasRecordBlock {
 inline constexpr double kScanAngleStepDeg = 0.006;
 
 struct LasWriterConfig {
-    int point_format = 6;  ///< 6 (GPS time), 7 (+ RGB) or 8 (+ RGB + NIR)
+    /// 6 (GPS time), 7 (+ RGB), 8 (+ RGB + NIR), 9 (6 + wave packet) or 10 (8 + wave packet)
+    int point_format = 6;
+    /// Formats 9 and 10 need internal or external, and Wave Packet Descriptor VLRs in `vlrs`.
+    LasWaveformStorage waveform_storage = LasWaveformStorage::none;
     Vec3d scale{0.001, 0.001, 0.001};
     Vec3d offset{0.0, 0.0, 0.0};
     std::string system_identifier = "beamtrace";                       ///< <= 32 characters
@@ -71,6 +97,14 @@ struct LasWriterConfig {
     /// Bytes appended to every record; each point's extra_bytes must have exactly this size.
     /// Describe them with an Extra Bytes VLR (LASF_Spec / 4) in `vlrs`.
     std::uint16_t extra_bytes_per_point = 0;
+    /// laz: LASzip-compressed records (a .laz file, read back by LasReader and LASzip); the
+    /// header's counts and bounds are those of the points, as for none.
+    LasCompression compression = LasCompression::none;
+    /// laz: points per chunk (the last chunk may be shorter), 1 to 4294967294.
+    std::uint32_t laz_chunk_size = 50000;
+    /// laz: chunks encoded at once (0: one per hardware thread); the file is the same for any
+    /// value, and the writer holds at most `threads` chunks of records.
+    unsigned threads = 0;
 
     /// Every problem with these settings (empty when they are usable).
     [[nodiscard]] std::vector<std::string> validate() const;
@@ -92,6 +126,12 @@ struct LasWriterConfig {
 /// the configured scale and offset throws OutputError naming the point and the value, as do
 /// fields out of their range (return number > 15, scanner channel > 3, |scan angle| > 180 deg,
 /// extra bytes of the wrong size). After any exception the writer accepts nothing more.
+///
+/// With `compression` laz the file is LAZ (LASzip): the format byte's bit 7, the LASzip VLR after
+/// the other VLRs, the chunks (encoded `threads` at a time, the same bytes for any count) and
+/// the chunk table before the EVLRs. LasReader reads it back; laz-perf and laz-rs decode the same
+/// records except colours and extra bytes of points from several scanner channels (they differ
+/// from LASzip's version 3 items there, see tests/io/las_writer_laz_test.cpp).
 ///
 /// Legacy (32-bit) point counts are written as 0, as LAS 1.4 R15 requires for formats 6-10; the
 /// global encoding has the WKT bit set, which those formats also require (other formats: only
@@ -115,10 +155,18 @@ class LasWriter {
     /// block) for a point the file cannot hold; the writer is unaffected.
     void encode(const LasPoint& point, LasRecordBlock& block) const;
     void encode(const LasSimplePoint& point, LasRecordBlock& block) const;
+    /// The same with the wave packet fields (formats 9, 10).
+    void encode(const LasSimplePoint& point, const LasWavePacket& packet,
+                LasRecordBlock& block) const;
+    /// Byte offset of the wave packet fields in a record (formats 9, 10).
+    [[nodiscard]] std::size_t wave_packet_field() const;
     /// Appends an encoded block (after any points given to write()).
     void write_block(const LasRecordBlock& block);
     /// Finalizes the header and commits the file. The writer accepts nothing afterwards.
     void close();
+    /// close() for waveform_storage internal: `packets` (a file of the packets, back to back) is
+    /// copied into the Waveform Data Packets EVLR, the first EVLR, right after the points.
+    void close_with_waveform_data(const std::filesystem::path& packets);
 
     /// Points accepted so far.
     [[nodiscard]] std::uint64_t point_count() const { return header_.point_count + chunk_points_; }
@@ -138,6 +186,15 @@ class LasWriter {
     template <class Point>
     void encode_into(const Point& p, LasRecordBlock& block) const;
     void flush_chunk();
+    void write_waveform_evlr();
+    // compression laz (src/io/las_writer_laz.cpp); the plain path where there is no laz_.
+    void open_laz();
+    void start_laz_points();
+    void append_records(const std::uint8_t* records, std::size_t count);
+    /// Writes what is left of the points (laz: the last chunks and the table); returns where
+    /// the point data ends.
+    [[nodiscard]] std::uint64_t finish_points();
+    void write_laz_table_offset();
     [[nodiscard]] std::array<std::uint8_t, 375> encode_header() const;
     [[noreturn]] void fail(const std::string& what);
 
@@ -151,6 +208,9 @@ class LasWriter {
     std::size_t chunk_points_ = 0;
     std::int32_t lo_[3] = {0, 0, 0};  ///< integer bounds of the points written so far
     std::int32_t hi_[3] = {0, 0, 0};
+    std::filesystem::path waveform_data_;          ///< close_with_waveform_data's packets
+    std::unique_ptr<LasVlr> laz_vlr_;              ///< compression laz: the LASzip VLR
+    std::unique_ptr<detail::LazChunkWriter> laz_;  ///< compression laz: the chunks
     bool failed_ = false;
     bool closed_ = false;
 };

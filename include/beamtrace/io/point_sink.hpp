@@ -59,6 +59,12 @@ struct PointBlock {
 struct WaveformFacts {
     double bin_ns = 0.5;
     double pulse_fwhm_ns = 4.0;
+    /// The receiver's detection threshold and the emitted peak power: the wave packets'
+    /// digitiser gain (src/io/sinks/wave_packet_stream.hpp).
+    double detection_threshold_w = 1e-8;
+    double peak_power_w = 1000.0;
+    /// Where points.las (formats 9, 10) keeps its wave packets: points.wdp or an EVLR.
+    LasWaveformStorage storage = LasWaveformStorage::external;
 };
 
 /// The header facts every sink may need, known before the first point: the schema and the

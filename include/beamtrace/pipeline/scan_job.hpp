@@ -51,6 +51,9 @@ struct ScanJobConfig {
     unsigned threads = 0;          ///< 0 = all hardware threads
     std::filesystem::path output_dir;
     std::vector<FaceRange> exclude_faces;  ///< hits on these faces are left out of points.ply
+    /// Also write points.laz: the points of points.ply as LAS 1.4 format 6, LASzip-compressed
+    /// (coordinates to 1 mm around the centre of the hits).
+    bool laz = false;
     /// Checked between chunks of rays (tracing and writing): once requested, run_scan stops,
     /// removes its temporary files and throws Interrupted. Null: runs to the end.
     const CancelToken* cancel = nullptr;

@@ -15,6 +15,7 @@
 #include "beamtrace/core/progress.hpp"
 #include "beamtrace/core/ray_batch.hpp"
 #include "beamtrace/core/thread_pool.hpp"
+#include "beamtrace/io/las_writer.hpp"
 #include "beamtrace/physics/pulse.hpp"
 #include "beamtrace/sensor/image_pattern.hpp"
 #include "beamtrace/sensor/line_scanner.hpp"
@@ -40,12 +41,16 @@ struct SurveySpec {
     LinearLegsConfig legs;                  ///< for `legs`
     std::filesystem::path trajectory_file;  ///< for `trajectory`
     Mount mount;                            ///< lever arm and boresight
-    int point_format = 6;                   ///< LAS point format (6, 7 or 8)
+    /// LAS point format: 6, 7 or 8; with physics.waveform.keep 9 (from 6) or 10 (from 7, 8).
+    int point_format = 6;
+    /// Where format 9/10 wave packets go (output.wave_packets): points.wdp or an EVLR.
+    LasWaveformStorage wave_packets = LasWaveformStorage::external;
     /// The switchable outputs turned on by `output: {<key>: true}`: names of point sinks of the
-    /// registry (io/point_sink_registry.hpp), e.g. "ply", "csv", "pcd"; "preview" unless
-    /// `output: {preview: false}`. points.las is always
-    /// written; waveforms, images and the trajectory whenever the survey calls for them.
-    std::vector<std::string> outputs{"preview"};
+    /// registry (io/point_sink_registry.hpp), e.g. "ply", "csv", "pcd", "laz" (points.laz).
+    /// "las" (points.las) and "preview" (preview.png) are on by default (`las: false`,
+    /// `preview: false` turn them off); waveforms, images and the trajectory are written
+    /// whenever the survey calls for them.
+    std::vector<std::string> outputs{"las", "preview"};
     double trajectory_rate_hz = 10.0;  ///< samples per second in trajectory.csv (0: none)
     std::string text;                  ///< the file's text (recorded in the LAS VLR)
     /// The `physics:` block (docs/physics.md); nullopt: ideal single rays, no intensity/noise.

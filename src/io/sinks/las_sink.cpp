@@ -1,11 +1,13 @@
 // points.las: LAS 1.4 (formats 6-8), coordinates quantised to 1 mm around the scene, the
 // scene's CRS in an OGC WKT VLR when it has one, the provenance (version, seed, survey file) in a
-// VLR. Records are encoded on the pool threads.
+// VLR. Records are encoded on the pool threads. points.laz: the same file, LASzip-compressed.
 #include <algorithm>
 
+#include "beamtrace/core/error.hpp"
 #include "beamtrace/io/las_crs.hpp"
 #include "beamtrace/io/las_writer.hpp"
 #include "beamtrace/io/point_sink.hpp"
+#include "io/sinks/wave_packet_stream.hpp"
 
 namespace beamtrace {
 
@@ -15,12 +17,28 @@ namespace {
 constexpr std::size_t kMaxProvenance = 60000;
 
 struct LasBuffer final : SinkBuffer {
-    LasRecordBlock block;
-    void clear() override { block.clear(); }
+    /// Mutable: write() completes the wave packet offsets, which only it knows.
+    mutable LasRecordBlock block;
+    std::string packets;  ///< the block's wave packets (formats 9, 10)
+    void clear() override {
+        block.clear();
+        packets.clear();
+    }
 };
 
-LasWriterConfig las_config(const SinkFacts& facts) {
+/// The wave packets of formats 9 and 10 (none for the others).
+std::unique_ptr<detail::WavePacketStream> wave_packets(const SinkFacts& facts) {
+    if (!facts.waveform || !las_format_has_wave_packet(facts.las_point_format)) {
+        return nullptr;
+    }
+    return std::make_unique<detail::WavePacketStream>(facts.output_dir / "points.las",
+                                                      *facts.waveform);
+}
+
+LasWriterConfig las_config(const SinkFacts& facts, const detail::WavePacketStream* waves,
+                           LasCompression compression) {
     LasWriterConfig las = las_config_for_extent(facts.lo_m, facts.hi_m, 0.001);
+    las.compression = compression;
     las.point_format = facts.las_point_format;
     if (!facts.crs_wkt.empty()) {
         las.vlrs.push_back(las_wkt_vlr(facts.crs_wkt));
@@ -34,14 +52,26 @@ LasWriterConfig las_config(const SinkFacts& facts) {
                     record.begin() + static_cast<std::ptrdiff_t>(
                                          std::min<std::size_t>(record.size(), kMaxProvenance)));
     las.vlrs.push_back(std::move(vlr));
+    if (waves != nullptr) {
+        las.waveform_storage = facts.waveform->storage;
+        for (auto& d : waves->vlrs()) {
+            las.vlrs.push_back(std::move(d));
+        }
+    }
     return las;
 }
 
 class LasSink final : public PointSink {
   public:
     explicit LasSink(const SinkFacts& facts)
-        : writer_(std::make_unique<LasWriter>(facts.output_dir / "points.las", las_config(facts))) {
-    }
+        : waves_(wave_packets(facts)),
+          writer_(
+              std::make_unique<LasWriter>(facts.output_dir / "points.las",
+                                          las_config(facts, waves_.get(), LasCompression::none))) {}
+    /// points.laz: no wave packets (the survey refuses `laz` with kept waveforms).
+    LasSink(const SinkFacts& facts, LasCompression compression)
+        : writer_(std::make_unique<LasWriter>(facts.output_dir / "points.laz",
+                                              las_config(facts, nullptr, compression))) {}
 
     [[nodiscard]] std::unique_ptr<SinkBuffer> make_buffer() const override {
         return std::make_unique<LasBuffer>();
@@ -53,20 +83,35 @@ class LasSink final : public PointSink {
         if (las.bytes.size() < most) {
             las.bytes.resize(most);
         }
+        if (waves_) {
+            waves_->encode(block, *writer_, las, static_cast<LasBuffer&>(out).packets);
+            return;
+        }
         for (const BlockPoint& p : block.points) {
             writer_->encode(static_cast<const LasSimplePoint&>(p), las);
         }
     }
     void write(const SinkBuffer& encoded) override {
-        writer_->write_block(static_cast<const LasBuffer&>(encoded).block);
+        const auto& buffer = static_cast<const LasBuffer&>(encoded);
+        if (waves_) {
+            waves_->write(*writer_, buffer.block, buffer.packets);
+        }
+        writer_->write_block(buffer.block);
     }
     std::vector<std::filesystem::path> commit() override {
+        if (waves_) {
+            return waves_->commit(*writer_);
+        }
         writer_->close();
         return {writer_->path()};
     }
-    void abort() noexcept override { writer_.reset(); }
+    void abort() noexcept override {
+        writer_.reset();
+        waves_.reset();
+    }
 
   private:
+    std::unique_ptr<detail::WavePacketStream> waves_;
     std::unique_ptr<LasWriter> writer_;
 };
 
@@ -74,6 +119,14 @@ class LasSink final : public PointSink {
 
 std::unique_ptr<PointSink> make_las_sink(const SinkFacts& facts) {
     return std::make_unique<LasSink>(facts);
+}
+
+std::unique_ptr<PointSink> make_laz_sink(const SinkFacts& facts) {
+    if (las_format_has_wave_packet(facts.las_point_format)) {
+        throw ConfigError("points.laz: point format " + std::to_string(facts.las_point_format) +
+                          " (wave packets) is written as points.las only; turn output.laz off");
+    }
+    return std::make_unique<LasSink>(facts, LasCompression::laz);
 }
 
 }  // namespace beamtrace

@@ -8,6 +8,7 @@ namespace beamtrace {
 
 // The factories, one per file of src/io/sinks.
 std::unique_ptr<PointSink> make_las_sink(const SinkFacts& facts);
+std::unique_ptr<PointSink> make_laz_sink(const SinkFacts& facts);
 std::unique_ptr<PointSink> make_waveform_sink(const SinkFacts& facts);
 std::unique_ptr<PointSink> make_csv_sink(const SinkFacts& facts);
 std::unique_ptr<PointSink> make_image_sink(const SinkFacts& facts);
@@ -36,8 +37,10 @@ bool with_trajectory(const SinkFacts& facts) {
 std::span<const SinkEntry> point_sinks() {
     // name, files, survey output key, what, when it applies, factory
     static constexpr SinkEntry kSinks[] = {
-        {"las", "points.las", "", "LAS 1.4 points (format output.point_format)", always,
+        {"las", "points.las", "las", "LAS 1.4 points (format output.point_format)", always,
          make_las_sink},
+        {"laz", "points.laz", "laz", "the LAS points LASzip-compressed (LAZ)", always,
+         make_laz_sink},
         {"waveforms", "waveforms.bin", "", "every pulse's sampled echo (physics.waveform.keep)",
          with_waveforms, make_waveform_sink},
         {"csv", "points.csv", "csv", "the points as CSV", always, make_csv_sink},
