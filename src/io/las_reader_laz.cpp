@@ -181,6 +181,9 @@ void LasReader::decode_laz_batch(LazBatch& b, std::size_t first) const {
 
 void LasReader::start_laz_batch(std::size_t first) {
     Laz& z = *laz_;
+    if (!z.pool) {  // a seek may start the first batch before any read did
+        z.pool = std::make_unique<ThreadPool>(threads_);
+    }
     if (first < z.chunks.size()) {
         z.ready =
             std::async(std::launch::async, [this, &z, first] { decode_laz_batch(z.ahead, first); });
@@ -192,9 +195,6 @@ void LasReader::fill_laz_chunk() {
     if (z.vlr.compressor == laz::Compressor::pointwise) {
         fill_laz_stream();
         return;
-    }
-    if (!z.pool) {
-        z.pool = std::make_unique<ThreadPool>(threads_);
     }
     if (!z.ready.valid()) {
         start_laz_batch(z.next_chunk);
