@@ -209,7 +209,12 @@ LasReader::LasReader(std::filesystem::path path, unsigned threads)
 }
 
 LasReader::~LasReader() {
-    laz_.reset();  // waits for a LAZ batch being decoded ahead (it reads through fd_)
+    // A LAZ batch being decoded ahead reads through laz_ and fd_: wait for it while both are
+    // whole (unique_ptr::reset nulls laz_ before destroying it).
+    if (laz_ && laz_->ready.valid()) {
+        laz_->ready.wait();
+    }
+    laz_.reset();
     if (fd_ >= 0) {
         ::close(fd_);
     }
