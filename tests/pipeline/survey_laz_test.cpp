@@ -73,7 +73,9 @@ TEST(SurveyLaz, PointsLazHoldsThePointsOfPointsLasAtAnyThreadCount) {
 TEST(SurveyLaz, LasFalseWritesLazAlone) {
     test::TempDir dir;
     const SurveyResult r =
-        run_in(dir, std::string(kHead) + "output: {las: false, laz: true, trajectory_rate_hz: 0}\n",
+        run_in(dir,
+               std::string(kHead) +
+                   "output: {las: false, laz: true, preview: false, trajectory_rate_hz: 0}\n",
                2, "out");
     EXPECT_FALSE(fs::exists(dir / "out" / "points.las"));
     ASSERT_TRUE(fs::exists(dir / "out" / "points.laz"));
