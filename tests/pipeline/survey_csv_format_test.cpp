@@ -30,10 +30,10 @@ std::size_t decimals(const std::string& f) {
 
 TEST(SurveyCsvFormat, NumbersAreTheLasValuesWithoutNoiseDigitsExponentsOrNegativeZero) {
     test::TempDir dir;
-    const auto r = test::run_command(std::string(BEAMTRACE_CLI_PATH) + " survey " +
-                                     BEAMTRACE_EXAMPLES_DIR +
-                                     "/surveys/airborne_line_physics.yaml --quiet --output '" +
-                                     (dir / "out").string() + "' 2>&1");
+    const auto r =
+        test::run_command(std::string(BEAMTRACE_CLI_PATH) + " survey " + BEAMTRACE_EXAMPLES_DIR +
+                          "/surveys/airborne_line_physics.yaml --quiet --output '" +
+                          (dir / "out").string() + "' 2>&1");
     ASSERT_EQ(r.exit_code, 0) << r.out;
     std::stringstream csv(test::read_file(dir / "out" / "points.csv"));
     std::string line;

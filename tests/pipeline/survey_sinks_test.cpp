@@ -54,10 +54,9 @@ TEST(SurveySinks, EveryOutputIsListedInRegistryOrderAndIdenticalAtAnyThreadCount
     for (const auto& f : one.outputs) {
         names.push_back(f.filename().string());
     }
-    EXPECT_EQ(names,
-              (std::vector<std::string>{"points.las", "points.wdp", "waveforms.bin", "points.csv",
-                                        "points.ply", "trajectory.csv", "points.pcd",
-                                        "preview.png"}));
+    EXPECT_EQ(names, (std::vector<std::string>{"points.las", "points.wdp", "waveforms.bin",
+                                               "points.csv", "points.ply", "trajectory.csv",
+                                               "points.pcd", "preview.png"}));
     EXPECT_EQ(files_in(dir / "one"), std::set<std::string>(names.begin(), names.end()));
     ASSERT_EQ(two.outputs.size(), one.outputs.size());
     for (const std::string& n : names) {
