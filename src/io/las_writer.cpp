@@ -380,7 +380,8 @@ void LasWriter::encode_record(const LasPoint& p, std::uint64_t index, std::uint8
         (p.overlap ? 0x08 : 0) | (p.scanner_channel << 4) | (p.scan_direction ? 0x40 : 0) |
         (p.edge_of_flight_line ? 0x80 : 0));
     encode_base({p.x, p.y, p.z, p.gps_time, p.scan_angle_deg, p.intensity, p.point_source_id,
-                 p.return_number, p.number_of_returns, p.classification, p.user_data},
+                 p.return_number, p.number_of_returns, p.classification, p.user_data, p.red,
+                 p.green, p.blue, p.nir},
                 flags, index, r, q);
     std::size_t pos = 30;
     if (las_format_has_rgb(header_.point_format)) {
@@ -407,8 +408,16 @@ void LasWriter::encode_record(const LasPoint& p, std::uint64_t index, std::uint8
 void LasWriter::encode_record(const LasSimplePoint& p, std::uint64_t index, std::uint8_t* r,
                               std::int32_t q[3]) const {
     encode_base(p, 0, index, r, q);
-    // Colours, NIR and extra bytes are zero (block bytes are reused: write them).
+    // Extra bytes (and wave packet fields, written after) are zero: block bytes are reused.
     std::memset(r + 30, 0, header_.point_record_length - 30u);
+    if (las_format_has_rgb(header_.point_format)) {
+        store<std::uint16_t>(r + 30, p.red);
+        store<std::uint16_t>(r + 32, p.green);
+        store<std::uint16_t>(r + 34, p.blue);
+    }
+    if (las_format_has_nir(header_.point_format)) {
+        store<std::uint16_t>(r + 36, p.nir);
+    }
 }
 
 void LasWriter::encode(const LasPoint& p, std::uint64_t index, std::uint8_t* r) {

@@ -216,6 +216,9 @@ SurveyResult run_survey(const SurveySpec& spec, const SurveyRunConfig& run,
     if (spec.physics) {
         materials = detail::survey_materials(in.scene, *spec.physics, spec.scene_file);
     }
+    // Formats 7 and 8: each point's RGB and NIR from its part's material.
+    const auto colours = spec.point_format >= 7 ? detail::part_colours(in.scene, materials)
+                                                : std::vector<std::array<std::uint16_t, 4>>{};
     result.triangles = in.scene.triangle_count();
     result.spheres = in.scene.sphere_count();
     result.pulses = run.max_pulses > 0 ? std::min(in.pattern->pulse_count(), run.max_pulses)
@@ -264,7 +267,7 @@ SurveyResult run_survey(const SurveySpec& spec, const SurveyRunConfig& run,
                        backend.get(),
                        physics ? &*physics : nullptr,
                        detail::SurveyPoints{&in.scene, sim.has_value(), source.sub_rays(),
-                                            physics ? physics->max_returns() : 1},
+                                            physics ? physics->max_returns() : 1, colours},
                        &sinks,
                        result.pulses,
                        source.sub_rays(),

@@ -1,6 +1,33 @@
 #include "pipeline/detail/survey_points.hpp"
 
+#include <algorithm>
+#include <cmath>
+
 namespace beamtrace::detail {
+
+namespace {
+
+/// A linear channel in [0, 1] as a 16-bit sRGB value.
+std::uint16_t srgb16(double linear) {
+    const double c = std::clamp(linear, 0.0, 1.0);
+    const double s = c <= 0.0031308 ? 12.92 * c : 1.055 * std::pow(c, 1.0 / 2.4) - 0.055;
+    return static_cast<std::uint16_t>(std::lround(s * 65535.0));
+}
+
+}  // namespace
+
+std::vector<std::array<std::uint16_t, 4>> part_colours(const Scene& scene,
+                                                       const std::vector<Material>& materials) {
+    std::vector<std::array<std::uint16_t, 4>> out;
+    for (const ScenePart& part : scene.parts) {
+        const Material& m = part.material < materials.size() ? materials[part.material]
+                                                             : scene.materials.at(part.material);
+        out.push_back({srgb16(m.color.x), srgb16(m.color.y), srgb16(m.color.z),
+                       static_cast<std::uint16_t>(
+                           std::lround(std::clamp(m.reflectance, 0.0, 1.0) * 65535.0))});
+    }
+    return out;
+}
 
 void SurveyPoints::run(BlockWork& w) const {
     std::vector<BlockPoint>& out = w.points.points;
@@ -29,6 +56,13 @@ void SurveyPoints::run(BlockWork& w) const {
             p.channel = w.pulses.channel[k];
             p.user_data = static_cast<std::uint8_t>(w.pulses.channel[k] & 0xFFu);  // beam / row
             p.pulse = w.first + k;
+            if (!colours.empty()) {
+                const auto& c = colours[scene->part_of_face(w.hits.face[h])];
+                p.red = c[0];
+                p.green = c[1];
+                p.blue = c[2];
+                p.nir = c[3];
+            }
         }
     }
 }

@@ -8,7 +8,6 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
-#include <regex>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -92,19 +91,29 @@ fs::path make_root(const test::TempDir& dir) {
     return repo;
 }
 
+/// What follows each `marker` in `text` up to the first character of `stops` (or the end).
+std::vector<std::string> words_after(const std::string& text, const std::string& marker,
+                                     const std::string& stops) {
+    std::vector<std::string> out;
+    for (std::size_t at = text.find(marker); at != std::string::npos;
+         at = text.find(marker, at + 1)) {
+        const std::size_t from = at + marker.size();
+        out.push_back(text.substr(from, text.find_first_of(stops, from) - from));
+    }
+    return out;
+}
+
 /// Every picture docs/*.md shows equals the file of that name the blocks wrote to out/images.
 void expect_pictures_made_by_the_blocks(const fs::path& repo) {
     const fs::path docs = fs::path(BEAMTRACE_SOURCE_DIR) / "docs";
-    const std::regex picture(R"(\]\(images/([A-Za-z0-9_.-]+\.png)\))");
     std::size_t shown = 0;
     for (const auto& e : fs::directory_iterator(docs)) {
         if (e.path().extension() != ".md") {
             continue;
         }
         const std::string text = test::read_file(e.path());
-        for (auto it = std::sregex_iterator(text.begin(), text.end(), picture);
-             it != std::sregex_iterator(); ++it, ++shown) {
-            const std::string name = (*it)[1].str();
+        for (const std::string& name : words_after(text, "](images/", ")")) {
+            ++shown;
             SCOPED_TRACE(e.path().filename().string() + ": images/" + name);
             const fs::path made = repo / "out" / "images" / name;
             ASSERT_TRUE(fs::exists(made)) << "no command in the docs makes it";
@@ -124,7 +133,6 @@ TEST(DocsCommands, EveryShellBlockOfTheReadmeAndDocsRunsAsWritten) {
     ASSERT_GE(blocks.size(), 2u);  // the README's usage, render.md, ... (the parser works)
     test::TempDir dir;
     const fs::path repo = make_root(dir);
-    const std::regex output(R"(--output[ =]([^ \\\n;|&]+))");
     for (const ShellBlock& b : blocks) {
         SCOPED_TRACE(b.where);
         const fs::path script = dir / "block.sh";
@@ -133,9 +141,7 @@ TEST(DocsCommands, EveryShellBlockOfTheReadmeAndDocsRunsAsWritten) {
             test::run_command("cd '" + repo.string() + "' && PATH=\"" + (repo / "build").string() +
                               ":$PATH\" bash '" + script.string() + "'");
         EXPECT_EQ(r.exit_code, 0) << b.text << "\n--- output:\n" << r.out;
-        for (auto it = std::sregex_iterator(b.text.begin(), b.text.end(), output);
-             it != std::sregex_iterator(); ++it) {
-            const std::string promised = (*it)[1].str();
+        for (const std::string& promised : words_after(b.text, "--output ", " \\\n;|&")) {
             EXPECT_TRUE(fs::exists(repo / promised)) << promised << " was not written";
         }
     }

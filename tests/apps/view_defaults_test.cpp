@@ -5,7 +5,7 @@
 
 #include <algorithm>
 #include <cstddef>
-#include <regex>
+#include <cstdio>
 #include <string>
 #include <vector>
 
@@ -24,13 +24,16 @@ double default_view_coverage(const fs::path& input, const fs::path& png) {
     const auto r = test::run_command(std::string(BEAMTRACE_CLI_PATH) + " view '" + input.string() +
                                      "' --output '" + png.string() + "' 2>&1");
     EXPECT_EQ(r.exit_code, 0) << r.out;
-    std::smatch m;
-    const std::regex hit(R"(\((\d+) of (\d+) pixels hit\))");
-    if (!std::regex_search(r.out, m, hit)) {
+    // "(N of M pixels hit)" in the summary.
+    const std::size_t end = r.out.find(" pixels hit)");
+    const std::size_t open = r.out.rfind('(', end);
+    unsigned long long hit = 0, all = 0;
+    if (end == std::string::npos || open == std::string::npos ||
+        std::sscanf(r.out.c_str() + open, "(%llu of %llu", &hit, &all) != 2 || all == 0) {
         ADD_FAILURE() << "no pixel count in: " << r.out;
         return 0.0;
     }
-    const double reported = std::stod(m[1].str()) / std::stod(m[2].str());
+    const double reported = static_cast<double>(hit) / static_cast<double>(all);
     // The same from the image: pixels that differ from the (uniform) sky of the top-left corner.
     const RgbImage image = read_png_rgb8(png);
     EXPECT_EQ(image.width, 1920);

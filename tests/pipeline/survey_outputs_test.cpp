@@ -386,7 +386,7 @@ output: {trajectory_rate_hz: 0}
 // ---------------------------------------------------------------------------------------------
 // 5. Point formats 7 and 8, and points.ply.
 
-TEST(SurveyOutputs, FormatsSevenAndEightAddZeroColourAndPlyHoldsTheSamePoints) {
+TEST(SurveyOutputs, FormatsSevenAndEightAddTheMaterialColourAndPlyHoldsTheSamePoints) {
     std::map<int, test::RawLas> by_format;
     test::TempDir ply_dir;
     for (int format : {6, 7, 8}) {
@@ -408,10 +408,11 @@ TEST(SurveyOutputs, FormatsSevenAndEightAddZeroColourAndPlyHoldsTheSamePoints) {
         const auto& pts = by_format[format].points;
         ASSERT_EQ(pts.size(), six.size()) << format;
         for (std::size_t i = 0; i < pts.size(); ++i) {
-            // The same points; materials carry no colour, so RGB and NIR are written as 0.
+            // The same points; the default material is white with reflectance 0.5: RGB full
+            // scale, NIR half of it (format 8).
             ASSERT_EQ(pts[i].base, six[i].base) << "format " << format << " point " << i;
-            ASSERT_EQ(pts[i].rgb, (std::array<std::uint16_t, 3>{})) << i;
-            ASSERT_EQ(pts[i].nir, 0) << i;
+            ASSERT_EQ(pts[i].rgb, (std::array<std::uint16_t, 3>{65535, 65535, 65535})) << i;
+            ASSERT_EQ(pts[i].nir, format == 8 ? 32768 : 0) << i;
         }
     }
     const auto ply = test::parse_points_ply(test::read_file(ply_dir / "points.ply"));

@@ -34,6 +34,8 @@ struct LasSimplePoint {
     std::uint8_t number_of_returns = 0;
     std::uint8_t classification = 0;
     std::uint8_t user_data = 0;
+    std::uint16_t red = 0, green = 0, blue = 0;  ///< formats 7, 8, 10
+    std::uint16_t nir = 0;                       ///< formats 8, 10
 };
 
 /// Where the wave packets of formats 9 and 10 are (global encoding bit 1 or 2).

@@ -2,6 +2,10 @@
 // points in world coordinates, labelled with the scene part that was hit.
 #pragma once
 
+#include <array>
+#include <cstdint>
+#include <vector>
+
 #include "beamtrace/scene/scene.hpp"
 #include "pipeline/detail/survey_block.hpp"
 
@@ -12,9 +16,18 @@ struct SurveyPoints {
     bool physics = false;  ///< points from w.returns (else one per hit ray)
     std::size_t sub_rays = 1;
     std::size_t max_returns = 1;
+    /// Per scene part: LAS red, green, blue (its material's colour in sRGB, 16 bits) and NIR
+    /// (its reflectance); empty: all 0. part_colours() makes it.
+    std::vector<std::array<std::uint16_t, 4>> colours;
 
     /// Appends the block's points to w.points.points, in pulse order. Thread-safe.
     void run(BlockWork& w) const;
 };
+
+/// The colours of SurveyPoints::colours for `scene`'s parts: red, green, blue from the part
+/// material's linear `color` encoded as sRGB and scaled to 65535, NIR its reflectance x 65535
+/// (`materials`: the survey's, resolved at its wavelength; else the scene's).
+[[nodiscard]] std::vector<std::array<std::uint16_t, 4>> part_colours(
+    const Scene& scene, const std::vector<Material>& materials);
 
 }  // namespace beamtrace::detail
