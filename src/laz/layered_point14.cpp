@@ -1,5 +1,7 @@
 #include "laz/layered_point14.hpp"
+
 #include "laz/item_bytes.hpp"
+#include "laz/layered_point14_shared.hpp"
 
 #include <bit>
 #include <cstdlib>
@@ -9,72 +11,13 @@
 
 namespace beamtrace::laz {
 
-namespace {
-
-/// GPS time codes: multiples of the last difference from kGpsMultiMinus to kGpsMulti, then a
-/// full 64-bit time, then a switch to one of the other three time sequences.
-constexpr std::int32_t kGpsMulti = 500;
-constexpr std::int32_t kGpsMultiMinus = -10;
-constexpr std::uint32_t kGpsCodeFull = kGpsMulti - kGpsMultiMinus + 1;
-constexpr std::uint32_t kGpsSymbols = kGpsMulti - kGpsMultiMinus + 5;
-
-/// The format's grouping of (number of returns, return number) into six XY contexts.
-constexpr std::uint8_t kReturnMap6[16][16] = {
-    {0, 1, 2, 3, 4, 5, 3, 4, 4, 5, 5, 5, 5, 5, 5, 5},
-    {1, 0, 1, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3},
-    {2, 1, 2, 4, 4, 4, 4, 4, 4, 4, 4, 3, 3, 3, 3, 3},
-    {3, 3, 4, 5, 4, 4, 4, 4, 4, 4, 4, 4, 4, 4, 4, 4},
-    {4, 3, 4, 4, 5, 4, 4, 4, 4, 4, 4, 4, 4, 4, 4, 4},
-    {5, 3, 4, 4, 4, 5, 4, 4, 4, 4, 4, 4, 4, 4, 4, 4},
-    {3, 3, 4, 4, 4, 4, 5, 4, 4, 4, 4, 4, 4, 4, 4, 4},
-    {4, 3, 4, 4, 4, 4, 4, 5, 4, 4, 4, 4, 4, 4, 4, 4},
-    {4, 3, 4, 4, 4, 4, 4, 4, 5, 4, 4, 4, 4, 4, 4, 4},
-    {5, 3, 4, 4, 4, 4, 4, 4, 4, 5, 4, 4, 4, 4, 4, 4},
-    {5, 3, 4, 4, 4, 4, 4, 4, 4, 4, 5, 4, 4, 4, 4, 4},
-    {5, 3, 3, 4, 4, 4, 4, 4, 4, 4, 4, 5, 5, 4, 4, 4},
-    {5, 3, 3, 4, 4, 4, 4, 4, 4, 4, 4, 5, 5, 5, 4, 4},
-    {5, 3, 3, 4, 4, 4, 4, 4, 4, 4, 4, 4, 5, 5, 5, 4},
-    {5, 3, 3, 4, 4, 4, 4, 4, 4, 4, 4, 4, 4, 5, 5, 5},
-    {5, 3, 3, 4, 4, 4, 4, 4, 4, 4, 4, 4, 4, 4, 5, 5},
-};
-
-/// The Z context: how deep the return lies in its pulse, |n - r|, at most 7.
-[[nodiscard]] unsigned return_level(unsigned n, unsigned r) {
-    const unsigned d = n > r ? n - r : r - n;
-    return d < 7 ? d : 7;
-}
-
-/// A running median of the last five values (the predictor of the X and Y differences). Each
-/// value drops the largest or the smallest of the five, switching sides whenever a value lands
-/// on the other side of the median: the format's rule, which an encoder must match exactly.
-class Median5 {
-  public:
-    [[nodiscard]] std::int32_t get() const { return v_[2]; }
-    void add(std::int32_t x) {
-        std::size_t i = 0;
-        if (drop_high_) {
-            i = 4;
-            while (i > 0 && x < v_[i - 1]) {
-                v_[i] = v_[i - 1];
-                --i;
-            }
-            drop_high_ = i <= 2;
-        } else {
-            while (i < 4 && v_[i + 1] < x) {
-                v_[i] = v_[i + 1];
-                ++i;
-            }
-            drop_high_ = i <= 1;
-        }
-        v_[i] = x;
-    }
-
-  private:
-    std::array<std::int32_t, 5> v_{};
-    bool drop_high_ = true;
-};
-
-}  // namespace
+using point14::kGpsCodeFull;
+using point14::kGpsMulti;
+using point14::kGpsMultiMinus;
+using point14::kGpsSymbols;
+using point14::kReturnMap6;
+using point14::Median5;
+using point14::return_level;
 
 /// A point's fields (the GPS time apart: its bits live in the context's sequences).
 struct Point14Decoder::Fields {

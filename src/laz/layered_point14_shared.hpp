@@ -1,6 +1,6 @@
 // The parts of the layered POINT14 format (version 3) that its encoder needs as the decoder
 // does: the GPS time codes, the (number of returns, return number) contexts and the running
-// median of the X and Y differences. (layered_point14.cpp, the decoder, has its own copies.)
+// median of the X and Y differences; the decoder (layered_point14.cpp) and the encoder share them.
 #pragma once
 
 #include <array>
