@@ -279,7 +279,9 @@ TEST(LasCrs, MalformedGeoKeyDirectoriesWarn) {
         }
         dir.data.assign(reinterpret_cast<const std::uint8_t*>(shorts.data()),
                         reinterpret_cast<const std::uint8_t*>(shorts.data() + shorts.size()));
-        dir.data.resize(dir.data.size() - (next() % 2 == 0 && !dir.data.empty() ? 1 : 0));
+        if (next() % 2 == 0 && !dir.data.empty()) {
+            dir.data.pop_back();
+        }
         ascii.data.assign(next() % 64, static_cast<std::uint8_t>('a' + round % 26));
         const LasVlr both[] = {dir, ascii};
         EXPECT_NO_THROW((void)las_file_crs(h, both));
