@@ -29,6 +29,7 @@ struct InfoOptions {
 template <typename T>
 std::string shortest(T v) {
     char buf[64];
+    v = v == T(0) ? T(0) : v;  // -0 reads 0
     const T a = v < 0 ? -v : v;
     const bool fixed = a == 0 || (a >= T(1e-9) && a < T(1e15));
     const auto [end, ec] = fixed ? std::to_chars(buf, buf + sizeof buf, v, std::chars_format::fixed)
@@ -51,7 +52,8 @@ std::string at_step(double v, double step) {
                 break;
             }
             char buf[64];
-            std::snprintf(buf, sizeof buf, "%.*f", d, v);
+            const double at = std::round(v * tens) / tens;
+            std::snprintf(buf, sizeof buf, "%.*f", d, at == 0 ? 0.0 : at);  // -0.00 reads 0.00
             return buf;
         }
     }

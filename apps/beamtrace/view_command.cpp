@@ -24,10 +24,25 @@ struct ViewCommand {
     bool progress = false;
 };
 
+/// The points of the first load that are not in the image, and why. (Later loads fill only the
+/// sections new to the window.)
+void print_not_shown(const IngestStats& s, const ViewSession& session) {
+    if (s.points_inserted >= s.points_read ||
+        session.grid().loaded_sections() != s.sections_loaded) {
+        return;
+    }
+    const std::string why = session.not_shown_reason();
+    std::fprintf(stderr, "beamtrace: note: %llu of %llu points not shown: %s\n",
+                 static_cast<unsigned long long>(s.points_read - s.points_inserted),
+                 static_cast<unsigned long long>(s.points_read),
+                 why.empty() ? "they lie outside every section" : why.c_str());
+}
+
 void print_stats(const IngestStats& s, const ViewSession& session, bool quiet) {
     for (const auto& w : s.warnings) {
         std::fprintf(stderr, "beamtrace: warning: %s\n", w.c_str());
     }
+    print_not_shown(s, session);
     if (quiet || s.points_read == 0) {
         return;
     }

@@ -63,6 +63,14 @@ struct RecordLayout {
     std::size_t rgb = 0;       ///< 0: no colour
 };
 
+/// The global cell of raw coordinate `raw`: floor(raw * a + b). The grid's origin is the lowest
+/// header bound, and a point on it can round to cell -1: within its header's bounds (raw at or
+/// above `lo_raw`) it is cell 0.
+[[nodiscard]] std::int64_t global_cell(double raw, double a, double b, double lo_raw) {
+    const auto c = static_cast<std::int64_t>(std::floor(raw * a + b));
+    return c < 0 && raw >= lo_raw ? 0 : c;
+}
+
 [[nodiscard]] RecordLayout record_layout(const LasHeader& h) {
     RecordLayout r;
     r.length = h.point_record_length;
@@ -197,8 +205,7 @@ IngestStats ingest_into(const LasSourceSet& sources, const HeightFieldConfig& fi
                         const std::uint8_t* r = records + i * rec.length;
                         const auto rx = static_cast<double>(load<std::int32_t>(r));
                         const auto ry = static_cast<double>(load<std::int32_t>(r + 4));
-                        const auto gy =
-                            static_cast<std::int64_t>(std::floor(ry * ay + by)) - first_y;
+                        const std::int64_t gy = global_cell(ry, ay, by, lo_y) - first_y;
                         if (task == 0) {
                             const std::uint16_t intensity = load<std::uint16_t>(r + 12);
                             block_max_intensity =
@@ -213,8 +220,7 @@ IngestStats ingest_into(const LasSourceSet& sources, const HeightFieldConfig& fi
                             static_cast<std::size_t>(gy >> 3) % tasks != task) {
                             continue;
                         }
-                        const auto gx =
-                            static_cast<std::int64_t>(std::floor(rx * ax + bx)) - first_x;
+                        const std::int64_t gx = global_cell(rx, ax, bx, lo_x) - first_x;
                         if (gx < 0 || gx >= window_x) {
                             continue;
                         }

@@ -1,7 +1,10 @@
 #include "beamtrace/heightfield/view_session.hpp"
 
+#include "beamtrace/heightfield/view_job.hpp"
+
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
 #include <utility>
 
 namespace beamtrace {
@@ -47,6 +50,44 @@ std::size_t ViewSession::budgeted_bytes() const {
     }
     return grid_->resident_bytes() + spare + (load_ ? load_->bytes : 0) +
            config_.ingest.block_bytes;
+}
+
+std::string ViewSession::not_shown_reason() const {
+    const SectionGrid& g = *grid_;
+    const int n = g.sections_per_side();
+    const Vec3d corner = g.window_corner();
+    const double span = config_.field.section_size() * n;
+    const auto& data = sources_.bounds();
+    const bool beyond = std::any_of(data.begin(), data.end(), [&](const Bounds2& b) {
+        return b.min_x < corner.x || b.min_y < corner.y || b.max_x >= corner.x + span ||
+               b.max_y >= corner.y + span;
+    });
+    int with_data = 0, admitted = 0;
+    for (int slot = 0; slot < n * n; ++slot) {
+        const Bounds2 s = g.slot_bounds(slot);
+        if (std::any_of(data.begin(), data.end(), [&](const Bounds2& d) {
+                return d.max_x >= s.min_x && d.min_x < s.max_x && d.max_y >= s.min_y &&
+                       d.min_y < s.max_y;
+            })) {
+            ++with_data;
+            admitted += g.admitted()[static_cast<std::size_t>(slot)] ? 1 : 0;
+        }
+    }
+    std::string why;
+    if (beyond) {
+        char size[32];
+        std::snprintf(size, sizeof size, "%g", config_.field.section_size());
+        why = "the files reach beyond the window of " + std::to_string(n) + "x" +
+              std::to_string(n) + " sections of " + size +
+              " units around the camera (widen it: --sections, --levels, --cell-size)";
+    }
+    if (admitted < with_data) {
+        why += std::string(why.empty() ? "" : "; ") + "the memory budget of " +
+               byte_size_text(config_.field.memory_budget_bytes) + " holds " +
+               std::to_string(admitted) + " of the " + std::to_string(with_data) +
+               " sections with data (--memory-budget)";
+    }
+    return why;
 }
 
 void ViewSession::note_peak() {

@@ -66,6 +66,16 @@ TEST(InfoCli, CoordinatesWithTheDecimalsOfTheScale) {
     EXPECT_TRUE(has(r.out, "#0: xyz 637177.98 849393.95 411.19,")) << r.out;
 }
 
+TEST(InfoCli, NegativeZeroReadsZero) {
+    // autzen.las stores its offsets as -0.0.
+    const fs::path path = test::shared_data("las/las/autzen.las");
+    BEAMTRACE_REQUIRE_FILE(path);
+    const auto r = info(path);
+    ASSERT_EQ(r.exit_code, 0) << r.out;
+    EXPECT_TRUE(has(r.out, "offset:              0 0 0\n")) << r.out;
+    EXPECT_FALSE(has(r.out, "-0 ")) << r.out;
+}
+
 TEST(InfoCli, StatsAsTextAndJson) {
     const fs::path path = test::shared_data("las/las/simple.las");
     BEAMTRACE_REQUIRE_FILE(path);

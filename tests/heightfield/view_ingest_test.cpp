@@ -99,6 +99,49 @@ TEST_F(ViewIngest, PointsOutsideTheHeaderBoundsAreReported) {
     EXPECT_NE(stats.warnings[0].find(path.string()), std::string::npos);
 }
 
+TEST_F(ViewIngest, PointsNotShownAreCountedByWhyTheyAreNot) {
+    // Origin (1, 1): 16 m sections; the camera at (17, 17) centres a 2x2 window on sections
+    // (0, 0) to (1, 1), all four touching the header's bounds; the budget holds one section (the
+    // nearest, slot 0), and (40, 40) lies beyond the window.
+    const auto path = write_las(
+        dir_ / "three.las", {point(1, 1, 1), point(20, 20, 2), point(21, 22, 2), point(40, 40, 3)});
+    ViewSessionConfig config = small_session();
+    config.field.memory_budget_bytes = config.field.section_bytes() + config.ingest.block_bytes;
+    const std::vector<std::filesystem::path> inputs = {path};
+    ViewSession session(inputs, config);
+    const IngestStats stats = session.move_to({17.0, 17.0, 50.0});
+    EXPECT_EQ(stats.points_read, 4u);
+    EXPECT_EQ(stats.points_inserted, 1u);
+    const std::string why = session.not_shown_reason();
+    EXPECT_NE(why.find("beyond the window of 2x2 sections of 16 units"), std::string::npos) << why;
+    EXPECT_NE(why.find("holds 1 of the 4 sections with data"), std::string::npos) << why;
+    // A budget that holds the window: only the window is the reason.
+    ViewSession all(inputs, small_session());
+    EXPECT_EQ(all.move_to({17.0, 17.0, 50.0}).points_inserted, 3u);
+    EXPECT_NE(all.not_shown_reason().find("beyond the window"), std::string::npos);
+    EXPECT_EQ(all.not_shown_reason().find("memory budget"), std::string::npos);
+}
+
+TEST_F(ViewIngest, PointsOnTheLowestHeaderBoundAreShown) {
+    // autzen.las: offset 0, scale 0.01; its lowest y (848977.79, the grid's origin) rounds to
+    // cell -1 in floor(raw * scale / cell + (offset - origin) / cell).
+    const auto path = test::shared_data("las/las/autzen.las");
+    BEAMTRACE_REQUIRE_FILE(path);
+    for (const double cell : {0.0, 0.5}) {  // from the density (1000 units), and fine
+        ViewSessionConfig config;
+        config.field.cell_size = cell;
+        config.threads = 2;
+        const std::vector<std::filesystem::path> inputs = {path};
+        ViewSession session(inputs, config);
+        const Vec3d lo = session.sources().min(), hi = session.sources().max();
+        const IngestStats stats =
+            session.move_to({0.5 * (lo.x + hi.x), 0.5 * (lo.y + hi.y), hi.z + 100});
+        EXPECT_EQ(stats.points_read, 106u) << cell;
+        EXPECT_EQ(stats.points_inserted, 106u) << cell;
+        EXPECT_EQ(session.not_shown_reason(), "") << cell;
+    }
+}
+
 TEST_F(ViewIngest, FilesWithoutPointsGiveAWarningAndAnEmptyView) {
     const auto empty = write_las(dir_ / "empty.las", {});
     const std::vector<std::filesystem::path> inputs = {empty};

@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <memory>
 #include <span>
+#include <string>
 #include <thread>
 #include <vector>
 
@@ -98,6 +99,10 @@ class ViewSession {
     /// Bytes counted against the budget: resident sections, sections being loaded in the
     /// background, plus the loader's read buffer.
     [[nodiscard]] std::size_t budgeted_bytes() const;
+    /// Why points may be missing from the sections in view, for the user: the files reach beyond
+    /// the window of sections around the camera, and/or the memory budget holds fewer sections
+    /// than the window has with data. Empty when neither holds.
+    [[nodiscard]] std::string not_shown_reason() const;
     /// The most budgeted_bytes() seen since construction (sampled whenever sections are
     /// allocated).
     [[nodiscard]] std::size_t peak_budgeted_bytes() const { return peak_bytes_; }
