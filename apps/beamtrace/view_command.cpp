@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "beamtrace/core/error.hpp"
+#include "beamtrace/heightfield/data_framing.hpp"
 #include "beamtrace/heightfield/view_job.hpp"
 #include "beamtrace/io/mp4_writer.hpp"
 #include "commands.hpp"
@@ -87,7 +88,8 @@ void run_interactive(const ViewCommand& c, ViewSession& session,
                      const std::vector<CameraPose>& poses) {
     ViewCamera camera = c.job.camera;
     if (poses.empty()) {
-        camera = overview_camera(session.sources().min(), session.sources().max(), camera);
+        const PointsBox box = points_box(session.sources());
+        camera = overview_camera(box.lo, box.hi, camera);
     } else {
         camera.set_pose(poses.front());
     }

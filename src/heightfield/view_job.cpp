@@ -11,6 +11,7 @@
 
 #include "beamtrace/core/error.hpp"
 #include "beamtrace/heightfield/camera_path.hpp"
+#include "beamtrace/heightfield/data_framing.hpp"
 #include "beamtrace/io/mp4_writer.hpp"
 #include "beamtrace/io/png_writer.hpp"
 #include "core/created_dirs.hpp"
@@ -178,8 +179,8 @@ ViewFramesResult run_view_frames(const ViewJobConfig& job, ViewSession& session,
     }
     std::vector<CameraPose> overview;
     if (poses.empty() && job.path.empty()) {
-        overview.push_back(
-            overview_camera(session.sources().min(), session.sources().max(), job.camera).pose());
+        const PointsBox box = points_box(session.sources());
+        overview.push_back(overview_camera(box.lo, box.hi, job.camera).pose());
     }
     FrameLoop loop{job,   session,     overview.empty() ? poses : overview,
                    hooks, video.get(), job.camera,

@@ -9,6 +9,7 @@
 
 #include <fstream>
 #include <sstream>
+#include <cstdlib>
 #include <string>
 #include <vector>
 
@@ -117,6 +118,10 @@ void expect_pictures_made_by_the_blocks(const fs::path& repo) {
             SCOPED_TRACE(e.path().filename().string() + ": images/" + name);
             const fs::path made = repo / "out" / "images" / name;
             ASSERT_TRUE(fs::exists(made)) << "no command in the docs makes it";
+            if (const char* update = std::getenv("BEAMTRACE_UPDATE_GOLDEN");
+                update != nullptr && std::string(update) == "1") {
+                fs::copy_file(made, docs / "images" / name, fs::copy_options::overwrite_existing);
+            }
             EXPECT_TRUE(test::read_file(made) == test::read_file(docs / "images" / name))
                 << "docs/images/" << name << " is not what the commands make now (copy "
                 << "out/images/" << name << " there)";
