@@ -1,4 +1,5 @@
-// labels.png shows the classes in colour; the summary prints the span of range.png's colours.
+// labels.png shows the classes in colour; the summary prints the span of range.png's colours,
+// and range.png draws it as a colour bar under the image.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -50,6 +51,48 @@ TEST(SurveyImages, LabelsInClassColoursAndTheRangeSpanInTheSummary) {
         << r.out;
     EXPECT_NEAR(nearest, lo, 0.0005);
     EXPECT_NEAR(farthest, hi, 0.0005);
+
+    // range.png: the image of range.npy in jet, then a colour bar: a row that runs from jet's
+    // blue end to its red end across the image, the rest black but for the labels.
+    const RgbImage png = read_png_rgb8(dir / "out" / "range.png");
+    const int w = static_cast<int>(range.shape[1]), h = static_cast<int>(range.shape[0]);
+    ASSERT_EQ(png.width, w);
+    ASSERT_GT(png.height, h + 10);
+    const std::vector<std::uint8_t> image = range_image_rgb(range.data, w, h);
+    EXPECT_TRUE(std::equal(image.begin(), image.end(), png.rgb.begin()));
+    const auto pixel = [&](int x, int y) {
+        const std::size_t i = 3 * (static_cast<std::size_t>(y) * static_cast<std::size_t>(w) +
+                                   static_cast<std::size_t>(x));
+        return std::array<std::uint8_t, 3>{png.rgb[i], png.rgb[i + 1], png.rgb[i + 2]};
+    };
+    int ramp_row = -1;
+    for (int y = h; y < png.height && ramp_row < 0; ++y) {
+        ramp_row = pixel(w / 2, y) != std::array<std::uint8_t, 3>{0, 0, 0} ? y : -1;
+    }
+    ASSERT_GE(ramp_row, h);
+    int first = 0, last = w - 1;
+    while (pixel(first, ramp_row) == std::array<std::uint8_t, 3>{0, 0, 0}) {
+        ++first;
+    }
+    while (pixel(last, ramp_row) == std::array<std::uint8_t, 3>{0, 0, 0}) {
+        --last;
+    }
+    EXPECT_EQ(pixel(first, ramp_row), jet_color(0.0));
+    EXPECT_EQ(pixel(last, ramp_row), jet_color(1.0));
+    const int mid = (first + last) / 2;
+    EXPECT_EQ(pixel(mid, ramp_row), jet_color(static_cast<double>(mid - first) / (last - first)));
+    EXPECT_GT(last - first, w * 9 / 10);
+    // White label pixels under the ramp, at both ends.
+    std::size_t white_left = 0, white_right = 0;
+    for (int y = ramp_row + 1; y < png.height; ++y) {
+        for (int x = 0; x < w; ++x) {
+            if (pixel(x, y) == std::array<std::uint8_t, 3>{255, 255, 255}) {
+                (x < w / 2 ? white_left : white_right) += 1;
+            }
+        }
+    }
+    EXPECT_GT(white_left, 20u);
+    EXPECT_GT(white_right, 20u);
 }
 
 }  // namespace

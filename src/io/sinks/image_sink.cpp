@@ -1,6 +1,7 @@
 // range.npy, range.png and (for surveys) labels.png of an image scanner firing one frame: each
 // pulse's first point is pixel (row v, column u) of pulse u * height + v; pixels without a
-// point are 0 (black in the PNGs). labels.png shows each pixel's class in its ASPRS colour.
+// point are 0 (black in the PNGs). labels.png shows each pixel's class in its ASPRS colour;
+// range.png has a colour bar of its ranges below the image.
 #include <cstdio>
 #include <future>
 #include <new>
@@ -12,6 +13,7 @@
 #include "beamtrace/io/npy.hpp"
 #include "beamtrace/io/png_writer.hpp"
 #include "beamtrace/io/point_sink.hpp"
+#include "io/sinks/colour_bar.hpp"
 
 namespace beamtrace {
 
@@ -75,17 +77,24 @@ class ImageSink final : public PointSink {
         }
         // The PNGs beside the .npy (PNG compression is most of it: 40 ms of a 110 ms panorama
         // survey when written one after the other).
-        if (const auto span = valid_range_span(range_)) {
-            char line[160];
+        const auto span = valid_range_span(range_);
+        if (span) {
+            char line[200];
             std::snprintf(line, sizeof line,
-                          "range.png: jet from %.3f m (blue) to %.3f m (red); misses black",
-                          span->first, span->second);
+                          "range.png: jet from %.3f m (blue) to %.3f m (red); misses black%s",
+                          span->first, span->second,
+                          detail::colour_bar_rows(w) > 0 ? "; the colour bar below" : "");
             notes_.emplace_back(line);
         } else {
             notes_.emplace_back("range.png: no hit (all black)");
         }
         auto png = std::async(std::launch::async, [&] {
-            write_png_rgb8(files[1], w, h, range_image_rgb(range_, w, h));
+            std::vector<std::uint8_t> rgb = range_image_rgb(range_, w, h);
+            const int bar = span ? detail::colour_bar_rows(w) : 0;
+            if (bar > 0) {
+                detail::append_colour_bar(rgb, w, span->first, span->second);
+            }
+            write_png_rgb8(files[1], w, h + bar, rgb);
         });
         auto labels = std::async(std::launch::async, [&] {
             if (labels_) {

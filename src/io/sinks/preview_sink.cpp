@@ -13,6 +13,7 @@
 #include "beamtrace/io/png_writer.hpp"
 #include "beamtrace/io/point_sink.hpp"
 #include "io/sinks/preview_font.hpp"
+#include "io/sinks/raster_text.hpp"
 
 namespace beamtrace {
 
@@ -128,33 +129,6 @@ double hill_shade(const Raster& r, int x, int y) {
     return std::clamp(0.35 + 0.65 * std::max(0.0, dot(n, light)) / light.z, 0.0, 1.0);
 }
 
-void put(std::vector<std::uint8_t>& rgb, int w, int h, int x, int y,
-         std::array<std::uint8_t, 3> c) {
-    if (x >= 0 && y >= 0 && x < w && y < h) {
-        const auto i = 3 * (static_cast<std::size_t>(y) * static_cast<std::size_t>(w) +
-                            static_cast<std::size_t>(x));
-        std::copy(c.begin(), c.end(), rgb.begin() + static_cast<std::ptrdiff_t>(i));
-    }
-}
-
-/// Draws `text` with its top-left at (x, y), each font pixel `s` x `s`, in `c`.
-void draw_text(std::vector<std::uint8_t>& rgb, int w, int h, int x, int y, int s,
-               const std::string& text, std::array<std::uint8_t, 3> c) {
-    for (std::size_t k = 0; k < text.size(); ++k) {
-        const auto rows = detail::glyph_rows(text[k]);
-        const int gx = x + static_cast<int>(k) * (detail::kGlyphWidth + 1) * s;
-        for (int row = 0; row < detail::kGlyphHeight; ++row) {
-            for (int col = 0; col < detail::kGlyphWidth; ++col) {
-                if ((rows[static_cast<std::size_t>(row)] >> (detail::kGlyphWidth - 1 - col)) & 1) {
-                    for (int i = 0; i < s * s; ++i) {
-                        put(rgb, w, h, gx + col * s + i % s, y + row * s + i / s, c);
-                    }
-                }
-            }
-        }
-    }
-}
-
 /// The 1-2-5 length nearest below a quarter of `width_m`, and its text ("50 m", "2 km").
 std::pair<double, std::string> scale_bar_length(double width_m) {
     const double want = width_m / 4.0;
@@ -186,16 +160,16 @@ void draw_scale_bar(std::vector<std::uint8_t>& rgb, int w, int h, double cell_m)
     for (int y = y0 - 1; y <= y0 + thick; ++y) {
         for (int x = x0 - 1; x <= x0 + px; ++x) {
             const bool edge = y == y0 - 1 || y == y0 + thick || x == x0 - 1 || x == x0 + px;
-            put(rgb, w, h, x, y,
-                edge ? std::array<std::uint8_t, 3>{0, 0, 0}
-                     : std::array<std::uint8_t, 3>{255, 255, 255});
+            detail::put_pixel(rgb, w, h, x, y,
+                              edge ? std::array<std::uint8_t, 3>{0, 0, 0}
+                                   : std::array<std::uint8_t, 3>{255, 255, 255});
         }
     }
     const int ty = y0 - (detail::kGlyphHeight + 3) * s;
     for (const auto& [dx, dy] : {std::pair{1, 1}, {-1, 0}, {1, 0}, {0, -1}, {0, 1}}) {
-        draw_text(rgb, w, h, x0 + dx, ty + dy, s, text, {0, 0, 0});
+        detail::draw_text(rgb, w, h, x0 + dx, ty + dy, s, text, {0, 0, 0});
     }
-    draw_text(rgb, w, h, x0, ty, s, text, {255, 255, 255});
+    detail::draw_text(rgb, w, h, x0, ty, s, text, {255, 255, 255});
 }
 
 std::vector<std::uint8_t> render(const Raster& r, const Crop& c) {
@@ -214,7 +188,7 @@ std::vector<std::uint8_t> render(const Raster& r, const Crop& c) {
             for (auto& ch : colour) {
                 ch = static_cast<std::uint8_t>(std::lround(ch * shade));
             }
-            put(rgb, c.width(), c.height(), x - c.x0, y - c.y0, colour);
+            detail::put_pixel(rgb, c.width(), c.height(), x - c.x0, y - c.y0, colour);
         }
     }
     draw_scale_bar(rgb, c.width(), c.height(), r.cell_m);
