@@ -227,6 +227,10 @@ void add_field_options(CLI::App* cmd, ViewSessionConfig& session) {
 /// Fog, shading, the fly-through's video and prefetching, the window, the output.
 void add_mode_options(CLI::App* cmd, ViewCommand& c) {
     ViewJobConfig& job = c.job;
+    cmd->add_option("--eye-dome", job.render.eye_dome,
+                    "Eye-dome lighting strength: outlines depth edges (columns, crowns, walls); "
+                    "0 = off, 1 = clear")
+        ->capture_default_str();
     cmd->add_option("--fog", job.render.fog_distance, "Fog distance in the files' units (0 = none)")
         ->capture_default_str();
     cmd->add_flag_callback(

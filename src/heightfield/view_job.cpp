@@ -82,6 +82,10 @@ std::vector<std::string> ViewJobConfig::validate() const {
     if (frames < 0) {
         problems.push_back("view: --frames " + std::to_string(frames) + " is negative");
     }
+    if (!(render.eye_dome >= 0.0) || !std::isfinite(render.eye_dome)) {
+        problems.push_back("view: --eye-dome " + std::to_string(render.eye_dome) +
+                           " is not a number >= 0");
+    }
     return problems;
 }
 

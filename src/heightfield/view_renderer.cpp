@@ -1,5 +1,7 @@
 #include "beamtrace/heightfield/view_renderer.hpp"
 
+#include "beamtrace/heightfield/eye_dome.hpp"
+
 #include <algorithm>
 #include <array>
 #include <atomic>
@@ -317,6 +319,7 @@ void render(const SectionGrid& grid, const ViewCamera& camera, const RenderOptio
             }
         });
     image.kernel_lanes = ran.load();
+    apply_eye_dome(image, options.eye_dome, pool);
 }
 
 }  // namespace

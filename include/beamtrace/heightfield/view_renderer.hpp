@@ -21,7 +21,10 @@ struct RenderOptions {
     /// Distance fog: colours fade to the sky by 1 - exp(-distance / fog_distance); 0 = off.
     double fog_distance = 0.0;
     Rgb8 sky = {150, 180, 220};  ///< colour of rays that hit nothing
-    int tile_pixels = 16;        ///< square tiles handed to the threads
+    /// Eye-dome lighting strength (heightfield/eye_dome.hpp): darkens pixels behind nearer
+    /// neighbours, outlining columns, crowns and walls; 0 = off, 1 = a clear outline.
+    double eye_dome = 0.0;
+    int tile_pixels = 16;  ///< square tiles handed to the threads
     /// Rays traced together in SIMD lanes: 0 = the most this CPU has (8 with AVX-512, 4 with
     /// AVX2, else 1); 1 = one ray at a time; 4 or 8 = at most that many. The image is the same
     /// bit for bit whatever the lanes; height stacks are traced one ray at a time.
