@@ -91,7 +91,8 @@ std::function<int()> add_scan_command(CLI::App& app) {
         "scan",
         "Cast a sensor's rays into a triangle scene and write ranges, face IDs, points and "
         "range images");
-    cmd->add_option("--mesh", job.meshes, "Mesh file (OBJ, PLY, STL); repeat to concatenate")
+    cmd->add_option("--mesh", job.meshes,
+                    "Mesh file (OBJ, PLY, STL, glTF .gltf/.glb); repeat to concatenate")
         ->check(CLI::ExistingFile);
     cmd->add_flag("--demo", job.demo,
                   "Use the embedded demo scene (terrain, three vehicles, an occluding plane)");

@@ -3,6 +3,7 @@
 
 #include <sys/wait.h>
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <string>
@@ -245,6 +246,26 @@ TEST(Cli, RaysFileWithImageShape) {
     EXPECT_EQ(r.exit_code, 2);
     EXPECT_NE(r.out.find("6 rays"), std::string::npos) << r.out;
     EXPECT_FALSE(std::filesystem::exists(dir / "bad" / "hits.csv"));
+}
+
+TEST(Cli, ScanTakesGltfMeshesAndSaysSo) {
+    EXPECT_NE(run("scan --help").out.find("glTF"), std::string::npos);
+    // BoxTextured.glb (Khronos sample): the cube [-0.5, 0.5]^3. Rays down from z = 5.
+    const auto glb = test::shared_data("meshes/gltf/BoxTextured.glb");
+    BEAMTRACE_REQUIRE_FILE(glb);
+    test::TempDir dir;
+    {
+        std::ofstream f(dir / "rays.csv");
+        f << "ox,oy,oz,dx,dy,dz\n0,0,5,0,0,-1\n0.4,-0.3,5,0,0,-1\n2,0,5,0,0,-1\n";
+    }
+    const auto r = run("scan --mesh " + glb.string() + " --pattern rays --rays " +
+                       (dir / "rays.csv").string() + " --output " + (dir / "out").string());
+    ASSERT_EQ(r.exit_code, 0) << r.out;
+    const HitsCsv hits = read_hits_csv(dir / "out" / "hits.csv");
+    ASSERT_EQ(hits.size(), 3u);
+    EXPECT_NEAR(hits.range_m[0], 4.5, 1e-5);
+    EXPECT_NEAR(hits.range_m[1], 4.5, 1e-5);
+    EXPECT_FALSE(std::isfinite(hits.range_m[2]));  // beside the box
 }
 
 int run_example(const std::string& name, const std::filesystem::path& out) {
