@@ -1,9 +1,10 @@
-// LAZ output: the chunk writer (records in, chunks out in order, a batch encoded in parallel)
+// LAZ output: the chunk writer (records in, chunks out in order, encoded on its threads meanwhile)
 // and LasWriter's compression laz (the LASzip VLR, the chunk table's offset at the start of the
 // point data, the table after the last chunk).
 #include <algorithm>
 #include <cstdio>
 #include <cstring>
+#include <span>
 #include <stdexcept>
 #include <string>
 
@@ -40,8 +41,6 @@ LazChunkWriter::LazChunkWriter(laz::LazVlr vlr, unsigned threads, std::uint64_t 
     : vlr_(std::move(vlr)),
       record_length_(vlr_.record_length()),
       chunk_points_(vlr_.chunk_size),
-      pool_(std::make_unique<ThreadPool>(threads)),
-      batch_chunks_(pool_->size()),
       offset_(first_chunk_offset),
       emit_(std::move(emit)),
       path_(std::move(path)) {
@@ -49,61 +48,124 @@ LazChunkWriter::LazChunkWriter(laz::LazVlr vlr, unsigned threads, std::uint64_t 
         throw OutputError(path_.string() + ": LAZ: chunk size " + std::to_string(chunk_points_) +
                           " (expected 1 to 4294967294 points)");
     }
-    records_.resize(batch_chunks_ * chunk_points_ * record_length_);
-    encoded_.resize(batch_chunks_);
+    const unsigned n = threads != 0 ? threads : std::max(1u, std::thread::hardware_concurrency());
+    slots_.resize(n + 2);
+    for (unsigned k = 0; k < n; ++k) {
+        workers_.emplace_back([this] { worker_loop(); });
+    }
 }
 
-LazChunkWriter::~LazChunkWriter() = default;
+LazChunkWriter::~LazChunkWriter() {
+    {
+        const std::lock_guard lock(mutex_);
+        stop_ = true;
+    }
+    work_.notify_all();
+    for (auto& t : workers_) {
+        t.join();
+    }
+}
+
+void LazChunkWriter::worker_loop() {
+    for (;;) {
+        Slot* slot = nullptr;
+        {
+            std::unique_lock lock(mutex_);
+            work_.wait(lock, [&] { return stop_ || !queue_.empty(); });
+            if (stop_) {
+                return;
+            }
+            slot = queue_.front();
+            queue_.pop_front();
+        }
+        encode(*slot);
+        {
+            const std::lock_guard lock(mutex_);
+            slot->done = true;
+        }
+        done_.notify_all();
+    }
+}
+
+void LazChunkWriter::encode(Slot& slot) const {
+    const std::span records(slot.records.data(), slot.count * record_length_);
+    slot.encoded.clear();
+    try {
+        if (vlr_.compressor == laz::Compressor::layered_chunked) {
+            laz::encode_layered_chunk(vlr_.items, records, slot.count, slot.encoded);
+        } else {
+            laz::encode_pointwise_chunk(vlr_.items, records, slot.count, slot.encoded);
+        }
+    } catch (...) {
+        slot.error = std::current_exception();
+    }
+}
 
 void LazChunkWriter::append(const std::uint8_t* records, std::size_t count) {
-    const std::size_t capacity = batch_chunks_ * chunk_points_;
     while (count > 0) {
-        const std::size_t n = std::min(count, capacity - buffered_);
-        std::memcpy(records_.data() + buffered_ * record_length_, records, n * record_length_);
-        buffered_ += n;
+        if (in_flight_ == slots_.size()) {
+            emit_oldest(true);  // no slot free to fill
+        }
+        Slot& slot = slots_[(oldest_ + in_flight_) % slots_.size()];
+        slot.records.resize(chunk_points_ * record_length_);
+        const std::size_t n = std::min(count, chunk_points_ - slot.count);
+        std::memcpy(slot.records.data() + slot.count * record_length_, records, n * record_length_);
+        slot.count += n;
         records += n * record_length_;
         count -= n;
-        if (buffered_ == capacity) {
-            encode_buffered();
+        if (slot.count == chunk_points_) {
+            submit_filling();
+            while (in_flight_ > 0 && emit_oldest(false)) {
+            }
         }
     }
 }
 
-void LazChunkWriter::encode_buffered() {
-    const std::size_t count = (buffered_ + chunk_points_ - 1) / chunk_points_;
-    const bool layered = vlr_.compressor == laz::Compressor::layered_chunked;
-    try {
-        pool_->parallel_for(count, 1, [&](std::size_t begin, std::size_t end) {
-            for (std::size_t k = begin; k < end; ++k) {
-                const std::size_t first = k * chunk_points_;
-                const std::size_t n = std::min(chunk_points_, buffered_ - first);
-                const std::span records(records_.data() + first * record_length_,
-                                        n * record_length_);
-                encoded_[k].clear();
-                if (layered) {
-                    laz::encode_layered_chunk(vlr_.items, records, n, encoded_[k]);
-                } else {
-                    laz::encode_pointwise_chunk(vlr_.items, records, n, encoded_[k]);
-                }
-            }
-        });
-    } catch (const std::invalid_argument& e) {
-        throw OutputError(path_.string() + ": LAZ chunk " + std::to_string(chunks_.size() + 1) +
-                          ": " + e.what());
+void LazChunkWriter::submit_filling() {
+    Slot& slot = slots_[(oldest_ + in_flight_) % slots_.size()];
+    {
+        const std::lock_guard lock(mutex_);
+        slot.done = false;
+        slot.error = nullptr;
+        queue_.push_back(&slot);
     }
-    for (std::size_t k = 0; k < count; ++k) {
-        const std::size_t n = std::min(chunk_points_, buffered_ - k * chunk_points_);
-        chunks_.push_back({offset_, encoded_[k].size(), points_, n});
-        emit_(encoded_[k].data(), encoded_[k].size());
-        offset_ += encoded_[k].size();
-        points_ += n;
+    ++in_flight_;
+    work_.notify_one();
+}
+
+bool LazChunkWriter::emit_oldest(bool wait) {
+    Slot& slot = slots_[oldest_];
+    {
+        std::unique_lock lock(mutex_);
+        if (!slot.done && !wait) {
+            return false;
+        }
+        done_.wait(lock, [&] { return slot.done; });
     }
-    buffered_ = 0;
+    if (slot.error) {
+        try {
+            std::rethrow_exception(slot.error);
+        } catch (const std::invalid_argument& e) {
+            throw OutputError(path_.string() + ": LAZ chunk " + std::to_string(chunks_.size() + 1) +
+                              ": " + e.what());
+        }
+    }
+    chunks_.push_back({offset_, slot.encoded.size(), points_, slot.count});
+    emit_(slot.encoded.data(), slot.encoded.size());
+    offset_ += slot.encoded.size();
+    points_ += slot.count;
+    slot.count = 0;
+    oldest_ = (oldest_ + 1) % slots_.size();
+    --in_flight_;
+    return true;
 }
 
 std::vector<std::uint8_t> LazChunkWriter::finish() {
-    if (buffered_ > 0) {
-        encode_buffered();
+    if (in_flight_ < slots_.size() && slots_[(oldest_ + in_flight_) % slots_.size()].count > 0) {
+        submit_filling();
+    }
+    while (in_flight_ > 0) {
+        emit_oldest(true);
     }
     try {
         return laz::encode_chunk_table(chunks_, false);

@@ -1,17 +1,21 @@
 // The point data of a LAZ file as a stream of raw records in, compressed chunks out: records are
-// buffered a chunk at a time, a batch of full chunks (one per thread) is encoded in parallel and
-// the chunks are emitted in order, so the bytes are the same at any thread count and memory
-// stays bounded by one batch. Shared by LasWriter (compression laz) and convert_las.
+// buffered a chunk at a time; each full chunk is handed to the encoder threads while the caller
+// goes on appending, and chunks are emitted in order on the caller's thread as they are done,
+// so the bytes are the same at any thread count and memory stays bounded by threads + 2 chunks.
+// Shared by LasWriter (compression laz) and convert_las.
 #pragma once
 
+#include <condition_variable>
 #include <cstddef>
 #include <cstdint>
+#include <deque>
+#include <exception>
 #include <filesystem>
 #include <functional>
-#include <memory>
+#include <mutex>
+#include <thread>
 #include <vector>
 
-#include "beamtrace/core/thread_pool.hpp"
 #include "beamtrace/io/las.hpp"
 #include "laz/chunk_table.hpp"
 #include "laz/laz_vlr.hpp"
@@ -49,21 +53,36 @@ class LazChunkWriter {
     [[nodiscard]] const std::vector<laz::Chunk>& chunks() const { return chunks_; }
 
   private:
-    void encode_buffered();
+    /// A chunk being filled, encoded or waiting to be emitted.
+    struct Slot {
+        std::vector<std::uint8_t> records;
+        std::size_t count = 0;  ///< records in it
+        std::vector<std::uint8_t> encoded;
+        bool done = false;  ///< encoded (guarded by mutex_)
+        std::exception_ptr error;
+    };
+
+    void submit_filling();
+    /// Emits the oldest chunk in flight, waiting for it when `wait`; false if it was not done.
+    bool emit_oldest(bool wait);
+    void encode(Slot& slot) const;
+    void worker_loop();
 
     laz::LazVlr vlr_;
     std::size_t record_length_;
     std::size_t chunk_points_;
-    std::unique_ptr<ThreadPool> pool_;
-    std::size_t batch_chunks_;
-    std::vector<std::uint8_t> records_;               ///< a batch of chunks' raw records
-    std::size_t buffered_ = 0;                        ///< records in records_
-    std::vector<std::vector<std::uint8_t>> encoded_;  ///< one per chunk of a batch
+    std::vector<Slot> slots_;  ///< a ring: oldest_ .. oldest_ + in_flight_ - 1 are submitted
+    std::size_t oldest_ = 0, in_flight_ = 0;
     std::vector<laz::Chunk> chunks_;
     std::uint64_t offset_;
     std::uint64_t points_ = 0;  ///< points emitted
     Emit emit_;
     std::filesystem::path path_;
+    std::mutex mutex_;
+    std::condition_variable work_, done_;
+    std::deque<Slot*> queue_;
+    bool stop_ = false;
+    std::vector<std::thread> workers_;
 };
 
 }  // namespace beamtrace::detail
