@@ -1,5 +1,7 @@
 #include "laz/integer_compressor.hpp"
 
+#include <bit>
+
 #include <algorithm>
 #include <cassert>
 #include <cstddef>
@@ -114,13 +116,9 @@ std::int32_t IntegerCompressor::read_corrector(ArithmeticDecoder& dec, Arithmeti
 void IntegerCompressor::write_corrector(ArithmeticEncoder& enc, std::int32_t c,
                                         ArithmeticModel& k_model) {
     // The smallest k with c in [-(2^k - 1), 2^k].
-    std::uint32_t c1 =
+    const std::uint32_t c1 =
         c <= 0 ? 0U - static_cast<std::uint32_t>(c) : static_cast<std::uint32_t>(c) - 1;
-    k_ = 0;
-    while (c1 != 0) {
-        c1 >>= 1;
-        ++k_;
-    }
+    k_ = static_cast<std::uint32_t>(std::bit_width(c1));
     enc.encode_symbol(k_model, k_);
     if (k_ == 0) {
         enc.encode_bit(corrector0_, static_cast<std::uint32_t>(c));
