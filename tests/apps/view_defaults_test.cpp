@@ -81,5 +81,39 @@ TEST(ViewDefaults, DefaultOverviewCoversMostOfTheFrameForAirborneAndCarSurveys) 
     }
 }
 
+TEST(ViewDefaults, PointsLeftOutAreCountedWithTheReason) {
+    const fs::path las = test::shared_data("las/las/autzen_trim.las");
+    BEAMTRACE_REQUIRE_FILE(las);
+    test::TempDir dir;
+    // A window of 2x2 sections of 256 ft around the centre: about half the file lies outside.
+    auto r = test::run_command(std::string(BEAMTRACE_CLI_PATH) + " view '" + las.string() +
+                               "' --cell-size 1 --sections 2x2 --levels 3 --section-cells 64 "
+                               "--size 64x36 --output '" +
+                               (dir / "v.png").string() + "' 2>&1");
+    ASSERT_EQ(r.exit_code, 0) << r.out;
+    unsigned long long hidden = 0, all = 0, shown = 0, read = 0;
+    const std::size_t note = r.out.find("beamtrace: note: ");
+    ASSERT_NE(note, std::string::npos) << r.out;
+    ASSERT_EQ(std::sscanf(r.out.c_str() + note, "beamtrace: note: %llu of %llu points not shown",
+                          &hidden, &all),
+              2)
+        << r.out;
+    EXPECT_NE(r.out.find("the files reach beyond the window of 2x2 sections of 256 units"),
+              std::string::npos)
+        << r.out;
+    const std::size_t loaded = r.out.find("-unit cells: ");
+    ASSERT_NE(loaded, std::string::npos) << r.out;
+    ASSERT_EQ(std::sscanf(r.out.c_str() + loaded, "-unit cells: %llu of %llu", &shown, &read), 2);
+    EXPECT_EQ(all, 110000u);
+    EXPECT_EQ(hidden + shown, all);
+    EXPECT_GT(hidden, 10000u);
+    // The defaults show every point, and say nothing.
+    r = test::run_command(std::string(BEAMTRACE_CLI_PATH) + " view '" + las.string() +
+                          "' --size 64x36 --output '" + (dir / "w.png").string() + "' 2>&1");
+    ASSERT_EQ(r.exit_code, 0) << r.out;
+    EXPECT_EQ(r.out.find("not shown"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("110000 of 110000 points"), std::string::npos) << r.out;
+}
+
 }  // namespace
 }  // namespace beamtrace
