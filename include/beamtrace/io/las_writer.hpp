@@ -104,8 +104,9 @@ struct LasWriterConfig {
     LasCompression compression = LasCompression::none;
     /// laz: points per chunk (the last chunk may be shorter), 1 to 4294967294.
     std::uint32_t laz_chunk_size = 50000;
-    /// laz: chunks encoded at once (0: one per hardware thread); the file is the same for any
-    /// value, and the writer holds at most `threads` chunks of records.
+    /// laz: chunks encoded at once (0: one per hardware thread), on threads of the writer's own
+    /// while records keep coming; the file is the same for any value, and the writer holds at
+    /// most `threads` + 2 chunks of records.
     unsigned threads = 0;
 
     /// Every problem with these settings (empty when they are usable).
