@@ -137,3 +137,26 @@ def test_empty_batch():
     scene = beamtrace.Scene.from_arrays(*unit_cube())
     hits = scene.trace(np.zeros((0, 3)), np.zeros((0, 3)))
     assert hits.range_m.shape == (0,) and hits.normal.shape == (0, 3)
+
+
+def test_zero_copy_and_concurrent_calls():
+    import threading
+
+    scene = beamtrace.Scene.from_arrays(*unit_cube())
+    rng = np.random.default_rng(3)
+    origins, directions = rng.uniform(-2, 3, size=(20000, 3)), rng.normal(size=(20000, 3))
+    reference = scene.trace(origins, directions, backend="kdtree", threads=1)
+    assert not reference.range_m.flags.owndata  # the tracer's buffer, not a copy
+    results = [None] * 4
+
+    def work(k):  # the backends are built at first use, once, whichever thread asks first
+        results[k] = scene.trace(origins, directions, backend=["bvh", "brute"][k % 2], threads=2)
+
+    threads = [threading.Thread(target=work, args=(k,)) for k in range(4)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    for hits in results:
+        np.testing.assert_array_equal(hits.range_m, reference.range_m)
+        np.testing.assert_array_equal(hits.face, reference.face)
