@@ -4,7 +4,7 @@ import re
 
 import pytest
 
-from conftest import REPO
+from conftest import REPO, skip_unless_required
 
 
 def python_blocks():
@@ -19,7 +19,7 @@ def test_docs_have_examples():
 @pytest.mark.parametrize("index", range(len(python_blocks())))
 def test_docs_example_runs(index, monkeypatch, capsys):
     if not (REPO.parent / "shared" / "data").is_dir():
-        pytest.skip("the examples read ../shared/data")
+        skip_unless_required("the examples read ../shared/data")
     monkeypatch.chdir(REPO)
     exec(compile(python_blocks()[index], f"docs/python.md block {index}", "exec"), {})
     assert capsys.readouterr().out
