@@ -36,3 +36,24 @@ def test_mesh_file_matches_arrays(tmp_path):
     np.testing.assert_array_equal(hits.u, reference.u)
     lo, hi = scene.bounds
     assert lo == (-1.0, -1.0, 0.0) and hi == (1.0, 1.0, 0.0)
+
+
+def test_shared_mesh_files(shared_data):
+    meshes = shared_data / "meshes"
+    for name in ("gltf/BoxTextured.glb", "ply/cube.ply"):
+        scene = beamtrace.Scene.load(meshes / name)
+        assert scene.face_count == 12, name
+        (x0, y0, _), (x1, y1, z1) = scene.bounds
+        hits = scene.trace([[(x0 + x1) / 2 + 0.1, (y0 + y1) / 2 + 0.2, z1 + 10]], [[0, 0, -1]])
+        assert hits.range_m[0] == 10.0, name
+        np.testing.assert_array_equal(hits.normal[0], [0.0, 0.0, 1.0])
+    # the PLY and STL twins of one mesh: the same hits on a grid of rays from above
+    ply, stl = (beamtrace.Scene.load(meshes / f"{k}/Wuson.{k}") for k in ("ply", "stl"))
+    (x0, y0, _), (x1, y1, z1) = ply.bounds
+    xy = np.stack(np.meshgrid(np.linspace(x0, x1, 40), np.linspace(y0, y1, 40)), -1).reshape(-1, 2)
+    origins = np.column_stack([xy, np.full(len(xy), z1 + 1)])
+    down = np.tile([0.0, 0.0, -1.0], (len(xy), 1))
+    a, b = ply.trace(origins, down), stl.trace(origins, down)
+    assert 100 < np.count_nonzero(a.face >= 0) < len(xy)
+    np.testing.assert_array_equal(a.range_m, b.range_m)
+    np.testing.assert_array_equal(a.face, b.face)
