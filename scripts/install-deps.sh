@@ -6,7 +6,9 @@ pkgs=(build-essential cmake libcli11-dev libpng-dev libtiff-dev libyaml-cpp-dev 
       # the include check (scripts/check_includes.py, a ctest test)
       python3
       # view --interactive (GLFW/OpenGL) and its headless test (Xvfb); view --mp4 and its test
-      libglfw3-dev xvfb xauth ffmpeg)
+      libglfw3-dev xvfb xauth ffmpeg
+      # the Python module (python/, docs/python.md) and its pytest suite
+      pybind11-dev python3-dev python3-numpy python3-pytest)
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -1,0 +1,123 @@
+// Scene.trace (nearest hits as NumPy arrays) and Scene.occluded, the GIL released while tracing.
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "beamtrace/core/thread_pool.hpp"
+#include "numpy_arrays.hpp"
+#include "py_scene.hpp"
+#include "rays.hpp"
+
+namespace beamtrace::python {
+namespace {
+
+/// Nearest hits as NumPy arrays, one row per ray (a miss: range inf, face/part/label -1, u = v =
+/// 0, normal 0).
+struct Hits {
+    py::array range_m, face, part, label, u, v, normal;
+};
+
+// The per-ray results before they become arrays (filled with the GIL released).
+struct TraceOutput {
+    HitBatch hits;
+    std::vector<std::int64_t> face, part, label;
+    std::vector<double> normal;  ///< 3 per ray
+};
+
+constexpr std::size_t kGrain = 4096;
+
+// Face, part, label and normal of every ray's hit, in parallel (each ray on its own).
+void describe_hits(const Scene& scene, const RayBatch& rays, TraceOutput& out, ThreadPool& pool) {
+    const std::size_t n = rays.size();
+    out.face.assign(n, -1);
+    out.part.assign(n, -1);
+    out.label.assign(n, -1);
+    out.normal.assign(3 * n, 0.0);
+    pool.parallel_for(n, kGrain, [&](std::size_t begin, std::size_t end) {
+        for (std::size_t i = begin; i < end; ++i) {
+            if (!out.hits.hit(i)) {
+                continue;
+            }
+            const std::uint32_t f = out.hits.face[i];
+            const std::size_t p = scene.part_of_face(f);
+            const Vec3d at =
+                rays.origin(i) + rays.direction(i) * static_cast<double>(out.hits.t[i]);
+            const Vec3d nrm = scene.geometry.normal_at(f, at);
+            out.face[i] = f;
+            out.part[i] = static_cast<std::int64_t>(p);
+            out.label[i] = scene.parts[p].label;
+            out.normal[3 * i] = nrm.x;
+            out.normal[3 * i + 1] = nrm.y;
+            out.normal[3 * i + 2] = nrm.z;
+        }
+    });
+}
+
+Hits to_hits(TraceOutput&& out) {
+    const auto n = static_cast<py::ssize_t>(out.face.size());
+    Hits h;
+    h.range_m = to_numpy(std::move(out.hits.t), {n});
+    h.u = to_numpy(std::move(out.hits.u), {n});
+    h.v = to_numpy(std::move(out.hits.v), {n});
+    h.face = to_numpy(std::move(out.face), {n});
+    h.part = to_numpy(std::move(out.part), {n});
+    h.label = to_numpy(std::move(out.label), {n});
+    h.normal = to_numpy(std::move(out.normal), {n, 3});
+    return h;
+}
+
+Hits trace(PyScene& self, const py::handle& origins, const py::handle& directions,
+           const std::string& backend, unsigned threads, double max_range_m) {
+    const BackendKind kind = parse_backend_kind(backend);
+    const RayBatch rays = make_rays(origins, directions, max_range_m);
+    TraceOutput out;
+    {
+        py::gil_scoped_release release;
+        ThreadPool pool(threads);
+        const Backend& b = self.backend(kind, pool);
+        out.hits.resize(rays.size());
+        b.intersect(rays, 0, rays.size(), out.hits, pool);
+        describe_hits(self.scene(), rays, out, pool);
+    }
+    return to_hits(std::move(out));
+}
+
+py::array occluded(PyScene& self, const py::handle& origins, const py::handle& directions,
+                   const std::string& backend, unsigned threads, double max_range_m) {
+    const BackendKind kind = parse_backend_kind(backend);
+    const RayBatch rays = make_rays(origins, directions, max_range_m);
+    std::vector<std::uint8_t> blocked(rays.size(), 0);
+    {
+        py::gil_scoped_release release;
+        ThreadPool pool(threads);
+        self.backend(kind, pool).occluded(rays, 0, rays.size(), blocked, pool);
+    }
+    // One byte per ray, 0 or 1: NumPy's bool layout.
+    return to_numpy(std::move(blocked), {static_cast<py::ssize_t>(rays.size())})
+        .attr("view")(py::dtype::of<bool>());
+}
+
+}  // namespace
+
+void bind_scene_queries(py::module_& m, py::class_<PyScene>& scene) {
+    py::class_<Hits>(m, "Hits", "Nearest hits of Scene.trace, one row per ray")
+        .def_readonly("range_m", &Hits::range_m, "float32 (N,): metres, inf for a miss")
+        .def_readonly("face", &Hits::face, "int64 (N,): face ID, -1 for a miss")
+        .def_readonly("part", &Hits::part, "int64 (N,): index into Scene.parts, -1 for a miss")
+        .def_readonly("label", &Hits::label, "int64 (N,): the part's class, -1 for a miss")
+        .def_readonly("u", &Hits::u, "float32 (N,): barycentric of the face's V1 (0 for a miss)")
+        .def_readonly("v", &Hits::v, "float32 (N,): barycentric of the face's V2 (0 for a miss)")
+        .def_readonly("normal", &Hits::normal, "float64 (N, 3): unit normal, 0 for a miss")
+        .def("__len__", [](const Hits& h) { return h.face.shape(0); });
+    const double inf = std::numeric_limits<double>::infinity();
+    scene.def("trace", &trace, py::arg("origins"), py::arg("directions"),
+              py::arg("backend") = "bvh", py::arg("threads") = 0u, py::arg("max_range_m") = inf,
+              "Nearest hit of each ray origins[i] + t * directions[i] (normalised), 0 <= t <= "
+              "max_range_m; returns Hits.");
+    scene.def("occluded", &occluded, py::arg("origins"), py::arg("directions"),
+              py::arg("backend") = "bvh", py::arg("threads") = 0u, py::arg("max_range_m") = inf,
+              "bool (N,): whether each ray meets anything within [0, max_range_m].");
+}
+
+}  // namespace beamtrace::python
