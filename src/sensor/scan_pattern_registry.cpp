@@ -11,9 +11,11 @@
 namespace beamtrace {
 namespace {
 
-[[nodiscard]] const std::array<ScanPatternEntry, 5>& table() {
-    static const std::array<ScanPatternEntry, 5> entries{
+[[nodiscard]] const std::array<ScanPatternEntry, 9>& table() {
+    static const std::array<ScanPatternEntry, 9> entries{
         detail::rotating_scanner_entry(), detail::line_scanner_entry(),
+        detail::conic_scanner_entry(),    detail::polygon_scanner_entry(),
+        detail::risley_scanner_entry(),   detail::fibre_scanner_entry(),
         detail::pinhole_pattern_entry(),  detail::scan_pattern_entry(),
         detail::rays_file_entry(),
     };

@@ -41,16 +41,18 @@ TEST(ScanPatternRegistry, NamesAreUniqueAndFindTheirEntries) {
         EXPECT_FALSE(e.summary.empty()) << e.name;
         EXPECT_TRUE(e.parse != nullptr || e.static_rays != nullptr) << e.name << " is unused";
     }
-    EXPECT_EQ(find_scan_pattern("conic"), nullptr);
-    EXPECT_EQ(survey_scanner_types(), "rotating, line, pinhole or scan");
+    EXPECT_EQ(find_scan_pattern("spiral"), nullptr);
+    EXPECT_EQ(survey_scanner_types(),
+              "rotating, line, conic, polygon, risley, fibre, pinhole or scan");
     EXPECT_EQ(static_scan_pattern_choices(), "pinhole | scan | rays");
 }
 
 TEST(ScanPatternRegistry, UnknownTypesListTheTable) {
-    EXPECT_NE(scanner_error("{type: conic}")
-                  .find("s.yaml:2: scanner.type: expected rotating, line, pinhole or scan"),
+    EXPECT_NE(scanner_error("{type: spiral}")
+                  .find("s.yaml:2: scanner.type: expected rotating, line, conic, polygon, risley, "
+                        "fibre, pinhole or scan"),
               std::string::npos)
-        << scanner_error("{type: conic}");
+        << scanner_error("{type: spiral}");
     EXPECT_THROW((void)survey_scanner_type("rays"), ConfigError);  // not a survey scanner
     try {
         (void)static_scan_pattern("rotating");
