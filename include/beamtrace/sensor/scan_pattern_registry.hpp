@@ -147,12 +147,12 @@ struct ScanPatternEntry {
 /// The entry named `name`, or nullptr.
 [[nodiscard]] const ScanPatternEntry* find_scan_pattern(std::string_view name);
 /// The survey scanner type `name`; throws ConfigError "unknown scanner type 'x' (expected
-/// rotating, line, pinhole or scan)".
+/// rotating, line, conic, polygon, risley, fibre, pinhole or scan)".
 [[nodiscard]] const ScanPatternEntry& survey_scanner_type(std::string_view name);
 /// The `beamtrace scan` pattern `name`; throws ConfigError "unknown pattern 'x' (expected
 /// pinhole, scan or rays)".
 [[nodiscard]] const ScanPatternEntry& static_scan_pattern(std::string_view name);
-/// "rotating, line, pinhole or scan": the survey scanner types.
+/// "rotating, line, conic, polygon, risley, fibre, pinhole or scan": the survey scanner types.
 [[nodiscard]] std::string survey_scanner_types();
 /// "pinhole | scan | rays": the patterns of `beamtrace scan`, for its help text.
 [[nodiscard]] std::string static_scan_pattern_choices();
