@@ -7,9 +7,9 @@
 // (`](images/NAME.png)`) must be what the blocks made: out/images/NAME.png, byte for byte.
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <fstream>
 #include <sstream>
-#include <cstdlib>
 #include <string>
 #include <vector>
 
