@@ -5,6 +5,8 @@
 #include <csignal>
 #include <set>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "beamtrace/core/cancel.hpp"
 #include "beamtrace/pipeline/scan_job.hpp"
@@ -63,6 +65,29 @@ TEST(CancelToken, KeepsTheFirstReason) {
     CancelToken zero;
     zero.request(0);
     EXPECT_EQ(zero.reason(), 1);  // 0 would read as "not requested"
+}
+
+TEST(SurveyProgress, ReportsStartWhenTheSurveyStageStartsAndEndAtTheTotal) {
+    // The CLI's rate counts from the first report (done = 0): loading and building the scene
+    // before it are not in the rate.
+    test::TempDir dir;
+    const SurveySpec spec = demo_survey(dir);
+    SurveyRunConfig run;
+    run.output_dir = dir / "out";
+    run.threads = 2;
+    run.chunk_pulses = 2048;
+    std::vector<std::pair<std::size_t, std::size_t>> reports;
+    (void)run_survey(
+        spec, run, [&](std::size_t done, std::size_t total) { reports.emplace_back(done, total); });
+    ASSERT_GE(reports.size(), 3u);
+    EXPECT_EQ(reports.front().first, 0u);
+    const std::size_t total = reports.front().second;
+    EXPECT_GT(total, 0u);
+    for (std::size_t i = 1; i < reports.size(); ++i) {
+        EXPECT_GT(reports[i].first, reports[i - 1].first) << i;
+        EXPECT_EQ(reports[i].second, total) << i;
+    }
+    EXPECT_EQ(reports.back().first, total);
 }
 
 TEST(SurveyCancel, RequestedBeforeTheRunWritesNothing) {
