@@ -38,10 +38,8 @@ ScanWaveform parse_scan_waveform(std::string_view name) {
 
 std::vector<std::string> LineScannerConfig::validate() const {
     std::vector<std::string> p;
+    detail::pulse_timing_problems(pulse_rate_hz, duration_s, start_time_s, p);
     const bool rate_ok = pulse_rate_hz > 0.0 && std::isfinite(pulse_rate_hz);
-    if (!rate_ok) {
-        p.push_back("pulse_rate_hz must be positive (got " + std::to_string(pulse_rate_hz) + ")");
-    }
     if (!(scan_rate_hz > 0.0 && std::isfinite(scan_rate_hz))) {
         p.push_back("scan_rate_hz must be positive (got " + std::to_string(scan_rate_hz) + ")");
     } else if (rate_ok && !(2.0 * scan_rate_hz <= pulse_rate_hz)) {
@@ -56,20 +54,6 @@ std::vector<std::string> LineScannerConfig::validate() const {
     if (waveform != ScanWaveform::sawtooth && waveform != ScanWaveform::sinusoid &&
         waveform != ScanWaveform::triangle) {
         p.push_back("waveform must be sawtooth, sinusoid or triangle");
-    }
-    if (!(duration_s > 0.0 && std::isfinite(duration_s))) {
-        p.push_back("duration_s must be positive (got " + std::to_string(duration_s) + ")");
-    } else if (rate_ok) {
-        const double pulses = duration_s * pulse_rate_hz;
-        if (!(pulses <= 9.0e15)) {
-            p.push_back("duration_s x pulse_rate_hz must be below 9e15 pulses");
-        } else if (whole_count(pulses) == 0) {
-            p.push_back("duration_s (" + std::to_string(duration_s) +
-                        ") is shorter than one pulse");
-        }
-    }
-    if (!std::isfinite(start_time_s)) {
-        p.push_back("start_time_s must be finite");
     }
     return p;
 }

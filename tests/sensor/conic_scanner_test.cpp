@@ -11,18 +11,13 @@
 
 #include "beamtrace/core/error.hpp"
 #include "beamtrace/pipeline/survey.hpp"
+#include "sensor/scan_pattern_test_support.hpp"
 
 namespace beamtrace {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
 constexpr double kDegToRad = kPi / 180.0;
-
-PulseBatch all_pulses(const ScanPattern& pattern) {
-    PulseBatch out;
-    pattern.generate(0, static_cast<std::size_t>(pattern.pulse_count()), out);
-    return out;
-}
 
 /// `x` wrapped into [-pi, pi).
 double wrap_pi(double x) {
@@ -42,7 +37,7 @@ ConicScannerConfig config() {
 TEST(ConicScanner, EveryDirectionIsAtTheOffAxisAngleAndTheAzimuthIsTwoPiFT) {
     const ConicScanner scanner(config());
     ASSERT_EQ(scanner.pulse_count(), 10'000u);
-    const PulseBatch p = all_pulses(scanner);
+    const PulseBatch p = test::all_pulses(scanner);
     double lo = 1e9, hi = -1e9;
     for (std::size_t i = 0; i < p.size(); ++i) {
         const Vec3d d = p.direction[i];
@@ -67,7 +62,7 @@ TEST(ConicScanner, OneRevolutionPerOverRotationRate) {
     ConicScannerConfig c = config();
     c.rotation_rate_hz = 50.0;  // 800 pulses per revolution
     const ConicScanner scanner(c);
-    const PulseBatch p = all_pulses(scanner);
+    const PulseBatch p = test::all_pulses(scanner);
     for (std::size_t i = 0; i + 800 < p.size(); ++i) {
         ASSERT_NEAR(p.direction[i + 800].y, p.direction[i].y, 1e-12);
         ASSERT_NEAR(p.direction[i + 800].z, p.direction[i].z, 1e-12);
@@ -78,22 +73,7 @@ TEST(ConicScanner, OneRevolutionPerOverRotationRate) {
 
 TEST(ConicScanner, ChunkingDoesNotMatter) {
     const ConicScanner scanner(config());
-    const PulseBatch whole = all_pulses(scanner);
-    for (const std::size_t chunk : {std::size_t{1}, std::size_t{7}, std::size_t{4096}}) {
-        PulseBatch part;
-        for (std::uint64_t first = 0; first < scanner.pulse_count(); first += chunk) {
-            const auto n = static_cast<std::size_t>(
-                std::min<std::uint64_t>(chunk, scanner.pulse_count() - first));
-            scanner.generate(first, n, part);
-            for (std::size_t j = 0; j < n; ++j) {
-                const auto i = static_cast<std::size_t>(first + j);
-                ASSERT_EQ(part.time_s[j], whole.time_s[i]);
-                ASSERT_EQ(part.direction[j], whole.direction[i]);
-                ASSERT_EQ(part.channel[j], whole.channel[i]);
-                ASSERT_EQ(part.scan_angle_deg[j], whole.scan_angle_deg[i]);
-            }
-        }
-    }
+    test::expect_chunking_does_not_matter(scanner, {1, 7, 4096});
 }
 
 TEST(ConicScanner, ValidationListsEveryProblem) {

@@ -11,17 +11,12 @@
 
 #include "beamtrace/core/error.hpp"
 #include "beamtrace/pipeline/survey.hpp"
+#include "sensor/scan_pattern_test_support.hpp"
 
 namespace beamtrace {
 namespace {
 
 constexpr double kDegToRad = std::numbers::pi / 180.0;
-
-PulseBatch all_pulses(const ScanPattern& pattern) {
-    PulseBatch out;
-    pattern.generate(0, static_cast<std::size_t>(pattern.pulse_count()), out);
-    return out;
-}
 
 double beam_angle_deg(const Vec3d& d) {
     return std::atan2(d.y, d.x) / kDegToRad;
@@ -40,7 +35,7 @@ FibreScannerConfig config() {
 TEST(FibreScanner, FibresAreFanOverNMinusOneApartAndFireInSequence) {
     const FibreScanner scanner(config());
     ASSERT_EQ(scanner.pulse_count(), 1200u);
-    const PulseBatch p = all_pulses(scanner);
+    const PulseBatch p = test::all_pulses(scanner);
     for (std::size_t i = 0; i < p.size(); ++i) {
         const std::size_t k = i % 9;
         ASSERT_EQ(p.channel[i], k) << "fibre i mod n fires pulse i";
@@ -63,22 +58,7 @@ TEST(FibreScanner, ChunkingDoesNotMatter) {
     FibreScannerConfig c = config();
     c.fibres = 127;
     const FibreScanner scanner(c);
-    const PulseBatch whole = all_pulses(scanner);
-    for (const std::size_t chunk : {std::size_t{1}, std::size_t{13}, std::size_t{4096}}) {
-        PulseBatch part;
-        for (std::uint64_t first = 0; first < scanner.pulse_count(); first += chunk) {
-            const auto n = static_cast<std::size_t>(
-                std::min<std::uint64_t>(chunk, scanner.pulse_count() - first));
-            scanner.generate(first, n, part);
-            for (std::size_t j = 0; j < n; ++j) {
-                const auto i = static_cast<std::size_t>(first + j);
-                ASSERT_EQ(part.time_s[j], whole.time_s[i]);
-                ASSERT_EQ(part.direction[j], whole.direction[i]);
-                ASSERT_EQ(part.channel[j], whole.channel[i]);
-                ASSERT_EQ(part.scan_angle_deg[j], whole.scan_angle_deg[i]);
-            }
-        }
-    }
+    test::expect_chunking_does_not_matter(scanner, {1, 13, 4096});
 }
 
 TEST(FibreScanner, ValidationListsEveryProblem) {

@@ -11,17 +11,12 @@
 
 #include "beamtrace/core/error.hpp"
 #include "beamtrace/pipeline/survey.hpp"
+#include "sensor/scan_pattern_test_support.hpp"
 
 namespace beamtrace {
 namespace {
 
 constexpr double kDegToRad = std::numbers::pi / 180.0;
-
-PulseBatch all_pulses(const ScanPattern& pattern) {
-    PulseBatch out;
-    pattern.generate(0, static_cast<std::size_t>(pattern.pulse_count()), out);
-    return out;
-}
 
 double beam_angle_deg(const Vec3d& d) {
     return std::atan2(d.y, d.x) / kDegToRad;
@@ -41,7 +36,7 @@ TEST(PolygonScanner, ScanAngleRangeIsTwiceTheFacetAngleTimesTheUsableFraction) {
     const PolygonScanner scanner(config());
     ASSERT_EQ(scanner.pulse_count(), 60'000u);
     EXPECT_DOUBLE_EQ(scanner.scan_angle_max_deg(), 72.0);
-    const PulseBatch p = all_pulses(scanner);
+    const PulseBatch p = test::all_pulses(scanner);
     double lo = 1e9, hi = -1e9;
     const double step = 2.0 * 72.0 / 2000.0;
     for (std::size_t i = 0; i < p.size(); ++i) {
@@ -62,7 +57,7 @@ TEST(PolygonScanner, ScanAngleRangeIsTwiceTheFacetAngleTimesTheUsableFraction) {
 TEST(PolygonScanner, LineRateIsFacetsTimesRotationRateAndChannelIsTheFacet) {
     const PolygonScanner scanner(config());
     EXPECT_DOUBLE_EQ(scanner.line_rate_hz(), 60.0);
-    const PulseBatch p = all_pulses(scanner);
+    const PulseBatch p = test::all_pulses(scanner);
     std::size_t line_starts = 1;  // pulse 0 starts line 0
     for (std::size_t i = 1; i < p.size(); ++i) {
         const bool fly_back = p.scan_angle_deg[i] < p.scan_angle_deg[i - 1];
@@ -80,22 +75,7 @@ TEST(PolygonScanner, ChunkingDoesNotMatter) {
     PolygonScannerConfig c = config();
     c.pulse_rate_hz = 77'777.0;  // not a multiple of the line rate
     const PolygonScanner scanner(c);
-    const PulseBatch whole = all_pulses(scanner);
-    for (const std::size_t chunk : {std::size_t{1}, std::size_t{13}, std::size_t{4096}}) {
-        PulseBatch part;
-        for (std::uint64_t first = 0; first < scanner.pulse_count(); first += chunk) {
-            const auto n = static_cast<std::size_t>(
-                std::min<std::uint64_t>(chunk, scanner.pulse_count() - first));
-            scanner.generate(first, n, part);
-            for (std::size_t j = 0; j < n; ++j) {
-                const auto i = static_cast<std::size_t>(first + j);
-                ASSERT_EQ(part.time_s[j], whole.time_s[i]);
-                ASSERT_EQ(part.direction[j], whole.direction[i]);
-                ASSERT_EQ(part.channel[j], whole.channel[i]);
-                ASSERT_EQ(part.scan_angle_deg[j], whole.scan_angle_deg[i]);
-            }
-        }
-    }
+    test::expect_chunking_does_not_matter(scanner, {1, 13, 4096});
 }
 
 TEST(PolygonScanner, ValidationListsEveryProblem) {

@@ -12,18 +12,13 @@
 
 #include "beamtrace/core/error.hpp"
 #include "beamtrace/pipeline/survey.hpp"
+#include "sensor/scan_pattern_test_support.hpp"
 
 namespace beamtrace {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
 constexpr double kDegToRad = kPi / 180.0;
-
-PulseBatch all_pulses(const ScanPattern& pattern) {
-    PulseBatch out;
-    pattern.generate(0, static_cast<std::size_t>(pattern.pulse_count()), out);
-    return out;
-}
 
 RisleyScannerConfig config(double f1, double f2) {
     RisleyScannerConfig c;
@@ -40,7 +35,7 @@ RisleyScannerConfig config(double f1, double f2) {
 TEST(RisleyScanner, DirectionsEqualTheFirstOrderTwoPrismFormula) {
     const RisleyScanner scanner(config(121.6, -77.7));
     ASSERT_EQ(scanner.pulse_count(), 3000u);
-    const PulseBatch p = all_pulses(scanner);
+    const PulseBatch p = test::all_pulses(scanner);
     const double delta = 0.5 * 20.0 * kDegToRad;  // (n - 1) alpha
     double rho_max = 0.0;
     for (std::size_t i = 0; i < p.size(); ++i) {
@@ -74,7 +69,7 @@ TEST(RisleyScanner, DirectionsEqualTheFirstOrderTwoPrismFormula) {
 TEST(RisleyScanner, RosetteRepeatsAfterItsPeriod) {
     // 30 Hz and -20 Hz: gcd 10 Hz, the rosette repeats every 0.1 s = 1000 pulses.
     const RisleyScanner scanner(config(30.0, -20.0));
-    const PulseBatch p = all_pulses(scanner);
+    const PulseBatch p = test::all_pulses(scanner);
     double half_period_diff = 0.0;
     for (std::size_t i = 0; i + 1000 < p.size(); ++i) {
         ASSERT_NEAR(length(p.direction[i + 1000] - p.direction[i]), 0.0, 1e-12) << i;
@@ -86,7 +81,7 @@ TEST(RisleyScanner, RosetteRepeatsAfterItsPeriod) {
     EXPECT_GT(half_period_diff, 0.1);  // and not after half of it
     // Counter-rotating at equal rates, theta_1 = -theta_2 makes D_z = 0: a line in the x-y plane.
     const RisleyScanner line(config(25.0, -25.0));
-    const PulseBatch q = all_pulses(line);
+    const PulseBatch q = test::all_pulses(line);
     for (std::size_t i = 0; i < q.size(); ++i) {
         ASSERT_NEAR(q.direction[i].z, 0.0, 1e-12) << i;
     }
@@ -94,22 +89,7 @@ TEST(RisleyScanner, RosetteRepeatsAfterItsPeriod) {
 
 TEST(RisleyScanner, ChunkingDoesNotMatter) {
     const RisleyScanner scanner(config(121.6, -77.7));
-    const PulseBatch whole = all_pulses(scanner);
-    for (const std::size_t chunk : {std::size_t{1}, std::size_t{13}, std::size_t{4096}}) {
-        PulseBatch part;
-        for (std::uint64_t first = 0; first < scanner.pulse_count(); first += chunk) {
-            const auto n = static_cast<std::size_t>(
-                std::min<std::uint64_t>(chunk, scanner.pulse_count() - first));
-            scanner.generate(first, n, part);
-            for (std::size_t j = 0; j < n; ++j) {
-                const auto i = static_cast<std::size_t>(first + j);
-                ASSERT_EQ(part.time_s[j], whole.time_s[i]);
-                ASSERT_EQ(part.direction[j], whole.direction[i]);
-                ASSERT_EQ(part.channel[j], whole.channel[i]);
-                ASSERT_EQ(part.scan_angle_deg[j], whole.scan_angle_deg[i]);
-            }
-        }
-    }
+    test::expect_chunking_does_not_matter(scanner, {1, 13, 4096});
 }
 
 TEST(RisleyScanner, ValidationListsEveryProblem) {
