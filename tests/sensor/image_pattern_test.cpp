@@ -10,6 +10,7 @@
 
 #include "beamtrace/core/error.hpp"
 #include "beamtrace/sensor/trajectory.hpp"
+#include "sensor/scan_pattern_test_support.hpp"
 
 namespace beamtrace {
 namespace {
@@ -30,12 +31,6 @@ ImagePatternConfig config(ImageProjection projection) {
     return c;
 }
 
-PulseBatch all_pulses(const ScanPattern& pattern) {
-    PulseBatch out;
-    pattern.generate(0, static_cast<std::size_t>(pattern.pulse_count()), out);
-    return out;
-}
-
 TEST(ImagePattern, PinholeAndScanMatchTheReportsRaysBitForBitInTheirOrder) {
     for (const ImageProjection projection : {ImageProjection::pinhole, ImageProjection::scan}) {
         const ImagePatternConfig c = config(projection);
@@ -43,7 +38,7 @@ TEST(ImagePattern, PinholeAndScanMatchTheReportsRaysBitForBitInTheirOrder) {
         const RayBatch rays = projection == ImageProjection::scan ? cast_rays_scan(c.image)
                                                                   : cast_rays_pinhole(c.image);
         ASSERT_EQ(pattern.pulse_count(), rays.size());
-        const PulseBatch p = all_pulses(pattern);
+        const PulseBatch p = test::all_pulses(pattern);
         for (int u = 0; u < c.image.width; ++u) {
             for (int v = 0; v < c.image.height; ++v) {
                 const std::size_t i = ray_index(u, v, c.image.height);
@@ -69,7 +64,7 @@ TEST(ImagePattern, StaticPlatformWithIdentityMountReproducesTheReportsRays) {
     const ImagePattern pattern(c);
     const RayBatch rays = cast_rays_pinhole(c.image);
     const StaticPlatform platform({c.image.position_m, Quat::identity()});
-    const PulseBatch p = all_pulses(pattern);
+    const PulseBatch p = test::all_pulses(pattern);
     for (std::size_t i = 0; i < p.size(); i += 11) {
         const Pose pose = sensor_pose(platform, Mount{}, p.time_s[i]);
         ASSERT_EQ(pose.apply_point({0.0, 0.0, 0.0}), rays.origin(i));
@@ -84,27 +79,14 @@ TEST(ImagePattern, FramesRepeatTheImageAndChunkingDoesNotMatter) {
     const std::size_t pixels = 37 * 23;
     ASSERT_EQ(pattern.pixels_per_frame(), pixels);
     ASSERT_EQ(pattern.pulse_count(), 3 * pixels);
-    const PulseBatch whole = all_pulses(pattern);
+    const PulseBatch whole = test::all_pulses(pattern);
     for (std::size_t i = 0; i < 2 * pixels; ++i) {
         ASSERT_EQ(whole.direction[i + pixels], whole.direction[i]);
         ASSERT_EQ(whole.channel[i + pixels], whole.channel[i]);
         ASSERT_NEAR(whole.time_s[i + pixels] - whole.time_s[i],
                     static_cast<double>(pixels) / 50'000.0, 1e-12);
     }
-    for (const std::size_t chunk : {std::size_t{1}, std::size_t{22}, std::size_t{500}}) {
-        PulseBatch part;
-        for (std::uint64_t first = 0; first < pattern.pulse_count(); first += chunk) {
-            const auto n = static_cast<std::size_t>(
-                std::min<std::uint64_t>(chunk, pattern.pulse_count() - first));
-            pattern.generate(first, n, part);
-            for (std::size_t j = 0; j < n; ++j) {
-                const auto i = static_cast<std::size_t>(first + j);
-                ASSERT_EQ(part.time_s[j], whole.time_s[i]);
-                ASSERT_EQ(part.direction[j], whole.direction[i]);
-                ASSERT_EQ(part.channel[j], whole.channel[i]);
-            }
-        }
-    }
+    test::expect_chunking_does_not_matter(pattern, {1, 22, 500});
 }
 
 TEST(ImagePattern, PushBroomIsAOneColumnPinholeOnAMovingPlatform) {
@@ -118,7 +100,7 @@ TEST(ImagePattern, PushBroomIsAOneColumnPinholeOnAMovingPlatform) {
     c.frames = 50;
     const ImagePattern pattern(c);
     const LinearLegs legs({{{0.0, 0.0, 10.0}, {100.0, 0.0, 10.0}}, {}, 20.0, 0.0});
-    const PulseBatch p = all_pulses(pattern);
+    const PulseBatch p = test::all_pulses(pattern);
     for (std::size_t line = 0; line < 50; ++line) {
         const std::size_t i = line * 64;
         const Pose pose = sensor_pose(legs, Mount{}, p.time_s[i]);
