@@ -99,7 +99,7 @@ struct BlockStages {
                        w.scan_angle.data(), w.scratch);
         backend->intersect(w.rays, 0, n * sub_rays, w.hits, w.this_thread);
         if (physics != nullptr) {
-            physics->run(w);
+            physics->run(w, *backend);
         }
         points.run(w);
         sinks->encode(w.points, out);
