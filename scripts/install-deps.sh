@@ -9,6 +9,8 @@ pkgs=(build-essential cmake libcli11-dev libpng-dev libtiff-dev libyaml-cpp-dev 
       python3
       # view --interactive (GLFW/OpenGL) and its headless test (Xvfb); view --mp4 and its test
       libglfw3-dev xvfb xauth ffmpeg
+      # surveys across MPI ranks (mpirun -n N beamtrace survey, docs/cluster.md) and their tests
+      libopenmpi-dev openmpi-bin
       # the Python module (python/, docs/python.md) and its pytest suite
       pybind11-dev python3-dev python3-numpy python3-pytest)
 missing=()

@@ -65,14 +65,11 @@ class MpiFile final : public SharedFile {
             const std::size_t size = std::min(kPiece, bytes.size() - from);
             MPI_Status status;
             check(MPI_File_write_at(file_, static_cast<MPI_Offset>(offset + from),
-                                    bytes.data() + from, static_cast<int>(size), MPI_BYTE,
-                                    &status),
+                                    bytes.data() + from, static_cast<int>(size), MPI_BYTE, &status),
                   path_.string() + ": write failed");
         }
     }
-    void close() override {
-        check(MPI_File_close(&file_), path_.string() + ": close failed");
-    }
+    void close() override { check(MPI_File_close(&file_), path_.string() + ": close failed"); }
 
   private:
     MPI_Comm comm_;
