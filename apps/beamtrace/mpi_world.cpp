@@ -95,6 +95,12 @@ class MpiCommunicator final : public Communicator {
                             MPI_INT64_T, MPI_MIN, MPI_COMM_WORLD),
               "MPI min");
     }
+    [[nodiscard]] std::vector<std::uint64_t> all_gather(std::uint64_t value) override {
+        std::vector<std::uint64_t> out(static_cast<std::size_t>(size_));
+        check(MPI_Allgather(&value, 1, MPI_UINT64_T, out.data(), 1, MPI_UINT64_T, MPI_COMM_WORLD),
+              "MPI gather");
+        return out;
+    }
     [[nodiscard]] std::uint64_t exclusive_sum(std::uint64_t value) override {
         std::uint64_t below = 0;
         check(MPI_Exscan(&value, &below, 1, MPI_UINT64_T, MPI_SUM, MPI_COMM_WORLD), "MPI scan");

@@ -67,6 +67,9 @@ class SoloCommunicator final : public Communicator {
     [[nodiscard]] int size() const override { return 1; }
     void sum(std::span<std::uint64_t> /*values*/) override {}
     void min(std::span<std::int64_t> /*values*/) override {}
+    [[nodiscard]] std::vector<std::uint64_t> all_gather(std::uint64_t value) override {
+        return {value};
+    }
     [[nodiscard]] std::uint64_t exclusive_sum(std::uint64_t /*value*/) override { return 0; }
     [[nodiscard]] std::string broadcast(const std::string& text, int /*root*/) override {
         return text;

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <chrono>
 #include <exception>
+#include <functional>
+#include <future>
 #include <limits>
 #include <random>
 #include <system_error>
@@ -135,12 +137,6 @@ void check_shared_directory(Communicator& comm, const std::filesystem::path& dir
     }
 }
 
-/// What every rank has written so far: the records' totals, and the bytes before its round.
-struct Written {
-    LasRecordBlock totals;
-    std::uint64_t bytes = 0;
-};
-
 /// The sums, minima and maxima of every rank's totals.
 LasRecordBlock reduce_totals(Communicator& comm, const LasRecordBlock& mine) {
     std::vector<std::uint64_t> sums{mine.count};
@@ -163,65 +159,120 @@ LasRecordBlock reduce_totals(Communicator& comm, const LasRecordBlock& mine) {
     return all;
 }
 
-/// The survey's rounds: each rank runs its blocks of the round on its pool, encodes them and
-/// all ranks write them at once.
+/// One round's records of this rank: its blocks traced and encoded, back to back.
+struct RoundRecords {
+    std::vector<LasRecordBlock> blocks;
+    std::vector<std::uint8_t> bytes;
+    LasRecordBlock totals;  ///< of these records (bytes unused)
+};
+
+/// The survey's rounds. While the ranks exchange their byte counts and write round r, the pool
+/// traces round r + 1 (on a thread of its own): the writing overlaps the tracing, as in a
+/// one-process survey. One all_gather per round: the byte counts, or kFailed from a rank whose
+/// tracing, progress callback or writing failed (then every rank agree()s on the error).
 class RoundWriter {
   public:
     RoundWriter(const detail::SurveySession& session, const LasWriter& encoder, SharedFile& file,
-                Communicator& comm, std::size_t per_rank)
-        : session_(session), encoder_(encoder), file_(file), comm_(comm), per_rank_(per_rank) {}
+                Communicator& comm, std::size_t per_rank, ThreadPool& pool)
+        : session_(session),
+          encoder_(encoder),
+          file_(file),
+          comm_(comm),
+          per_rank_(per_rank),
+          pool_(pool) {}
 
     [[nodiscard]] std::size_t rounds() const {
         const std::size_t step = per_rank_ * static_cast<std::size_t>(comm_.size());
         return (session_.blocks() + step - 1) / step;
     }
-    /// Round r: this rank's blocks traced and encoded (any error agreed on), then written.
-    void run(std::size_t r, ThreadPool& pool, std::uint64_t data_start) {
+    /// Every round; `after(r)` runs on this thread once this rank's round r is traced (the
+    /// progress callback; it may throw). Returns the totals of this rank's records.
+    LasRecordBlock run_all(std::uint64_t data_start,
+                           const std::function<void(std::size_t)>& after) {
+        std::future<void> next;
+        if (rounds() > 0) {
+            next = std::async(std::launch::async, [this] { trace(0, slots_[0]); });
+        }
+        std::uint64_t written = 0;
+        LasRecordBlock totals;
+        std::exception_ptr error;
+        for (std::size_t r = 0; r < rounds(); ++r) {
+            RoundRecords& mine = slots_[r % 2];
+            try {
+                next.get();
+                after(r);
+            } catch (...) {
+                error = error ? error : std::current_exception();
+            }
+            if (!error && r + 1 < rounds()) {
+                next = std::async(std::launch::async,
+                                  [this, r] { trace(r + 1, slots_[(r + 1) % 2]); });
+            }
+            const auto sizes = comm_.all_gather(error ? kFailed : mine.bytes.size());
+            if (std::find(sizes.begin(), sizes.end(), kFailed) != sizes.end()) {
+                if (next.valid()) {
+                    next.wait();  // its own error, if any, is not needed: one is enough
+                }
+                agree(comm_, error);
+            }
+            std::uint64_t before = 0, all = 0;
+            for (std::size_t k = 0; k < sizes.size(); ++k) {
+                before += k < static_cast<std::size_t>(comm_.rank()) ? sizes[k] : 0;
+                all += sizes[k];
+            }
+            try {
+                file_.write_at(data_start + written + before, mine.bytes);
+            } catch (...) {
+                error = std::current_exception();  // reported at the next exchange
+            }
+            las_add_totals(totals, mine.totals);
+            written += all;
+        }
+        agree(comm_, error);
+        return totals;
+    }
+
+  private:
+    static constexpr std::uint64_t kFailed = std::numeric_limits<std::uint64_t>::max();
+
+    /// This rank's blocks of round r traced and encoded into `out` (on the pool).
+    void trace(std::size_t r, RoundRecords& out) {
         const std::size_t first =
             (r * static_cast<std::size_t>(comm_.size()) + static_cast<std::size_t>(comm_.rank())) *
             per_rank_;
         const std::size_t end = std::min(session_.blocks(), first + per_rank_);
         const std::size_t count = end > first ? end - first : 0;
-        records_.resize(std::max(records_.size(), count));
-        collectively(comm_, [&] {
-            pool.parallel_for(count, 1, [&](std::size_t b, std::size_t e) {
-                std::unique_ptr<detail::BlockWork> w = shelf_.take();
-                for (std::size_t k = b; k < e; ++k) {
-                    session_.run_block(first + k, *w);
-                    records_[k].clear();
-                    for (const BlockPoint& p : w->points.points) {
-                        encoder_.encode(static_cast<const LasSimplePoint&>(p), records_[k]);
-                    }
+        out.blocks.resize(std::max(out.blocks.size(), count));
+        pool_.parallel_for(count, 1, [&](std::size_t b, std::size_t e) {
+            std::unique_ptr<detail::BlockWork> w = shelf_.take();
+            for (std::size_t k = b; k < e; ++k) {
+                session_.run_block(first + k, *w);
+                out.blocks[k].clear();
+                for (const BlockPoint& p : w->points.points) {
+                    encoder_.encode(static_cast<const LasSimplePoint&>(p), out.blocks[k]);
                 }
-                shelf_.put(std::move(w));
-            });
-            bytes_.clear();
-            for (std::size_t k = 0; k < count; ++k) {
-                const std::size_t size = records_[k].count * encoder_.header().point_record_length;
-                bytes_.insert(bytes_.end(), records_[k].bytes.begin(),
-                              records_[k].bytes.begin() + static_cast<std::ptrdiff_t>(size));
-                las_add_totals(written_.totals, records_[k]);
             }
+            shelf_.put(std::move(w));
         });
-        const std::uint64_t before = comm_.exclusive_sum(bytes_.size());
-        std::vector<std::uint64_t> total{bytes_.size()};
-        comm_.sum(total);
-        collectively(comm_,
-                     [&] { file_.write_at_all(data_start + written_.bytes + before, bytes_); });
-        written_.bytes += total[0];
+        out.bytes.clear();
+        out.totals = LasRecordBlock{};
+        for (std::size_t k = 0; k < count; ++k) {
+            const LasRecordBlock& block = out.blocks[k];
+            const std::size_t size = block.count * encoder_.header().point_record_length;
+            out.bytes.insert(out.bytes.end(), block.bytes.begin(),
+                             block.bytes.begin() + static_cast<std::ptrdiff_t>(size));
+            las_add_totals(out.totals, block);
+        }
     }
-    [[nodiscard]] const LasRecordBlock& totals() const { return written_.totals; }
 
-  private:
     const detail::SurveySession& session_;
     const LasWriter& encoder_;
     SharedFile& file_;
     Communicator& comm_;
     std::size_t per_rank_;
+    ThreadPool& pool_;
     detail::WorkShelf shelf_;
-    std::vector<LasRecordBlock> records_;
-    std::vector<std::uint8_t> bytes_;
-    Written written_;
+    RoundRecords slots_[2];
 };
 
 }  // namespace
@@ -269,25 +320,26 @@ SurveyResult run_survey_distributed(const SurveySpec& spec, const SurveyRunConfi
         collectively(comm, [&] { file = comm.open_shared(temp_path); });
         const std::size_t per_rank = std::max<std::size_t>(
             1, (run.chunk_pulses + detail::kBlockPulses - 1) / detail::kBlockPulses);
-        RoundWriter rounds(*session, encoder, *file, comm, per_rank);
+        RoundWriter rounds(*session, encoder, *file, comm, per_rank, pool);
         const std::uint64_t data_start = encoder.header().offset_to_point_data;
-        // The progress callback may throw (an interrupt): it is one of the agreed steps.
-        const auto report = [&](std::uint64_t done) {
-            collectively(comm, [&] {
-                if (progress) {
-                    progress(static_cast<std::size_t>(std::min(done, result.pulses)),
-                             static_cast<std::size_t>(result.pulses));
-                }
-                throw_if_cancelled(run.cancel, "survey");
-            });
+        // The progress callback (it may throw: an interrupt) and the cancel check, after each
+        // of this rank's rounds is traced.
+        const auto total = static_cast<std::size_t>(result.pulses);
+        const auto report = [&](std::size_t r) {
+            if (progress) {
+                const std::uint64_t done = (r + 1) * per_rank * detail::kBlockPulses *
+                                           static_cast<std::uint64_t>(comm.size());
+                progress(static_cast<std::size_t>(std::min(done, result.pulses)), total);
+            }
+            throw_if_cancelled(run.cancel, "survey");
         };
-        report(0);
-        for (std::size_t r = 0; r < rounds.rounds(); ++r) {
-            rounds.run(r, pool, data_start);
-            report((r + 1) * per_rank * detail::kBlockPulses *
-                   static_cast<std::uint64_t>(comm.size()));
-        }
-        const LasRecordBlock totals = reduce_totals(comm, rounds.totals());
+        collectively(comm, [&] {
+            if (progress) {
+                progress(0, total);
+            }
+        });
+        const LasRecordBlock mine = rounds.run_all(data_start, report);
+        const LasRecordBlock totals = reduce_totals(comm, mine);
         collectively(comm, [&] {
             if (comm.rank() == 0) {
                 file->write_at(0, encoder.header_bytes(totals));

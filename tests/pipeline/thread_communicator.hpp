@@ -61,6 +61,16 @@ class ThreadCommunicator final : public Communicator {
         }
         world_.sync_.arrive_and_wait();
     }
+    [[nodiscard]] std::vector<std::uint64_t> all_gather(std::uint64_t value) override {
+        mine_u64().assign(1, value);
+        world_.sync_.arrive_and_wait();
+        std::vector<std::uint64_t> out;
+        for (const auto& v : world_.u64_) {
+            out.push_back(v.at(0));
+        }
+        world_.sync_.arrive_and_wait();
+        return out;
+    }
     [[nodiscard]] std::uint64_t exclusive_sum(std::uint64_t value) override {
         mine_u64().assign(1, value);
         world_.sync_.arrive_and_wait();

@@ -9,6 +9,7 @@
 #include <memory>
 #include <span>
 #include <string>
+#include <vector>
 
 namespace beamtrace {
 
@@ -33,6 +34,8 @@ class Communicator {
     virtual void sum(std::span<std::uint64_t> values) = 0;
     /// Element-wise minimum over the ranks, in place (the maximum: negate).
     virtual void min(std::span<std::int64_t> values) = 0;
+    /// Every rank's `value`, by rank, on every rank.
+    [[nodiscard]] virtual std::vector<std::uint64_t> all_gather(std::uint64_t value) = 0;
     /// The sum of `value` over the ranks below this one (0 on rank 0).
     [[nodiscard]] virtual std::uint64_t exclusive_sum(std::uint64_t value) = 0;
     /// Rank `root`'s `text` on every rank.
