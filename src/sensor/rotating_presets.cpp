@@ -50,6 +50,7 @@ RotatingScannerConfig velodyne_vlp16() {
         table_preset({-15, 1, -13, 3, -11, 5, -9, 7, -7, 9, -5, 11, -3, 13, -1, 15});
     c.firing_period_s = 55.296 * kUs;
     c.beam_time_offsets_s = every(16, 2.304 * kUs);
+    c.preset_range_max_m = 100.0;
     return c;
 }
 
@@ -60,6 +61,7 @@ RotatingScannerConfig velodyne_hdl32e() {
          -16.00, 5.33,   -14.67, 6.67,   -13.33, 8.00,   -12.00, 9.33,   -10.67, 10.67});
     c.firing_period_s = 46.08 * kUs;
     c.beam_time_offsets_s = every(32, 1.152 * kUs);
+    c.preset_range_max_m = 100.0;
     return c;
 }
 
@@ -78,6 +80,7 @@ RotatingScannerConfig velodyne_hdl64e() {
         c.beam_time_offsets_s.push_back(t);
     }
     c.firing_period_s = kPeriodS;
+    c.preset_range_max_m = 120.0;
     return c;
 }
 
@@ -89,6 +92,7 @@ RotatingScannerConfig ouster_os1_64() {
     }
     c.azimuth_resolution_deg = 360.0 / 1024.0;
     c.beam_time_offsets_s.assign(64, 0.0);
+    c.preset_range_max_m = 120.0;
     return c;
 }
 
@@ -113,17 +117,15 @@ constexpr std::string_view kOusterSdk =
     "Ouster SDK ouster_client gen1 design values; OS1 data sheet";
 
 const std::array<RotatingPreset, 9> kPresets{{
-    {"vlp16", vlp16, {"VLP-16 like (simplified)", "beamtrace", 0, 0, 0, 0}},
-    {"hdl32", hdl32, {"HDL-32E like (simplified)", "beamtrace", 0, 0, 0, 0}},
-    {"hdl64", hdl64, {"HDL-64E like (simplified)", "beamtrace", 0, 0, 0, 0}},
-    {"os128", os128, {"OS-128 like (simplified)", "beamtrace", 0, 0, 0, 0}},
-    {"velodyne_vlp16", velodyne_vlp16, {"Velodyne VLP-16", kVlp16Manual, 0, 100, 903e-9, 300e3}},
-    {"velodyne_hdl32e", velodyne_hdl32e, {"Velodyne HDL-32E", kHdl32Manual, 0, 100, 903e-9, 695e3}},
-    {"velodyne_hdl64e",
-     velodyne_hdl64e,
-     {"Velodyne HDL-64E S2/S3", kHdl64Manual, 0, 120, 905e-9, 1.3e6}},
-    {"ouster_os1_64", ouster_os1_64, {"Ouster OS1-64", kOusterSdk, 0, 120, 0, 655360}},
-    {"ouster_os1_128", ouster_os1_128, {"Ouster OS1-128", kOusterSdk, 0, 0, 0, 1310720}},
+    {"vlp16", vlp16, {"VLP-16 like (simplified)", "beamtrace", 0, 0}},
+    {"hdl32", hdl32, {"HDL-32E like (simplified)", "beamtrace", 0, 0}},
+    {"hdl64", hdl64, {"HDL-64E like (simplified)", "beamtrace", 0, 0}},
+    {"os128", os128, {"OS-128 like (simplified)", "beamtrace", 0, 0}},
+    {"velodyne_vlp16", velodyne_vlp16, {"Velodyne VLP-16", kVlp16Manual, 903e-9, 300e3}},
+    {"velodyne_hdl32e", velodyne_hdl32e, {"Velodyne HDL-32E", kHdl32Manual, 903e-9, 695e3}},
+    {"velodyne_hdl64e", velodyne_hdl64e, {"Velodyne HDL-64E S2/S3", kHdl64Manual, 905e-9, 1.3e6}},
+    {"ouster_os1_64", ouster_os1_64, {"Ouster OS1-64", kOusterSdk, 0, 655360}},
+    {"ouster_os1_128", ouster_os1_128, {"Ouster OS1-128", kOusterSdk, 0, 1310720}},
 }};
 
 }  // namespace

@@ -126,6 +126,11 @@ std::vector<std::string> RotatingScannerConfig::validate() const {
     } else if (firing_period_s > 0.0 && !(azimuth_step_deg() <= 360.0)) {
         p.push_back("rotation_rate_hz x 360 x firing_period_s must be at most 360 degrees");
     }
+    if (!(preset_range_min_m >= 0.0 && preset_range_max_m >= 0.0 &&
+          std::isfinite(preset_range_max_m)) ||
+        (preset_range_max_m > 0.0 && !(preset_range_max_m > preset_range_min_m))) {
+        p.push_back("preset_range_min_m and preset_range_max_m must be 0 (none) or 0 <= min < max");
+    }
     if (!std::isfinite(start_azimuth_deg)) {
         p.push_back("start_azimuth_deg must be finite");
     }

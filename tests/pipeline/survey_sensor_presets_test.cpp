@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <map>
 #include <numbers>
 
@@ -68,12 +69,27 @@ scanner: {type: rotating, preset: ouster_os1_64, beam_table: os1.csv, duration_s
 platform: {type: static}
 )");
     const SurveySpec spec = load_survey_spec(dir / "survey.yaml");
+    EXPECT_EQ(spec.range_max_m, 120.0) << "the OS1 data sheet's range";
+    EXPECT_EQ(spec.range_min_m, 0.0);
     const auto* c = spec.scanner.config<RotatingScanner>();
     ASSERT_NE(c, nullptr);
     const RotatingScannerConfig want = ouster_os1_64();
     EXPECT_EQ(c->beam_elevations_deg, want.beam_elevations_deg);
     EXPECT_EQ(c->beam_azimuth_offsets_deg, want.beam_azimuth_offsets_deg);
     EXPECT_EQ(c->beam_time_offsets_s, want.beam_time_offsets_s);
+
+    test::write_file(dir / "s2.yaml", R"(scene: room.yaml
+scanner: {type: rotating, preset: velodyne_vlp16, range_min_m: 1, range_max_m: 50}
+platform: {type: static}
+)");
+    const SurveySpec own = load_survey_spec(dir / "s2.yaml");
+    EXPECT_EQ(own.range_min_m, 1.0) << "the survey's keys win over the preset's";
+    EXPECT_EQ(own.range_max_m, 50.0);
+    test::write_file(dir / "s3.yaml",
+                     "scene: room.yaml\nscanner: {type: rotating, preset: "
+                     "hdl64}\nplatform: {type: static}\n");
+    EXPECT_EQ(load_survey_spec(dir / "s3.yaml").range_max_m,
+              std::numeric_limits<double>::infinity());
 
     test::write_file(dir / "bad.csv", "elevation_deg\n1\nnope\n");
     test::write_file(dir / "survey.yaml", R"(scene: room.yaml

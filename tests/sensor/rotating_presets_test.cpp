@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <numbers>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -84,7 +85,9 @@ TEST(RotatingPresets, BeamTablesEqualTheDocumentedValues) {
         EXPECT_TRUE(p.make().validate().empty()) << p.name;
         EXPECT_EQ(find_rotating_preset(p.name), &p);
     }
-    EXPECT_EQ(find_rotating_preset("velodyne_vlp16")->facts.range_max_m, 100.0);
+    EXPECT_EQ(vlp.preset_range_max_m, 100.0);
+    EXPECT_EQ(h64.preset_range_max_m, 120.0);
+    EXPECT_EQ(vlp16().preset_range_m(), std::nullopt) << "the simplified presets give none";
     EXPECT_EQ(find_rotating_preset("velodyne_vlp16")->facts.wavelength_m, 903e-9);
     EXPECT_EQ(find_rotating_preset("nope"), nullptr);
 }

@@ -18,12 +18,11 @@
 
 namespace beamtrace {
 
-/// What a sensor's data sheet says beyond its beam table (0: not given there).
+/// What a sensor's data sheet says beyond its beam table and range limits (those are in the
+/// config: preset_range_min_m / preset_range_max_m); 0: not given there.
 struct RotatingSensorFacts {
     std::string_view model;   ///< e.g. "Velodyne VLP-16"
     std::string_view source;  ///< document title and revision (docs/sensors.md)
-    double range_min_m = 0.0;
-    double range_max_m = 0.0;
     double wavelength_m = 0.0;
     double nominal_points_per_s = 0.0;  ///< single return, as the data sheet rounds it
 };

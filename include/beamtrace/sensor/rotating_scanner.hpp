@@ -23,7 +23,9 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "beamtrace/sensor/scan_pattern.hpp"
@@ -50,6 +52,10 @@ struct RotatingScannerConfig {
     bool spin_clockwise = false;     ///< false: azimuth grows towards +y over time
     double duration_s = 0.1;         ///< survey length; whole firings only
     double start_time_s = 0.0;       ///< time of pulse 0
+    /// The range limits of the sensor's data sheet, in metres (0: not given), set by the
+    /// data-sheet presets: a survey's range_min_m / range_max_m default to them.
+    double preset_range_min_m = 0.0;
+    double preset_range_max_m = 0.0;
 
     /// Every problem with these settings; empty when valid.
     [[nodiscard]] std::vector<std::string> validate() const;
@@ -65,6 +71,13 @@ struct RotatingScannerConfig {
     }
     [[nodiscard]] double pulse_rate_hz() const {
         return static_cast<double>(beam_elevations_deg.size()) * firing_rate_hz();
+    }
+    /// {preset_range_min_m, preset_range_max_m} when a preset gives a maximum range.
+    [[nodiscard]] std::optional<std::pair<double, double>> preset_range_m() const {
+        if (!(preset_range_max_m > 0.0)) {
+            return std::nullopt;
+        }
+        return std::pair{preset_range_min_m, preset_range_max_m};
     }
     /// Whole firings in duration_s (each firing is one pulse of every beam).
     [[nodiscard]] std::uint64_t firing_count() const;
