@@ -9,6 +9,8 @@
 #include <limits>
 #include <map>
 #include <numbers>
+#include <string>
+#include <vector>
 
 #include "beamtrace/core/error.hpp"
 #include "beamtrace/sensor/beam_table.hpp"
@@ -106,6 +108,44 @@ platform: {type: static}
                   std::string::npos)
             << msg;
     }
+}
+
+TEST(SurveySensorPresets, ConflictingBeamKeysAreErrors) {
+    test::TempDir dir;
+    test::write_file(dir / "room.yaml", kBoxRoom);
+    test::write_file(dir / "t.csv", "elevation_deg\n0\n");
+    auto error_of = [&](const std::string& scanner) {
+        test::write_file(dir / "s.yaml",
+                         "scene: room.yaml\nscanner: " + scanner + "\nplatform: {type: static}\n");
+        try {
+            (void)load_survey_spec(dir / "s.yaml");
+        } catch (const ConfigError& e) {
+            return std::string(e.what());
+        }
+        return std::string("accepted");
+    };
+    EXPECT_NE(error_of("{type: rotating, beam_table: t.csv, beam_elevations_deg: [0]}")
+                  .find("give beam_table or beam_elevations_deg, not both"),
+              std::string::npos);
+    EXPECT_NE(error_of("{type: rotating, azimuth_resolution_deg: 0.2, firing_period_s: 1e-4}")
+                  .find("give azimuth_resolution_deg or firing_period_s, not both"),
+              std::string::npos);
+    EXPECT_NE(error_of("{type: rotating, beam_table: missing.csv}").find("file not found"),
+              std::string::npos);
+    EXPECT_NE(error_of("{type: rotating, preset: vlp32}")
+                  .find("unknown preset (expected vlp16, hdl32, hdl64, os128, velodyne_vlp16"),
+              std::string::npos);
+    // A table's rows replace the preset's; the preset's clock stays.
+    test::write_file(dir / "s.yaml",
+                     "scene: room.yaml\nscanner: {type: rotating, preset: "
+                     "velodyne_vlp16, beam_table: t.csv}\nplatform: {type: "
+                     "static}\n");
+    const SurveySpec spec = load_survey_spec(dir / "s.yaml");
+    const auto* c = spec.scanner.config<RotatingScanner>();
+    ASSERT_NE(c, nullptr);
+    EXPECT_EQ(c->beam_elevations_deg, std::vector<double>{0.0});
+    EXPECT_TRUE(c->beam_time_offsets_s.empty());
+    EXPECT_DOUBLE_EQ(c->firing_period_s, 55.296e-6);
 }
 
 /// examples/surveys/als50ii.yaml (HELIOS++'s als_hd_demo): 100 lines/s of 700 pulses, every

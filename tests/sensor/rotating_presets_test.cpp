@@ -170,6 +170,34 @@ TEST(BeamTableCsv, Os1TableWrittenAndReadBackEqualsThePreset) {
     EXPECT_TRUE(hand.beam_time_offsets_s.empty());
 }
 
+TEST(RotatingPresets, TimingTablesAreValidated) {
+    RotatingScannerConfig c = velodyne_vlp16();
+    EXPECT_TRUE(c.validate().empty());
+    c.beam_time_offsets_s[3] = c.beam_time_offsets_s[2] - 1e-7;  // out of firing order
+    ASSERT_EQ(c.validate().size(), 1u);
+    EXPECT_NE(c.validate()[0].find("beam_time_offsets_s[3] must not be earlier"),
+              std::string::npos);
+    c = velodyne_vlp16();
+    c.beam_time_offsets_s[15] = 55.296e-6;  // the next firing's start
+    ASSERT_EQ(c.validate().size(), 1u);
+    EXPECT_NE(c.validate()[0].find("beam_time_offsets_s[15] must be in [0, firing period"),
+              std::string::npos);
+    c = velodyne_vlp16();
+    c.beam_time_offsets_s.pop_back();
+    EXPECT_EQ(c.validate().size(), 1u);
+    c = velodyne_hdl64e();
+    c.beam_channels[1] = 0;
+    ASSERT_EQ(c.validate().size(), 1u);
+    EXPECT_EQ(c.validate()[0], "beam_channels must be distinct");
+    c = velodyne_vlp16();
+    c.firing_period_s = -1.0;
+    EXPECT_FALSE(c.validate().empty());
+    c = velodyne_vlp16();
+    c.rotation_rate_hz = 20.0;  // the same clock, twice the azimuth step
+    EXPECT_NEAR(c.azimuth_step_deg(), 2 * 0.1990656, 1e-12);
+    EXPECT_DOUBLE_EQ(c.firing_rate_hz(), 1.0 / 55.296e-6);
+}
+
 std::string csv_error(const test::TempDir& dir, const std::string& text) {
     test::write_file(dir / "t.csv", text);
     RotatingScannerConfig c;
