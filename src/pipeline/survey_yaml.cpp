@@ -52,6 +52,10 @@ void parse_scanner(YamlChecker& c, const YAML::Node& n, SurveySpec& s) {
         return;
     }
     parse_scanner_type(c, n, s);
+    if (const auto range = s.scanner.settings().preset_range_m()) {  // a data-sheet preset's
+        s.range_min_m = range->first;
+        s.range_max_m = range->second;
+    }
     if (n["range_min_m"] && c.number(n["range_min_m"], "scanner.range_min_m", s.range_min_m) &&
         s.range_min_m < 0) {
         c.error(n["range_min_m"], "scanner.range_min_m", "must not be negative");

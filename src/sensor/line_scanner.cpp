@@ -42,10 +42,24 @@ std::vector<std::string> LineScannerConfig::validate() const {
     const bool rate_ok = pulse_rate_hz > 0.0 && std::isfinite(pulse_rate_hz);
     if (!(scan_rate_hz > 0.0 && std::isfinite(scan_rate_hz))) {
         p.push_back("scan_rate_hz must be positive (got " + std::to_string(scan_rate_hz) + ")");
-    } else if (rate_ok && !(2.0 * scan_rate_hz <= pulse_rate_hz)) {
-        p.push_back("scan_rate_hz (" + std::to_string(scan_rate_hz) +
-                    ") must leave at least two pulses per line (pulse_rate_hz " +
+    } else if (rate_ok && !(2.0 * lines_per_s() <= pulse_rate_hz)) {
+        p.push_back("scan_rate_hz (" + std::to_string(scan_rate_hz) + " mirror periods/s, " +
+                    std::to_string(lines_per_s()) +
+                    " lines/s) must leave at least two pulses per line (pulse_rate_hz " +
                     std::to_string(pulse_rate_hz) + ")");
+    }
+    if (!(turn_duration_s >= 0.0 && std::isfinite(turn_duration_s))) {
+        p.push_back("turn_duration_s must be 0 or positive (got " +
+                    std::to_string(turn_duration_s) + ")");
+    } else if (turn_duration_s > 0.0 && waveform != ScanWaveform::triangle) {
+        p.push_back(
+            "turn_duration_s applies to the triangle waveform only (an oscillating "
+            "mirror; a sinusoid turns smoothly, a sawtooth flies back)");
+    } else if (turn_duration_s > 0.0 && scan_rate_hz > 0.0 && std::isfinite(scan_rate_hz) &&
+               !(turn_duration_s < 1.0 / lines_per_s())) {
+        p.push_back("turn_duration_s (" + std::to_string(turn_duration_s) +
+                    ") must be shorter than a line (" + std::to_string(1.0 / lines_per_s()) +
+                    " s)");
     }
     if (!(scan_angle_max_deg > 0.0 && scan_angle_max_deg < 90.0)) {
         p.push_back("scan_angle_max_deg must be in (0, 90) (got " +
@@ -61,6 +75,7 @@ std::vector<std::string> LineScannerConfig::validate() const {
 LineScanner::LineScanner(LineScannerConfig config) : config_(std::move(config)) {
     throw_if_problems("line scanner", config_.validate());
     pulse_count_ = whole_count(config_.duration_s * config_.pulse_rate_hz);
+    lines_per_s_ = config_.lines_per_s();
 }
 
 double LineScanner::angle_at_lines(double lines) const {
@@ -69,6 +84,9 @@ double LineScanner::angle_at_lines(double lines) const {
         case ScanWaveform::sawtooth:
             return -a + 2.0 * a * frac(lines);
         case ScanWaveform::triangle:
+            if (config_.turn_duration_s > 0.0) {
+                return turning_angle_at_lines(lines);
+            }
             return a * (1.0 - 4.0 * std::abs(frac(0.5 * lines) - 0.5));
         case ScanWaveform::sinusoid:
             return -a * std::cos(2.0 * std::numbers::pi * frac(0.5 * lines));
@@ -76,24 +94,42 @@ double LineScanner::angle_at_lines(double lines) const {
     return 0.0;
 }
 
+double LineScanner::turning_angle_at_lines(double lines) const {
+    // In line-period units (T = 1): half turn h, speed w = 2 max / (1 - h), acceleration w / h.
+    const double a = config_.scan_angle_max_deg;
+    const double h = 0.5 * config_.turn_duration_s * lines_per_s_;
+    const double w = 2.0 * a / (1.0 - h);
+    const double n = std::floor(lines);
+    const double u = lines - n;
+    double s = 0.0;
+    if (u < h) {
+        s = -a + w * u * u / (2.0 * h);
+    } else if (u <= 1.0 - h) {
+        s = -a + w * h / 2.0 + w * (u - h);
+    } else {
+        s = a - w * (1.0 - u) * (1.0 - u) / (2.0 * h);
+    }
+    return std::fmod(n, 2.0) == 0.0 ? s : -s;  // odd lines sweep back
+}
+
 double LineScanner::scan_angle_deg_at(double time_s) const {
-    return angle_at_lines((time_s - config_.start_time_s) * config_.scan_rate_hz);
+    return angle_at_lines((time_s - config_.start_time_s) * lines_per_s_);
 }
 
 std::uint64_t LineScanner::line_of_pulse(std::uint64_t i) const {
     return static_cast<std::uint64_t>(
-        std::floor(static_cast<double>(i) * config_.scan_rate_hz / config_.pulse_rate_hz));
+        std::floor(static_cast<double>(i) * lines_per_s_ / config_.pulse_rate_hz));
 }
 
 double LineScanner::line_start_time_s(std::uint64_t n) const {
-    return config_.start_time_s + static_cast<double>(n) / config_.scan_rate_hz;
+    return config_.start_time_s + static_cast<double>(n) / lines_per_s_;
 }
 
 void LineScanner::generate_pulses(std::uint64_t first, std::size_t count, PulseBatch& out) const {
     for (std::size_t j = 0; j < count; ++j) {
         const std::uint64_t i = first + j;
         // The same expression as line_of_pulse, so a pulse's angle and line always agree.
-        const double lines = static_cast<double>(i) * config_.scan_rate_hz / config_.pulse_rate_hz;
+        const double lines = static_cast<double>(i) * lines_per_s_ / config_.pulse_rate_hz;
         const double s_deg = angle_at_lines(lines);
         const double s = s_deg * kDegToRad;
         out.time_s[j] = pulse_time_s(i);
@@ -113,6 +149,10 @@ std::unique_ptr<ScannerSettings> parse_line(detail::YamlChecker& c, const YAML::
     detail::scanner_positive(c, n, "pulse_rate_hz", s.pulse_rate_hz);
     detail::scanner_positive(c, n, "scan_rate_hz", s.scan_rate_hz);
     detail::scanner_positive(c, n, "scan_angle_max_deg", s.scan_angle_max_deg);
+    if (const auto d = n["turn_duration_s"];
+        d && c.number(d, "scanner.turn_duration_s", s.turn_duration_s) && s.turn_duration_s < 0) {
+        c.error(d, "scanner.turn_duration_s", "must not be negative");
+    }
     if (const auto w = n["waveform"]) {
         try {
             // A name longer than the quote limit matches none, so the error quotes it clipped.
@@ -128,8 +168,9 @@ std::unique_ptr<ScannerSettings> parse_line(detail::YamlChecker& c, const YAML::
     return std::make_unique<SettingsOf<LineScanner>>(std::move(s));
 }
 
-constexpr std::array<std::string_view, 5> kLineKeys{"pulse_rate_hz", "scan_rate_hz",
-                                                    "scan_angle_max_deg", "waveform", "duration_s"};
+constexpr std::array<std::string_view, 6> kLineKeys{"pulse_rate_hz",      "scan_rate_hz",
+                                                    "scan_angle_max_deg", "waveform",
+                                                    "turn_duration_s",    "duration_s"};
 
 }  // namespace
 

@@ -3,10 +3,14 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <filesystem>
 #include <limits>
 #include <numbers>
 #include <utility>
 
+#include "beamtrace/core/error.hpp"
+#include "beamtrace/sensor/beam_table.hpp"
+#include "beamtrace/sensor/rotating_presets.hpp"
 #include "sensor/detail/scan_pattern_types.hpp"
 #include "sensor/detail/scanner_yaml.hpp"
 
@@ -46,6 +50,40 @@ double wrap_deg(double deg) {
     return w - 180.0;
 }
 
+/// The problems of the per-beam tables besides the elevations: lengths, timing, channels.
+void beam_table_problems(const RotatingScannerConfig& c, std::vector<std::string>& p) {
+    const std::size_t beams = c.beam_elevations_deg.size();
+    if (!c.beam_time_offsets_s.empty() && c.beam_time_offsets_s.size() != beams) {
+        p.push_back("beam_time_offsets_s must be empty or have one value per beam (" +
+                    std::to_string(beams) + "), got " +
+                    std::to_string(c.beam_time_offsets_s.size()));
+    } else if (!c.beam_time_offsets_s.empty() && p.empty()) {
+        const double period = 1.0 / c.firing_rate_hz();
+        for (std::size_t b = 0; b < beams; ++b) {
+            const double t = c.beam_time_offsets_s[b];
+            if (!(t >= 0.0 && t < period)) {
+                p.push_back("beam_time_offsets_s[" + std::to_string(b) +
+                            "] must be in [0, firing period " + std::to_string(period) +
+                            " s) (got " + std::to_string(t) + ")");
+            } else if (b > 0 && t < c.beam_time_offsets_s[b - 1]) {
+                p.push_back("beam_time_offsets_s[" + std::to_string(b) +
+                            "] must not be earlier than the beam before (rows are in firing "
+                            "order)");
+            }
+        }
+    }
+    if (!c.beam_channels.empty() && c.beam_channels.size() != beams) {
+        p.push_back("beam_channels must be empty or have one value per beam (" +
+                    std::to_string(beams) + "), got " + std::to_string(c.beam_channels.size()));
+    } else if (!c.beam_channels.empty()) {
+        std::vector<std::uint16_t> sorted = c.beam_channels;
+        std::sort(sorted.begin(), sorted.end());
+        if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end()) {
+            p.push_back("beam_channels must be distinct");
+        }
+    }
+}
+
 }  // namespace
 
 std::vector<std::string> RotatingScannerConfig::validate() const {
@@ -82,6 +120,17 @@ std::vector<std::string> RotatingScannerConfig::validate() const {
         p.push_back("azimuth_resolution_deg must be in (0, 360] (got " +
                     std::to_string(azimuth_resolution_deg) + ")");
     }
+    if (!(firing_period_s >= 0.0 && std::isfinite(firing_period_s))) {
+        p.push_back("firing_period_s must be 0 or positive (got " +
+                    std::to_string(firing_period_s) + ")");
+    } else if (firing_period_s > 0.0 && !(azimuth_step_deg() <= 360.0)) {
+        p.push_back("rotation_rate_hz x 360 x firing_period_s must be at most 360 degrees");
+    }
+    if (!(preset_range_min_m >= 0.0 && preset_range_max_m >= 0.0 &&
+          std::isfinite(preset_range_max_m)) ||
+        (preset_range_max_m > 0.0 && !(preset_range_max_m > preset_range_min_m))) {
+        p.push_back("preset_range_min_m and preset_range_max_m must be 0 (none) or 0 <= min < max");
+    }
     if (!std::isfinite(start_azimuth_deg)) {
         p.push_back("start_azimuth_deg must be finite");
     }
@@ -91,6 +140,7 @@ std::vector<std::string> RotatingScannerConfig::validate() const {
     if (!std::isfinite(start_time_s)) {
         p.push_back("start_time_s must be finite");
     }
+    beam_table_problems(*this, p);
     if (p.empty()) {
         const double pulses = duration_s * pulse_rate_hz();
         if (!(pulses <= 9.0e15)) {
@@ -129,7 +179,10 @@ RotatingScanner::RotatingScanner(RotatingScannerConfig config) : config_(std::mo
     const std::size_t beams = beam_count();
     pulse_count_ = config_.firing_count() * beams;
     pulse_rate_hz_ = config_.pulse_rate_hz();
-    const double per_rev = 360.0 / config_.azimuth_resolution_deg;
+    step_deg_ = config_.azimuth_step_deg();
+    period_s_ =
+        config_.firing_period_s > 0.0 ? config_.firing_period_s : 1.0 / config_.firing_rate_hz();
+    const double per_rev = 360.0 / step_deg_;
     const double rounded = std::round(per_rev);
     if (std::abs(per_rev - rounded) <= 1e-9 * rounded) {
         firings_per_revolution_ = static_cast<std::uint64_t>(rounded);
@@ -139,25 +192,36 @@ RotatingScanner::RotatingScanner(RotatingScannerConfig config) : config_(std::mo
     }
     cos_elevation_.resize(beams);
     sin_elevation_.resize(beams);
+    within_deg_.resize(beams);
     cos_beam_azimuth_.resize(beams);
     sin_beam_azimuth_.resize(beams);
     const double sign = config_.spin_clockwise ? -1.0 : 1.0;
+    const double deg_per_s = config_.rotation_rate_hz * 360.0;
     for (std::size_t b = 0; b < beams; ++b) {
         const double e = config_.beam_elevations_deg[b] * kDegToRad;
         cos_elevation_[b] = std::cos(e);
         sin_elevation_[b] = std::sin(e);
-        const double within_deg =
-            config_.azimuth_resolution_deg * static_cast<double>(b) / static_cast<double>(beams);
-        const double a = (sign * within_deg + config_.beam_azimuth_offsets_deg[b]) * kDegToRad;
+        within_deg_[b] = config_.beam_time_offsets_s.empty()
+                             ? step_deg_ * static_cast<double>(b) / static_cast<double>(beams)
+                             : deg_per_s * config_.beam_time_offsets_s[b];
+        const double a = (sign * within_deg_[b] + config_.beam_azimuth_offsets_deg[b]) * kDegToRad;
         cos_beam_azimuth_[b] = std::cos(a);
         sin_beam_azimuth_[b] = std::sin(a);
     }
 }
 
+double RotatingScanner::beam_time_s(std::uint64_t i, std::uint64_t firing, std::size_t b) const {
+    if (config_.beam_time_offsets_s.empty()) {
+        return pulse_time_s(i);
+    }
+    return config_.start_time_s + static_cast<double>(firing) * period_s_ +
+           config_.beam_time_offsets_s[b];
+}
+
 void RotatingScanner::generate_pulses(std::uint64_t first, std::size_t count,
                                       PulseBatch& out) const {
     const std::uint64_t beams = beam_count();
-    const double res = config_.azimuth_resolution_deg;
+    const double res = step_deg_;
     const double sign = config_.spin_clockwise ? -1.0 : 1.0;
     // The firing's heading, as cos/sin, computed once per firing: a beam's direction is the
     // heading rotated by the beam's own azimuth (angle addition, within 1e-15 of a direct sincos).
@@ -181,52 +245,85 @@ void RotatingScanner::generate_pulses(std::uint64_t first, std::size_t count,
             cos_head = std::cos(head);
             sin_head = std::sin(head);
         }
-        const double within_deg = res * static_cast<double>(b) / static_cast<double>(beams);
-        const double az_deg = wrap_deg(config_.start_azimuth_deg + sign * (head_deg + within_deg) +
-                                       config_.beam_azimuth_offsets_deg[b]);
+        const double az_deg =
+            wrap_deg(config_.start_azimuth_deg + sign * (head_deg + within_deg_[b]) +
+                     config_.beam_azimuth_offsets_deg[b]);
         const double cos_az = cos_head * cos_beam_azimuth_[b] - sin_head * sin_beam_azimuth_[b];
         const double sin_az = sin_head * cos_beam_azimuth_[b] + cos_head * sin_beam_azimuth_[b];
-        out.time_s[j] = pulse_time_s(i);
+        out.time_s[j] = beam_time_s(i, k, b);
         out.direction[j] = {cos_elevation_[b] * cos_az, cos_elevation_[b] * sin_az,
                             sin_elevation_[b]};
-        out.channel[j] = static_cast<std::uint16_t>(b);
+        out.channel[j] = config_.beam_channels.empty() ? static_cast<std::uint16_t>(b)
+                                                       : config_.beam_channels[b];
         out.scan_angle_deg[j] = static_cast<float>(az_deg);
     }
 }
 
 namespace {
 
-struct Preset {
-    std::string_view name;
-    RotatingScannerConfig (*make)();
-};
-constexpr std::array<Preset, 4> kPresets{
-    {{"vlp16", vlp16}, {"hdl32", hdl32}, {"hdl64", hdl64}, {"os128", os128}}};
-
-/// `preset` (replacing the whole config) and `beam_elevations_deg`.
-void parse_beams(detail::YamlChecker& c, const YAML::Node& n, RotatingScannerConfig& s) {
-    if (const auto p = n["preset"]) {
-        const std::string name = p.IsScalar() ? p.Scalar() : "";
-        const auto* it = std::find_if(kPresets.begin(), kPresets.end(),
-                                      [&](const Preset& q) { return q.name == name; });
-        if (it != kPresets.end()) {
-            s = it->make();
-        } else {
-            c.error(p, "scanner.preset", "unknown preset (expected vlp16, hdl32, hdl64, os128)");
+/// A list of numbers at `key` into `out` (replaced); false (after reporting) when it is not one.
+bool number_list(detail::YamlChecker& c, const YAML::Node& v, const std::string& key,
+                 std::vector<double>& out) {
+    out.clear();
+    if (!v.IsSequence() || v.size() == 0) {
+        c.error(v, key, "expected a list of angles");
+        return false;
+    }
+    for (std::size_t i = 0; i < v.size(); ++i) {
+        double e = 0;
+        if (c.number(v[i], key + "[" + std::to_string(i) + "]", e)) {
+            out.push_back(e);
         }
     }
+    return true;
+}
+
+/// `beam_table`: a CSV file relative to the survey file (beam_table.hpp).
+void parse_beam_table(detail::YamlChecker& c, const YAML::Node& t, RotatingScannerConfig& s) {
+    if (!t.IsScalar() || t.Scalar().empty()) {
+        c.error(t, "scanner.beam_table", "expected a CSV file name");
+        return;
+    }
+    const std::filesystem::path path = c.source().parent_path() / t.Scalar();
+    if (!c.existing_file(t, "scanner.beam_table", path)) {
+        return;
+    }
+    try {
+        read_beam_table_csv(path, s);
+    } catch (const InputError& e) {
+        c.error(t, "scanner.beam_table", e.what());
+    }
+}
+
+/// `preset` (replacing the whole config), then a table: `beam_table` or `beam_elevations_deg`
+/// (+ `beam_azimuth_offsets_deg`), which replace the preset's rows.
+void parse_beams(detail::YamlChecker& c, const YAML::Node& n, RotatingScannerConfig& s) {
+    if (const auto p = n["preset"]) {
+        const RotatingPreset* preset = find_rotating_preset(p.IsScalar() ? p.Scalar() : "");
+        if (preset != nullptr) {
+            s = preset->make();
+        } else {
+            c.error(p, "scanner.preset",
+                    "unknown preset (expected " + rotating_preset_names() + ")");
+        }
+    }
+    if (n["beam_table"] && n["beam_elevations_deg"]) {
+        c.error(n, "scanner", "give beam_table or beam_elevations_deg, not both");
+        return;
+    }
+    if (const auto t = n["beam_table"]) {
+        parse_beam_table(c, t, s);
+    }
     if (const auto b = n["beam_elevations_deg"]) {
-        s.beam_elevations_deg.clear();
-        if (!b.IsSequence() || b.size() == 0) {
-            c.error(b, "scanner.beam_elevations_deg", "expected a list of angles");
+        s.beam_azimuth_offsets_deg.clear();
+        s.beam_time_offsets_s.clear();
+        s.beam_channels.clear();
+        if (!number_list(c, b, "scanner.beam_elevations_deg", s.beam_elevations_deg)) {
             return;
         }
-        for (std::size_t i = 0; i < b.size(); ++i) {
-            double e = 0;
-            if (c.number(b[i], "scanner.beam_elevations_deg[" + std::to_string(i) + "]", e)) {
-                s.beam_elevations_deg.push_back(e);
-            }
-        }
+    }
+    if (const auto a = n["beam_azimuth_offsets_deg"]) {
+        (void)number_list(c, a, "scanner.beam_azimuth_offsets_deg", s.beam_azimuth_offsets_deg);
     }
 }
 
@@ -237,7 +334,17 @@ std::unique_ptr<ScannerSettings> parse_rotating(detail::YamlChecker& c, const YA
     RotatingScannerConfig s = vlp16();
     parse_beams(c, n, s);
     detail::scanner_positive(c, n, "rotation_rate_hz", s.rotation_rate_hz);
-    detail::scanner_positive(c, n, "azimuth_resolution_deg", s.azimuth_resolution_deg);
+    if (n["azimuth_resolution_deg"] && n["firing_period_s"]) {
+        c.error(n, "scanner", "give azimuth_resolution_deg or firing_period_s, not both");
+    }
+    if (n["azimuth_resolution_deg"]) {
+        s.firing_period_s = 0.0;  // the step the survey asks for, not the preset's clock
+        detail::scanner_positive(c, n, "azimuth_resolution_deg", s.azimuth_resolution_deg);
+    }
+    detail::scanner_positive(c, n, "firing_period_s", s.firing_period_s);
+    if (const auto a = n["start_azimuth_deg"]) {
+        (void)c.number(a, "scanner.start_azimuth_deg", s.start_azimuth_deg);
+    }
     if (const auto cw = n["spin_clockwise"]) {
         c.boolean(cw, "scanner.spin_clockwise", s.spin_clockwise);
     }
@@ -248,9 +355,16 @@ std::unique_ptr<ScannerSettings> parse_rotating(detail::YamlChecker& c, const YA
     return std::make_unique<SettingsOf<RotatingScanner>>(std::move(s));
 }
 
-constexpr std::array<std::string_view, 6> kRotatingKeys{
-    "preset",         "beam_elevations_deg", "rotation_rate_hz", "azimuth_resolution_deg",
-    "spin_clockwise", "duration_s"};
+constexpr std::array<std::string_view, 10> kRotatingKeys{"preset",
+                                                         "beam_table",
+                                                         "beam_elevations_deg",
+                                                         "beam_azimuth_offsets_deg",
+                                                         "rotation_rate_hz",
+                                                         "azimuth_resolution_deg",
+                                                         "firing_period_s",
+                                                         "spin_clockwise",
+                                                         "start_azimuth_deg",
+                                                         "duration_s"};
 
 }  // namespace
 

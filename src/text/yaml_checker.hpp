@@ -25,6 +25,9 @@ class YamlChecker {
   public:
     explicit YamlChecker(std::filesystem::path source) : source_(std::move(source)) {}
 
+    /// The file being read (files it names are relative to its folder).
+    [[nodiscard]] const std::filesystem::path& source() const { return source_; }
+
     void error(const YAML::Node& node, const std::string& key, const std::string& what) {
         std::string where = source_.string();
         if (node.IsDefined() && node.Mark().line >= 0) {

@@ -21,7 +21,7 @@ TEST(SurveyEchoSplit, SteepPlaneAtOneKilometreGivesOneReturnPerPulse) {
                                              "], size_m: 40000}, label: 2}\n");
     // A line scanner looking down, +-1 deg across the track: incidence 83 deg (82-84 deg).
     const auto points = test::run_and_read(R"(scene: slope.yaml
-scanner: {type: line, pulse_rate_hz: 4000, scan_rate_hz: 20, scan_angle_max_deg: 1,
+scanner: {type: line, pulse_rate_hz: 4000, scan_rate_hz: 10, scan_angle_max_deg: 1,
           waveform: triangle, duration_s: 0.5}
 platform: {type: static, position_m: [0, 0, 0]}
 mount: {boresight_deg: [0, -90, 0]}

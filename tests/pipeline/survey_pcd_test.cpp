@@ -67,7 +67,7 @@ std::vector<PcdPoint> parse_pcd(const std::string& bytes,
 TEST(SurveyPcd, PcdOutputHoldsTheLasPointsWithTheirAttributes) {
     test::TempDir dir;
     const test::RawLas las = test::run_survey_raw(R"(scene: demo
-scanner: {type: line, pulse_rate_hz: 20000, scan_rate_hz: 40, scan_angle_max_deg: 25,
+scanner: {type: line, pulse_rate_hz: 20000, scan_rate_hz: 20, scan_angle_max_deg: 25,
           waveform: triangle, duration_s: 0.1}
 platform: {type: legs, speed_mps: 50, waypoints_m: [[-30, 0, 150], [30, 0, 150]]}
 mount: {boresight_deg: [0, -90, 0]}

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <vector>
 
 #include "beamtrace/core/error.hpp"
 #include "beamtrace/sensor/trajectory.hpp"
@@ -20,7 +21,9 @@ constexpr double kDegToRad = kPi / 180.0;
 LineScannerConfig config(ScanWaveform waveform) {
     LineScannerConfig c;
     c.pulse_rate_hz = 100'000.0;
-    c.scan_rate_hz = 100.0;  // 1000 pulses per line
+    // 100 lines/s, 1000 pulses per line: a sawtooth period is one line, an oscillating
+    // mirror's (triangle, sinusoid) two.
+    c.scan_rate_hz = waveform == ScanWaveform::sawtooth ? 100.0 : 50.0;
     c.scan_angle_max_deg = 20.0;
     c.waveform = waveform;
     c.duration_s = 0.05;  // 5 lines
@@ -174,6 +177,112 @@ TEST(LineScanner, SawtoothLinesAreVOverScanRateApartWithMotionDistortion) {
     }
 }
 
+TEST(LineScanner, ScanRateIsTheMirrorFrequency) {
+    // Data sheets and HELIOS++: 50 Hz is 50 mirror periods per second, 100 lines for an
+    // oscillating mirror; a sawtooth period is one line.
+    LineScannerConfig c = config(ScanWaveform::triangle);
+    c.pulse_rate_hz = 70'000.0;
+    c.scan_rate_hz = 50.0;
+    EXPECT_EQ(c.lines_per_s(), 100.0);
+    const LineScanner tri(c);
+    EXPECT_EQ(tri.line_of_pulse(699), 0u);
+    EXPECT_EQ(tri.line_of_pulse(700), 1u);  // 700 pulses per line
+    EXPECT_EQ(tri.line_start_time_s(1), 0.01);
+    EXPECT_NEAR(tri.scan_angle_deg_at(0.01), 20.0, 1e-9);   // +max at the end of line 0
+    EXPECT_NEAR(tri.scan_angle_deg_at(0.02), -20.0, 1e-9);  // one mirror period
+    c.waveform = ScanWaveform::sinusoid;
+    EXPECT_NEAR(LineScanner(c).scan_angle_deg_at(0.02), -20.0, 1e-9);
+    EXPECT_NEAR(LineScanner(c).scan_angle_deg_at(0.01), 20.0, 1e-9);
+    c.waveform = ScanWaveform::sawtooth;
+    EXPECT_EQ(c.lines_per_s(), 50.0);
+    EXPECT_EQ(LineScanner(c).line_of_pulse(1400), 1u);
+}
+
+/// The angle of an oscillating mirror with turns of duration D, written out from the model
+/// (docs/survey.md): line period T, half turn h = D/2, sweep speed w = 2 max / (T - h).
+double turning_mirror_deg(double t, double max_deg, double line_s, double turn_s) {
+    const double n = std::floor(t / line_s), u = t - n * line_s, h = turn_s / 2;
+    const double w = 2 * max_deg / (line_s - h), acc = w / h;
+    double s = 0;
+    if (u < h) {
+        s = -max_deg + acc * u * u / 2;
+    } else if (u < line_s - h) {
+        s = -max_deg + acc * h * h / 2 + w * (u - h);
+    } else {
+        s = max_deg - acc * (line_s - u) * (line_s - u) / 2;
+    }
+    return static_cast<long long>(n) % 2 == 0 ? s : -s;
+}
+
+TEST(LineScanner, MirrorTurnsAtFiniteAccelerationAtEachEnd) {
+    LineScannerConfig c = config(ScanWaveform::triangle);  // 1000 pulses per line, +/-20 deg
+    c.turn_duration_s = 1e-3;                              // 100 pulses turning at each end
+    const LineScanner scanner(c);
+    const PulseBatch p = all_pulses(scanner);
+    const double w_per_pulse = 40.0 / (1000.0 - 50.0);  // the sweep's step, degrees
+    for (std::size_t i = 0; i < p.size(); ++i) {
+        const double t = p.time_s[i];
+        ASSERT_NEAR(beam_angle_deg(p.direction[i]), turning_mirror_deg(t, 20, 0.01, 1e-3), 1e-9)
+            << i;
+        ASSERT_LE(std::abs(beam_angle_deg(p.direction[i])), 20.0 + 1e-12) << i;
+    }
+    auto angle = [&](std::size_t i) { return beam_angle_deg(p.direction[i]); };
+    EXPECT_NEAR(angle(1000), 20.0, 1e-9);  // the ends are still reached exactly
+    EXPECT_NEAR(angle(2000), -20.0, 1e-9);
+    for (std::size_t j = 51; j < 949; ++j) {  // constant speed between the turns
+        ASSERT_NEAR(angle(j) - angle(j - 1), w_per_pulse, 1e-9) << j;
+    }
+    // In the turn the step shrinks linearly to 0 at the end and grows back: second differences
+    // are the constant acceleration, w / 50 per pulse^2.
+    for (std::size_t j = 955; j < 1045; ++j) {
+        const double second = angle(j + 1) - 2 * angle(j) + angle(j - 1);
+        if (j != 1000) {  // the end itself is where the direction flips
+            ASSERT_NEAR(second, -w_per_pulse / 50.0, 1e-9) << j;
+        }
+    }
+    // Pulses pile up at the ends: within the outer degree, v pulses before the end are
+    // acc v^2 / 2 < 1 deg for v < sqrt(2 x 50 / w) = 48.7: 48 pulses of line 0, where an
+    // instantaneous turn (0.04 deg per pulse) has 25.
+    std::size_t near_end = 0;
+    for (std::size_t i = 0; i < 1000; ++i) {
+        near_end += angle(i) > 19.0 ? 1 : 0;
+    }
+    EXPECT_EQ(near_end, 48u);
+}
+
+TEST(LineScanner, LeicaAls50IIAsHeliosDefinesIt) {
+    // HELIOS++ als_hd_demo: Leica ALS50-II, 70 kHz, scanFreq 50 Hz, scanAngle 60 deg (half),
+    // 100 turning pulses; flown at 1500 m above ground.
+    LineScannerConfig c;
+    c.pulse_rate_hz = 70'000.0;
+    c.scan_rate_hz = 50.0;
+    c.scan_angle_max_deg = 60.0;
+    c.waveform = ScanWaveform::triangle;
+    c.turn_duration_s = 100.0 / 70'000.0;
+    c.duration_s = 1.0;
+    const LineScanner scanner(c);
+    const PulseBatch p = all_pulses(scanner);
+    ASSERT_EQ(p.size(), 70'000u);
+    EXPECT_EQ(scanner.line_of_pulse(69'999), 99u);  // 100 lines/s
+    std::vector<std::size_t> per_line(100, 0);
+    double lo = 1e9, hi = -1e9;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+        ++per_line[scanner.line_of_pulse(i)];
+        lo = std::min(lo, beam_angle_deg(p.direction[i]));
+        hi = std::max(hi, beam_angle_deg(p.direction[i]));
+    }
+    for (const std::size_t n : per_line) {
+        ASSERT_EQ(n, 700u);  // points per line = pulse rate / line rate
+    }
+    EXPECT_NEAR(hi, 60.0, 1e-9);
+    EXPECT_NEAR(lo, -60.0, 1e-9);
+    const double swath_m = 2 * 1500.0 * std::tan(60.0 * kDegToRad);  // 5196 m on flat ground
+    EXPECT_NEAR(1500.0 * (std::tan(hi * kDegToRad) - std::tan(lo * kDegToRad)), swath_m, 1e-6);
+    // The sweep between the turns is 120 deg / (700 - 50) pulses per pulse.
+    const double step = beam_angle_deg(p.direction[351]) - beam_angle_deg(p.direction[350]);
+    EXPECT_NEAR(step, 120.0 / 650.0, 1e-9);
+}
+
 TEST(LineScanner, WaveformNamesRoundTrip) {
     for (const ScanWaveform w :
          {ScanWaveform::sawtooth, ScanWaveform::sinusoid, ScanWaveform::triangle}) {
@@ -203,6 +312,15 @@ TEST(LineScanner, ValidationListsEveryProblem) {
     LineScannerConfig fast = config(ScanWaveform::sawtooth);
     fast.scan_rate_hz = 60'000.0;  // fewer than two pulses per line
     EXPECT_EQ(fast.validate().size(), 1u);
+    LineScannerConfig turn = config(ScanWaveform::sawtooth);
+    turn.turn_duration_s = 1e-3;
+    EXPECT_EQ(turn.validate().size(), 1u) << "a turn is for the triangle only";
+    turn.waveform = ScanWaveform::triangle;
+    EXPECT_TRUE(turn.validate().empty());
+    turn.turn_duration_s = 0.01;  // a whole line
+    EXPECT_EQ(turn.validate().size(), 1u);
+    turn.turn_duration_s = -1.0;
+    EXPECT_EQ(turn.validate().size(), 1u);
 }
 
 }  // namespace

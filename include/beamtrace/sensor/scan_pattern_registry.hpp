@@ -59,6 +59,11 @@ class ScannerSettings {
     [[nodiscard]] virtual std::vector<std::string> validate() const = 0;
     /// The pattern; throws ConfigError listing every problem.
     [[nodiscard]] virtual std::unique_ptr<ScanPattern> make_pattern() const = 0;
+    /// The range limits [min, max] in metres that a sensor preset's data sheet gives, the
+    /// survey's defaults for range_min_m and range_max_m; nullopt: none.
+    [[nodiscard]] virtual std::optional<std::pair<double, double>> preset_range_m() const {
+        return std::nullopt;
+    }
 };
 
 /// The settings of a `Pattern` type: its `Pattern::Config`, from which it is constructed.
@@ -74,6 +79,14 @@ class SettingsOf final : public ScannerSettings {
     [[nodiscard]] std::vector<std::string> validate() const override { return config.validate(); }
     [[nodiscard]] std::unique_ptr<ScanPattern> make_pattern() const override {
         return std::make_unique<Pattern>(config);
+    }
+    /// Config::preset_range_m() when the config has one.
+    [[nodiscard]] std::optional<std::pair<double, double>> preset_range_m() const override {
+        if constexpr (requires(const Config& c) { c.preset_range_m(); }) {
+            return config.preset_range_m();
+        } else {
+            return std::nullopt;
+        }
     }
 
     Config config;
