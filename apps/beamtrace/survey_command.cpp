@@ -1,5 +1,9 @@
+#include <sched.h>
+
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
+#include <thread>
 #include <memory>
 #include <string>
 
@@ -39,6 +43,31 @@ void abort_if_asked(const Communicator& world, std::size_t done) {
     }
 }
 
+/// The cores this process may run on (its CPU binding: mpirun binds each rank to a core or a
+/// socket by default), at least 1.
+unsigned bound_cores() {
+    cpu_set_t set;
+    CPU_ZERO(&set);
+    if (sched_getaffinity(0, sizeof set, &set) != 0) {
+        return std::max(1u, std::thread::hardware_concurrency());
+    }
+    return static_cast<unsigned>(std::max(1, CPU_COUNT(&set)));
+}
+
+/// Across MPI ranks: --threads 0 means the cores the rank is bound to; more threads than those
+/// share them (a note says how to unbind).
+void fit_threads_to_binding(SurveyRunConfig& run, const Communicator& world) {
+    const unsigned cores = bound_cores();
+    if (run.threads == 0) {
+        run.threads = cores;
+    } else if (run.threads > cores && world.rank() == 0) {
+        std::fprintf(stderr,
+                     "beamtrace: note: rank 0 is bound to %u core(s) but runs %u threads; start "
+                     "the ranks with `mpirun --bind-to none` (or srun --cpus-per-task=%u)\n",
+                     cores, run.threads, run.threads);
+    }
+}
+
 /// run_survey, or run_survey_distributed on the MPI ranks of o.world.
 SurveyResult run_either(const SurveySpec& spec, const SurveyCommand& o, const SurveyRunConfig& run,
                         ProgressBar& bar) {
@@ -61,6 +90,9 @@ int run(const SurveyCommand& o) {
     const bool reports = o.world == nullptr || o.world->rank() == 0;
     ProgressBar bar("surveying", reports && !o.quiet && (o.progress || stderr_is_terminal()));
     SurveyRunConfig run = o.run;
+    if (o.world != nullptr) {
+        fit_threads_to_binding(run, *o.world);
+    }
     run.cancel = &interrupt_token();
     catch_interrupts();
     const SurveyResult r = run_either(spec, o, run, bar);
