@@ -12,4 +12,5 @@ PYBIND11_MODULE(_beamtrace, m) {
     bp::bind_errors(m);
     bp::bind_scene(m);
     bp::bind_las(m);
+    bp::bind_survey(m);
 }

@@ -203,7 +203,7 @@ RayBatch survey_rays(const SurveySpec& spec, std::uint64_t seed, std::uint64_t m
 
 SurveyResult run_survey(const SurveySpec& spec, const SurveyRunConfig& run,
                         const ProgressFn& progress) {
-    if (run.output_dir.empty()) {
+    if (run.write_files && run.output_dir.empty()) {
         throw ConfigError("no output directory");
     }
     throw_if_cancelled(run.cancel, "survey");
@@ -248,17 +248,23 @@ SurveyResult run_survey(const SurveySpec& spec, const SurveyRunConfig& run,
     throw_if_cancelled(run.cancel, "survey");
     // Declared before the sinks: on an error or interrupt the sinks remove their temporaries
     // first, then the folders this run created go if empty.
-    CreatedDirs created(run.output_dir);
-    create_output_dir(run.output_dir);
+    std::optional<CreatedDirs> created;
+    if (run.write_files) {
+        created.emplace(run.output_dir);
+        create_output_dir(run.output_dir);
+    }
     SinkFacts facts = detail::survey_sink_facts(spec, run, in.scene, *in.pattern, *in.trajectory,
                                                 sim ? &*sim : nullptr, result.pulses);
     facts.provenance.insert(facts.provenance.find('\n') + 1, provenance_line);
-    if (const auto box =
-            detail::pilot_hit_bounds(spec, *in.pattern, *in.trajectory, *backend, pool)) {
+    // The footprint frames preview.png: no pilot without file outputs.
+    const auto box = run.write_files ? detail::pilot_hit_bounds(spec, *in.pattern, *in.trajectory,
+                                                                *backend, pool)
+                                     : std::nullopt;
+    if (box) {
         facts.footprint_m = {Vec3d(box->lo) + in.scene.origin_m,
                              Vec3d(box->hi) + in.scene.origin_m};
     }
-    detail::SinkSet sinks = detail::open_survey_sinks(spec, facts);
+    detail::SinkSet sinks = detail::open_run_sinks(spec, run, facts);
     t0 = Clock::now();
     const detail::SurveyRaySource source{&spec, in.trajectory.get(), sim ? &*sim : nullptr,
                                          run.seed};
@@ -281,7 +287,9 @@ SurveyResult run_survey(const SurveySpec& spec, const SurveyRunConfig& run,
     throw_if_cancelled(run.cancel, "survey");
     result.outputs = sinks.commit();
     result.notes = sinks.notes();
-    created.keep();
+    if (created) {
+        created->keep();
+    }
     result.survey_s = seconds_since(t0);
     result.few_points_reasons =
         detail::diagnose_survey(spec, *in.pattern, *in.trajectory, *backend,
