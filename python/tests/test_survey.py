@@ -123,7 +123,7 @@ def test_max_pulses_keeps_the_first_pulses():
 def test_a_bad_key_raises_config_error_naming_it():
     survey = tripod()
     survey["scanner"]["widht"] = 10
-    with pytest.raises(beamtrace.ConfigError, match="widht"):
+    with pytest.raises(beamtrace.ConfigError, match=r"<dict>:\d+: scanner.widht: unknown key"):
         beamtrace.run_survey(survey)
     survey = tripod()
     survey["platfrom"] = survey.pop("platform")
