@@ -12,6 +12,7 @@ import os
 from collections.abc import Mapping
 
 from ._beamtrace import (
+    AllHits,
     ConfigError,
     Error,
     Hits,
@@ -25,6 +26,7 @@ from ._beamtrace import (
 )
 
 __all__ = [
+    "AllHits",
     "ConfigError",
     "Error",
     "Hits",
