@@ -5,6 +5,8 @@
 #include <exception>
 #include <mutex>
 #include <thread>
+#include <utility>
+#include <vector>
 
 namespace beamtrace::python {
 namespace {
@@ -14,23 +16,22 @@ struct Mailbox {
     std::mutex mutex;
     std::condition_variable changed;
     bool finished = false;
-    bool reported = false;  ///< a report not yet handed to Python
-    std::size_t done = 0, total = 0;
+    std::vector<std::pair<std::size_t, std::size_t>> reports;  ///< (done, total), not yet handed on
 };
 
 /// What the waiting thread takes from the mailbox at each wake-up.
 struct News {
-    bool finished = false, reported = false;
-    std::size_t done = 0, total = 0;
+    bool finished = false;
+    std::vector<std::pair<std::size_t, std::size_t>> reports;
 };
 
 News wait_for_news(Mailbox& box) {
     const py::gil_scoped_release release;
     std::unique_lock lock(box.mutex);
     box.changed.wait_for(lock, std::chrono::milliseconds(50),
-                         [&] { return box.finished || box.reported; });
-    News news{box.finished, box.reported, box.done, box.total};
-    box.reported = false;
+                         [&] { return box.finished || !box.reports.empty(); });
+    News news{box.finished, {}};
+    news.reports.swap(box.reports);
     return news;
 }
 
@@ -57,9 +58,7 @@ void run_watched(
     std::exception_ptr call_error;
     const ProgressFn report = [&box](std::size_t done, std::size_t total) {
         const std::lock_guard lock(box.mutex);
-        box.done = done;
-        box.total = total;
-        box.reported = true;
+        box.reports.emplace_back(done, total);
         box.changed.notify_one();
     };
     std::thread thread([&] {
@@ -84,8 +83,10 @@ void run_watched(
             if (PyErr_CheckSignals() != 0) {
                 throw py::error_already_set();
             }
-            if (news.reported && !progress.is_none()) {
-                progress(news.done, news.total);
+            for (const auto& [done, total] : news.reports) {
+                if (!progress.is_none()) {
+                    progress(done, total);
+                }
             }
         } catch (...) {
             stop = std::current_exception();

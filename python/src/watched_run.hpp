@@ -14,10 +14,10 @@
 namespace beamtrace::python {
 
 /// Runs `call(cancel, report)` on a new thread; `call` must not touch Python. Meanwhile, on
-/// this thread: `progress(done, total)` with the latest report (unless `progress` is None),
-/// and PyErr_CheckSignals, every report or 50 ms. When either raises, `cancel` is requested,
-/// the call is waited for and the Python exception (KeyboardInterrupt for Ctrl-C) re-raised;
-/// otherwise the call's own exception, if any, is rethrown. Call with the GIL held.
+/// this thread: `progress(done, total)` for every report, in order (unless `progress` is None),
+/// and PyErr_CheckSignals, at each report or every 50 ms. When either raises, `cancel` is
+/// requested, the call is waited for and the Python exception (KeyboardInterrupt for Ctrl-C)
+/// re-raised; otherwise the call's own exception, if any, is rethrown. Call with the GIL held.
 void run_watched(
     const std::function<void(const CancelToken& cancel, const ProgressFn& report)>& call,
     const py::object& progress);

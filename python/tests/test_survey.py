@@ -165,7 +165,7 @@ def test_progress_on_the_calling_thread():
 
     beamtrace.run_survey(tripod(360, 100), progress=progress, threads=2)
     total = 360 * 100
-    assert calls[-1] == (total, total)
+    assert calls[0] == (0, total) and calls[-1] == (total, total)
     assert all(t == total for _, t in calls)
     assert [d for d, _ in calls] == sorted(d for d, _ in calls)
 
