@@ -23,6 +23,7 @@ from ._beamtrace import (
     _run_survey_file,
     _run_survey_text,
     read_las,
+    render,
 )
 
 __all__ = [
@@ -35,6 +36,7 @@ __all__ = [
     "Scene",
     "__version__",
     "read_las",
+    "render",
     "run_survey",
 ]
 

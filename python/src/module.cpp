@@ -13,4 +13,5 @@ PYBIND11_MODULE(_beamtrace, m) {
     bp::bind_scene(m);
     bp::bind_las(m);
     bp::bind_survey(m);
+    bp::bind_render(m);
 }
