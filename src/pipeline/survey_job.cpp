@@ -77,6 +77,53 @@ void create_output_dir(const std::filesystem::path& dir) {
     }
 }
 
+/// The physics of a run: the pulse simulator and its stage, and the provenance line.
+struct RunPhysics {
+    RunPhysics() = default;
+    RunPhysics(const RunPhysics&) = delete;  // nor moved: physics points into sim
+    RunPhysics& operator=(const RunPhysics&) = delete;
+
+    std::optional<PulseSimulator> sim;
+    std::optional<detail::SurveyPhysics> physics;  ///< refers to *sim
+    std::string provenance_line;
+};
+
+/// Sets up spec.physics: each pulse is sub_rays rays, whose hits become the pulse's returns. An
+/// `auto` intensity reference range comes from a pilot traced with the same backend; the range
+/// in use goes into `result`.
+void set_up_physics(RunPhysics& out, const SurveySpec& spec, const SurveyInputs& in,
+                    std::vector<Material> materials, const Backend& backend, ThreadPool& pool,
+                    std::uint64_t seed, SurveyResult& result) {
+    PhysicsConfig config = *spec.physics;
+    const detail::ReferenceRange r =
+        detail::resolve_reference_range(config, spec, *in.pattern, *in.trajectory, backend, pool);
+    result.intensity_reference_range_m = r.reference_range_m;
+    result.intensity_reference_auto = r.automatic;
+    result.nominal_range_m = r.nominal_range_m;
+    out.provenance_line = physics_provenance(config, r);
+    out.sim.emplace(std::move(config));
+    out.physics.emplace(*out.sim, in.scene, std::move(materials), seed);
+}
+
+/// What the run's sinks are told: survey_sink_facts, the physics line of the provenance, and
+/// (with file outputs: it frames preview.png) the footprint of the pilot's hits.
+SinkFacts run_sink_facts(const SurveySpec& spec, const SurveyRunConfig& run, const SurveyInputs& in,
+                         const PulseSimulator* sim, const std::string& provenance_line,
+                         const Backend& backend, ThreadPool& pool, std::uint64_t pulses) {
+    SinkFacts facts =
+        detail::survey_sink_facts(spec, run, in.scene, *in.pattern, *in.trajectory, sim, pulses);
+    facts.provenance.insert(facts.provenance.find('\n') + 1, provenance_line);
+    if (!run.write_files) {
+        return facts;
+    }
+    if (const auto box =
+            detail::pilot_hit_bounds(spec, *in.pattern, *in.trajectory, backend, pool)) {
+        facts.footprint_m = {Vec3d(box->lo) + in.scene.origin_m,
+                             Vec3d(box->hi) + in.scene.origin_m};
+    }
+    return facts;
+}
+
 /// The stages one block of pulses goes through on one pool thread: poses and rays, trace,
 /// physics, points, and the sinks' encoding.
 struct BlockStages {
@@ -228,22 +275,12 @@ SurveyResult run_survey(const SurveySpec& spec, const SurveyRunConfig& run,
     const auto backend = make_backend(run.backend, in.scene.geometry, pool);
     result.build_s = seconds_since(t0);
 
-    // Physics (optional): each pulse is sub_rays rays; their hits become the pulse's returns.
-    // An `auto` intensity reference range comes from a pilot traced with the same backend.
-    std::optional<PulseSimulator> sim;
-    std::optional<detail::SurveyPhysics> physics;
-    std::string provenance_line;
+    RunPhysics phys;  // stays in place: phys.physics refers to phys.sim
     if (spec.physics) {
-        PhysicsConfig config = *spec.physics;
-        const detail::ReferenceRange r = detail::resolve_reference_range(
-            config, spec, *in.pattern, *in.trajectory, *backend, pool);
-        result.intensity_reference_range_m = r.reference_range_m;
-        result.intensity_reference_auto = r.automatic;
-        result.nominal_range_m = r.nominal_range_m;
-        provenance_line = physics_provenance(config, r);
-        sim.emplace(std::move(config));
-        physics.emplace(*sim, in.scene, std::move(materials), run.seed);
+        set_up_physics(phys, spec, in, std::move(materials), *backend, pool, run.seed, result);
     }
+    const PulseSimulator* sim = phys.sim ? &*phys.sim : nullptr;
+    const auto& physics = phys.physics;
 
     throw_if_cancelled(run.cancel, "survey");
     // Declared before the sinks: on an error or interrupt the sinks remove their temporaries
@@ -253,26 +290,16 @@ SurveyResult run_survey(const SurveySpec& spec, const SurveyRunConfig& run,
         created.emplace(run.output_dir);
         create_output_dir(run.output_dir);
     }
-    SinkFacts facts = detail::survey_sink_facts(spec, run, in.scene, *in.pattern, *in.trajectory,
-                                                sim ? &*sim : nullptr, result.pulses);
-    facts.provenance.insert(facts.provenance.find('\n') + 1, provenance_line);
-    // The footprint frames preview.png: no pilot without file outputs.
-    const auto box = run.write_files ? detail::pilot_hit_bounds(spec, *in.pattern, *in.trajectory,
-                                                                *backend, pool)
-                                     : std::nullopt;
-    if (box) {
-        facts.footprint_m = {Vec3d(box->lo) + in.scene.origin_m,
-                             Vec3d(box->hi) + in.scene.origin_m};
-    }
-    detail::SinkSet sinks = detail::open_run_sinks(spec, run, facts);
+    detail::SinkSet sinks = detail::open_run_sinks(
+        spec, run,
+        run_sink_facts(spec, run, in, sim, phys.provenance_line, *backend, pool, result.pulses));
     t0 = Clock::now();
-    const detail::SurveyRaySource source{&spec, in.trajectory.get(), sim ? &*sim : nullptr,
-                                         run.seed};
+    const detail::SurveyRaySource source{&spec, in.trajectory.get(), sim, run.seed};
     BlockStages stages{in.pattern.get(),
                        &source,
                        backend.get(),
                        physics ? &*physics : nullptr,
-                       detail::SurveyPoints{&in.scene, sim.has_value(), source.sub_rays(),
+                       detail::SurveyPoints{&in.scene, sim != nullptr, source.sub_rays(),
                                             physics ? physics->max_returns() : 1, colours},
                        &sinks,
                        result.pulses,
