@@ -1,10 +1,11 @@
-"""beamtrace: ray tracing of scenes and LAS/LAZ reading on NumPy arrays (docs/python.md).
+"""beamtrace: ray tracing, surveys, renders and LAS/LAZ reading on NumPy arrays (docs/python.md).
 
     import numpy as np, beamtrace
     scene = beamtrace.Scene.load("examples/scenes/sphere_targets.yaml")
     hits = scene.trace(np.zeros((1, 3)) + [0, 0, 1.6], [[1.0, 0.0, 0.0]])
     points, header = beamtrace.read_las("cloud.laz")
     points = beamtrace.run_survey("examples/surveys/tripod_panorama.yaml", seed=1)
+    image = beamtrace.render("demo", size=(320, 240))  # (240, 320, 3) uint8
 """
 
 import json

@@ -191,3 +191,11 @@ def test_ctrl_c_stops_the_run(tmp_path):
     assert not (tmp_path / "out").exists()
     # the module still works afterwards
     assert len(beamtrace.run_survey(tripod(90, 30))) > 500
+
+
+def test_backends_give_the_same_points():
+    survey = tripod(90, 30)
+    bvh = beamtrace.run_survey(survey, backend="bvh")
+    np.testing.assert_array_equal(beamtrace.run_survey(survey, backend="kdtree"), bvh)
+    with pytest.raises(beamtrace.ConfigError, match="octree"):
+        beamtrace.run_survey(survey, backend="octree")
