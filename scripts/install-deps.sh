@@ -3,6 +3,8 @@
 set -euo pipefail
 pkgs=(build-essential cmake libcli11-dev libpng-dev libtiff-dev libyaml-cpp-dev nlohmann-json3-dev
       libgtest-dev libbenchmark-dev libembree-dev
+      # a compiler cache: scripts/test.sh's three builds reuse what an earlier run compiled
+      ccache
       # the include check (scripts/check_includes.py, a ctest test)
       python3
       # view --interactive (GLFW/OpenGL) and its headless test (Xvfb); view --mp4 and its test

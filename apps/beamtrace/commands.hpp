@@ -5,6 +5,8 @@
 #include <CLI/CLI.hpp>
 #include <functional>
 
+#include "beamtrace/core/communicator.hpp"
+
 namespace beamtrace::cli {
 
 /// Registers `scan`; the returned function runs it after parsing and returns the exit code.
@@ -14,7 +16,8 @@ std::function<int()> add_scan_command(CLI::App& app);
 std::function<int()> add_info_command(CLI::App& app);
 
 /// Registers `survey FILE.yaml`: runs a survey and writes LAS 1.4 and the trajectory.
-std::function<int()> add_survey_command(CLI::App& app);
+/// `world`: the MPI ranks this process is one of (mpi_world.hpp), or null for one process.
+std::function<int()> add_survey_command(CLI::App& app, Communicator* world);
 
 /// Registers `view FILES...`: ray-traced images of raw LAS files (see docs/view.md).
 std::function<int()> add_view_command(CLI::App& app);

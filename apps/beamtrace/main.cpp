@@ -8,6 +8,7 @@
 #include "beamtrace/core/error.hpp"
 #include "commands.hpp"
 #include "interrupt.hpp"
+#include "mpi_world.hpp"
 
 namespace {
 
@@ -24,13 +25,18 @@ std::string command_line(int argc, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
+    // Under mpirun: every rank runs this; rank 0 alone reports (errors are agreed on, so every
+    // rank exits with the same status).
+    const auto mpi = beamtrace::cli::start_mpi(argc, argv);
+    beamtrace::Communicator* world = mpi ? &mpi->comm() : nullptr;
+    const bool reports = world == nullptr || world->rank() == 0;
     CLI::App app{"beamtrace " BEAMTRACE_VERSION " - LiDAR simulator and ray tracer", "beamtrace"};
     app.set_version_flag("--version", "beamtrace " BEAMTRACE_VERSION);
     app.require_subcommand(1);
     app.failure_message([](const CLI::App*, const CLI::Error& e) { return std::string(e.what()); });
     const auto run_scan = beamtrace::cli::add_scan_command(app);
     const auto run_info = beamtrace::cli::add_info_command(app);
-    const auto run_survey = beamtrace::cli::add_survey_command(app);
+    const auto run_survey = beamtrace::cli::add_survey_command(app, world);
     const auto run_view = beamtrace::cli::add_view_command(app);
     const auto run_render = beamtrace::cli::add_render_command(app);
     const auto run_bench = beamtrace::cli::add_bench_command(app);
@@ -44,14 +50,22 @@ int main(int argc, char** argv) {
     } catch (const CLI::CallForVersion& e) {
         return app.exit(e);
     } catch (const CLI::ParseError& e) {
-        std::fprintf(stderr, "beamtrace: error: %s (see --help)\n", e.what());
+        if (reports) {
+            std::fprintf(stderr, "beamtrace: error: %s (see --help)\n", e.what());
+        }
         return 2;
     } catch (const beamtrace::Error& e) {
         // An option's value rejected by the library parser its option is bound to.
-        std::fprintf(stderr, "beamtrace: error: %s\n", e.what());
+        if (reports) {
+            std::fprintf(stderr, "beamtrace: error: %s\n", e.what());
+        }
         return 2;
     }
     try {
+        if (world != nullptr && world->size() > 1 && !app.got_subcommand("survey")) {
+            throw beamtrace::ConfigError(
+                "only `beamtrace survey` runs across MPI ranks; run this command without mpirun");
+        }
         if (app.got_subcommand("scan")) {
             return run_scan();
         }
@@ -75,10 +89,14 @@ int main(int argc, char** argv) {
         }
     } catch (const beamtrace::Interrupted& e) {
         // SIGINT/SIGTERM (interrupt.hpp): the temporaries are gone; 130 or 143.
-        std::fprintf(stderr, "beamtrace: %s\n", e.what());
+        if (reports) {
+            std::fprintf(stderr, "beamtrace: %s\n", e.what());
+        }
         return beamtrace::cli::interrupted_exit_code(e);
     } catch (const beamtrace::Error& e) {
-        std::fprintf(stderr, "beamtrace: error: %s\n", e.what());
+        if (reports) {
+            std::fprintf(stderr, "beamtrace: error: %s\n", e.what());
+        }
         return 2;
     } catch (const std::bad_alloc&) {
         std::fprintf(stderr, "beamtrace: error: out of memory running '%s'\n",

@@ -1,10 +1,12 @@
 #include <cstdio>
+#include <cstdlib>
 #include <memory>
 #include <string>
 
 #include "beamtrace/core/error.hpp"
 #include "beamtrace/core/memory_usage.hpp"
 #include "beamtrace/pipeline/survey.hpp"
+#include "beamtrace/pipeline/survey_distributed.hpp"
 #include "commands.hpp"
 #include "interrupt.hpp"
 #include "progress_bar.hpp"
@@ -19,20 +21,53 @@ struct SurveyCommand {
     bool quiet = false;
     bool progress = false;
     bool allow_empty = false;
+    Communicator* world = nullptr;  ///< the MPI ranks (mpi_world.hpp); null: one process
 };
+
+/// The test hook of a rank that dies mid-run (tests/apps/mpi_cli_test.cpp):
+/// BEAMTRACE_TEST_MPI_ABORT=RANK:PULSES aborts rank RANK once PULSES pulses are done.
+void abort_if_asked(const Communicator& world, std::size_t done) {
+    const char* hook = std::getenv("BEAMTRACE_TEST_MPI_ABORT");
+    if (hook == nullptr) {
+        return;
+    }
+    const std::string text = hook;
+    const auto colon = text.find(':');
+    if (colon != std::string::npos && std::stoi(text.substr(0, colon)) == world.rank() &&
+        done >= std::stoull(text.substr(colon + 1))) {
+        std::abort();
+    }
+}
+
+/// run_survey, or run_survey_distributed on the MPI ranks of o.world.
+SurveyResult run_either(const SurveySpec& spec, const SurveyCommand& o, const SurveyRunConfig& run,
+                        ProgressBar& bar) {
+    if (o.world == nullptr) {
+        return run_survey(spec, run,
+                          [&](std::size_t done, std::size_t total) { bar.update(done, total); });
+    }
+    return run_survey_distributed(spec, run, *o.world, [&](std::size_t done, std::size_t total) {
+        abort_if_asked(*o.world, done);
+        bar.update(done, total);
+    });
+}
 
 /// Exit status of a survey or scan that wrote no point (without --allow-empty).
 constexpr int kEmptyResultExit = 3;
 
 int run(const SurveyCommand& o) {
     const SurveySpec spec = load_survey_spec(o.file);
-    ProgressBar bar("surveying", !o.quiet && (o.progress || stderr_is_terminal()));
+    // Across MPI ranks rank 0 alone shows progress and the summary.
+    const bool reports = o.world == nullptr || o.world->rank() == 0;
+    ProgressBar bar("surveying", reports && !o.quiet && (o.progress || stderr_is_terminal()));
     SurveyRunConfig run = o.run;
     run.cancel = &interrupt_token();
     catch_interrupts();
-    const SurveyResult r = run_survey(
-        spec, run, [&](std::size_t done, std::size_t total) { bar.update(done, total); });
+    const SurveyResult r = run_either(spec, o, run, bar);
     bar.finish();
+    if (!reports) {
+        return r.points == 0 && r.pulses > 0 && !o.allow_empty ? kEmptyResultExit : 0;
+    }
     if (!o.quiet) {
         const std::string spheres =
             r.spheres > 0 ? ", " + std::to_string(r.spheres) + " exact spheres" : "";
@@ -78,8 +113,9 @@ int run(const SurveyCommand& o) {
 
 }  // namespace
 
-std::function<int()> add_survey_command(CLI::App& app) {
+std::function<int()> add_survey_command(CLI::App& app, Communicator* world) {
     auto opts = std::make_shared<SurveyCommand>();
+    opts->world = world;
     SurveyRunConfig& rc = opts->run;
     CLI::App* cmd = app.add_subcommand(
         "survey",

@@ -183,6 +183,84 @@ LasWriterConfig las_config_for_extent(const Aabb& box, double resolution_m) {
 
 LasWriter::LasWriter(std::filesystem::path path, LasWriterConfig config)
     : path_(std::move(path)), config_(std::move(config)) {
+    set_up_header();
+    if (config_.compression == LasCompression::laz) {
+        open_laz();
+    }
+    file_ = std::make_unique<AtomicFile>(path_);
+    sink_ = std::make_unique<detail::DirectSink>(file_->temp_path(), path_);
+    // The header is a placeholder until close() knows the counts and bounds.
+    const std::vector<std::uint8_t> head = header_and_vlrs(header_);
+    sink_->append(head.data(), head.size());
+    if (laz_vlr_) {
+        std::vector<std::uint8_t> vlr;
+        append_vlr(*laz_vlr_, vlr);
+        sink_->append(vlr.data(), vlr.size());
+        start_laz_points();
+    }
+    chunk_.resize(kChunkPoints * header_.point_record_length);
+}
+
+LasWriter::LasWriter(LasWriterConfig config) : config_(std::move(config)) {
+    if (config_.compression != LasCompression::none) {
+        throw ConfigError("LAS record encoder: compressed records cannot be encoded apart");
+    }
+    set_up_header();
+    failed_ = true;  // write(), write_block() and close() refuse: there is no file
+}
+
+void LasWriter::append_vlr(const LasVlr& v, std::vector<std::uint8_t>& out) {
+    std::uint8_t b[kVlrHeaderBytes] = {};
+    store_text(b + 2, v.user_id, 16);
+    store<std::uint16_t>(b + 18, v.record_id);
+    store<std::uint16_t>(b + 20, static_cast<std::uint16_t>(v.data.size()));
+    store_text(b + 22, v.description, 32);
+    out.insert(out.end(), b, b + sizeof b);
+    out.insert(out.end(), v.data.begin(), v.data.end());
+}
+
+std::vector<std::uint8_t> LasWriter::header_and_vlrs(const LasHeader& h) const {
+    const auto header = encode_header(h);
+    std::vector<std::uint8_t> out(header.begin(), header.end());
+    for (const auto& v : config_.vlrs) {
+        if (!v.extended) {
+            append_vlr(v, out);
+        }
+    }
+    return out;
+}
+
+std::vector<std::uint8_t> LasWriter::header_bytes(const LasRecordBlock& totals) const {
+    if (header_.number_of_evlrs > 0 || laz_vlr_) {
+        throw ConfigError(
+            "LAS header of records placed apart: EVLRs and compression are not "
+            "supported there");
+    }
+    LasHeader h = header_;
+    h.point_count = totals.count;
+    h.points_by_return = totals.by_return;
+    for (std::size_t k = 0; k < 3; ++k) {
+        h.min[k] = totals.count == 0 ? 0.0 : totals.lo[k] * h.scale[k] + h.offset[k];
+        h.max[k] = totals.count == 0 ? 0.0 : totals.hi[k] * h.scale[k] + h.offset[k];
+    }
+    return header_and_vlrs(h);
+}
+
+void las_add_totals(LasRecordBlock& totals, const LasRecordBlock& block) {
+    if (block.count == 0) {
+        return;
+    }
+    for (std::size_t k = 0; k < 3; ++k) {
+        totals.lo[k] = totals.count == 0 ? block.lo[k] : std::min(totals.lo[k], block.lo[k]);
+        totals.hi[k] = totals.count == 0 ? block.hi[k] : std::max(totals.hi[k], block.hi[k]);
+    }
+    for (std::size_t i = 0; i < 15; ++i) {
+        totals.by_return[i] += block.by_return[i];
+    }
+    totals.count += block.count;
+}
+
+void LasWriter::set_up_header() {
     const auto problems = config_.validate();
     if (!problems.empty()) {
         std::string message = path_.string() + ": LAS writer settings:";
@@ -243,33 +321,6 @@ LasWriter::LasWriter(std::filesystem::path path, LasWriterConfig config)
         steps_per_unit_[k] = 1.0 / h.scale[k];
     }
     h.offset = config_.offset;
-    if (config_.compression == LasCompression::laz) {
-        open_laz();
-    }
-
-    file_ = std::make_unique<AtomicFile>(path_);
-    sink_ = std::make_unique<detail::DirectSink>(file_->temp_path(), path_);
-    const auto header = encode_header();  // a placeholder until close() knows the counts and bounds
-    sink_->append(header.data(), header.size());
-    const auto write_vlr = [this](const LasVlr& v) {
-        std::uint8_t b[kVlrHeaderBytes] = {};
-        store_text(b + 2, v.user_id, 16);
-        store<std::uint16_t>(b + 18, v.record_id);
-        store<std::uint16_t>(b + 20, static_cast<std::uint16_t>(v.data.size()));
-        store_text(b + 22, v.description, 32);
-        sink_->append(b, sizeof b);
-        sink_->append(v.data.data(), v.data.size());
-    };
-    for (const auto& v : config_.vlrs) {
-        if (!v.extended) {
-            write_vlr(v);
-        }
-    }
-    if (laz_vlr_) {
-        write_vlr(*laz_vlr_);
-        start_laz_points();
-    }
-    chunk_.resize(kChunkPoints * h.point_record_length);
 }
 
 LasWriter::~LasWriter() = default;
@@ -280,9 +331,8 @@ void LasWriter::fail(const std::string& what) {
     throw OutputError(path_.string() + ": " + what);
 }
 
-std::array<std::uint8_t, 375> LasWriter::encode_header() const {
+std::array<std::uint8_t, 375> LasWriter::encode_header(const LasHeader& h) const {
     static_assert(kHeaderBytes == 375);
-    const LasHeader& h = header_;
     std::array<std::uint8_t, kHeaderBytes> header{};
     std::uint8_t* b = header.data();
     std::memcpy(b, "LASF", 4);
@@ -553,7 +603,7 @@ void LasWriter::close() {
         if (::fseeko(file_->stream(), 0, SEEK_SET) != 0) {
             fail("cannot seek back to the header");
         }
-        const auto header = encode_header();
+        const auto header = encode_header(header_);
         file_->write(header.data(), header.size());
         file_->commit();
         closed_ = true;

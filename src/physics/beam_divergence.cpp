@@ -19,6 +19,9 @@ std::vector<std::string> BeamConfig::validate() const {
     if (!(exit_diameter_m >= 0) || !(exit_diameter_m <= 10.0)) {
         p.emplace_back("beam: exit_diameter_m must be in [0, 10]");
     }
+    if (edge_samples < 0 || edge_samples > 8) {
+        p.emplace_back("beam: edge_samples must be in [0, 8]");
+    }
     return p;
 }
 
@@ -44,7 +47,101 @@ double annulus_mean_radius(double lo, double hi) {
     return (primitive(hi) - primitive(lo)) / (annulus_energy(lo, hi) / 4.0);
 }
 
+/// One cell of the pattern: the annulus [lo, hi) in beam units, the sector of width `width_rad`
+/// centred on `azimuth_rad`, and its ring.
+struct CellShape {
+    double lo = 0.0, hi = 0.0;
+    double azimuth_rad = 0.0, width_rad = 0.0;
+    int ring = 0;
+};
+
+/// The cells of beam_pattern(config), in its order (has_rings(config) must hold).
+std::vector<CellShape> cell_shapes(const BeamConfig& config) {
+    std::vector<CellShape> out;
+    const double d = 1.0 / config.rings;
+    for (int k = 0; k <= config.rings; ++k) {
+        const double lo = k == 0 ? 0.0 : (k - 0.5) * d;
+        const double hi =
+            k == config.rings ? std::numeric_limits<double>::infinity() : (k + 0.5) * d;
+        const int count = k == 0 ? 1 : 6 * k;
+        const double step = 2.0 * std::numbers::pi / count;
+        const double phase = (k % 2 == 1) ? step / 2.0 : 0.0;
+        for (int j = 0; j < count; ++j) {
+            out.push_back({lo, hi, k == 0 ? 0.0 : phase + j * step, step, k});
+        }
+    }
+    return out;
+}
+
+/// The radius where the energy outside it is the fraction `f` of the way from e^(-2 lo^2) to
+/// e^(-2 hi^2) (equal-energy bands of an annulus).
+double band_edge(double lo, double hi, double f) {
+    const double e_lo = std::exp(-2.0 * lo * lo);
+    const double e_hi = std::isinf(hi) ? 0.0 : std::exp(-2.0 * hi * hi);
+    const double e = e_lo - f * (e_lo - e_hi);
+    return e > 0 ? std::sqrt(-std::log(e) / 2.0) : std::numeric_limits<double>::infinity();
+}
+
+/// Whether the angular intervals [a - wa/2, a + wa/2] and [b - wb/2, b + wb/2] overlap by more
+/// than a sliver, modulo 2 pi.
+bool sectors_overlap(double a, double wa, double b, double wb) {
+    const double two_pi = 2.0 * std::numbers::pi;
+    double gap = std::fmod(std::abs(a - b), two_pi);
+    gap = std::min(gap, two_pi - gap);
+    return gap < (wa + wb) / 2.0 - 1e-9;
+}
+
 }  // namespace
+
+std::vector<SubRayOffset> cell_probe_pattern(const BeamConfig& config) {
+    std::vector<SubRayOffset> out;
+    if (!has_rings(config) || config.edge_samples <= 0) {
+        return out;
+    }
+    const double w = config.divergence_rad / 2.0;
+    const int n = config.edge_samples;
+    const std::vector<SubRayOffset> cells = beam_pattern(config);
+    const std::vector<CellShape> shapes = cell_shapes(config);
+    for (std::size_t j = 0; j < shapes.size(); ++j) {
+        const CellShape& c = shapes[j];
+        const double step = c.width_rad / n;
+        const double sinc = std::sin(step / 2.0) / (step / 2.0);
+        for (int b = 0; b < n; ++b) {
+            const double lo = b == 0 ? c.lo : band_edge(c.lo, c.hi, double(b) / n);
+            const double hi = b + 1 == n ? c.hi : band_edge(c.lo, c.hi, double(b + 1) / n);
+            const double radius = annulus_mean_radius(lo, hi) * sinc;
+            for (int a = 0; a < n; ++a) {
+                const double azimuth = c.azimuth_rad - c.width_rad / 2.0 + (a + 0.5) * step;
+                out.push_back({radius * w, radius, azimuth, cells[j].weight / (n * n)});
+            }
+        }
+    }
+    return out;
+}
+
+std::vector<std::vector<std::uint32_t>> cell_neighbours(const BeamConfig& config) {
+    if (!has_rings(config)) {
+        return {{}};
+    }
+    const std::vector<CellShape> shapes = cell_shapes(config);
+    std::vector<std::vector<std::uint32_t>> out(shapes.size());
+    for (std::size_t a = 0; a < shapes.size(); ++a) {
+        for (std::size_t b = 0; b < shapes.size(); ++b) {
+            const CellShape &p = shapes[a], &q = shapes[b];
+            const bool same_ring = p.ring == q.ring && a != b && p.ring > 0 &&
+                                   sectors_overlap(p.azimuth_rad, 2 * p.width_rad, q.azimuth_rad,
+                                                   2 * q.width_rad - 1e-6);
+            const bool next_ring =
+                std::abs(p.ring - q.ring) == 1 &&
+                (p.ring == 0 || q.ring == 0 ||
+                 sectors_overlap(p.azimuth_rad, p.width_rad, q.azimuth_rad, q.width_rad));
+            if (same_ring || next_ring) {
+                out[a].push_back(static_cast<std::uint32_t>(b));
+            }
+        }
+    }
+    return out;
+}
 
 std::size_t sub_ray_count(const BeamConfig& config) {
     if (!has_rings(config)) {

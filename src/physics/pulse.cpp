@@ -41,16 +41,17 @@ std::pair<std::size_t, std::size_t> reported_echoes(const std::vector<Echo>& ech
     return {0, std::min(echoes.size(), max_returns)};
 }
 
-/// The sub-ray whose (stretched) echo adds most at an echo's peak at `range_m`; `contributions`
-/// holds one entry per sub-ray of positive power, in order.
-std::uint32_t dominant_sub_ray(std::span<const SubRayHit> hits, const std::vector<double>& powers,
-                               const std::vector<EchoContribution>& contributions, double range_m) {
+/// The sample whose (stretched) echo adds most at an echo's peak at `range_m`; `contributions`
+/// holds one entry per sample of positive power, in order.
+std::uint32_t dominant_sample(std::span<const BeamSample> samples,
+                              const std::vector<double>& powers,
+                              const std::vector<EchoContribution>& contributions, double range_m) {
     double best = -1.0;
     std::uint32_t best_j = 0;
     for (std::size_t j = 0, c = 0; j < powers.size(); ++j) {
         if (powers[j] > 0) {
             const double sigma_m = contributions[c++].sigma_ns / round_trip_ns_per_m();
-            const double d = (hits[j].range_m - range_m) / sigma_m;
+            const double d = (samples[j].hit.range_m - range_m) / sigma_m;
             const double share = powers[j] / sigma_m * std::exp(-0.5 * d * d);
             if (share > best) {
                 best = share;
@@ -113,6 +114,14 @@ PulseSimulator::PulseSimulator(PhysicsConfig config) : config_(std::move(config)
     beam_frame_ = beam_frame_directions(pattern_);
     beam_origins_ = beam_frame_origins(config_.beam, pattern_);
     cell_sigma_ = std::sqrt(cell_variance(pattern_));
+    const std::vector<SubRayOffset> probes = cell_probe_pattern(config_.beam);
+    if (!probes.empty() && pattern_.size() > 1) {
+        assert(pattern_[0].radius == 0.0);  // probe_rays starts from the centre sub-ray
+        probes_per_cell_ = probes.size() / pattern_.size();
+        probe_frame_ = beam_frame_directions(probes);
+        probe_origins_ = beam_frame_origins(config_.beam, probes);
+        neighbours_ = cell_neighbours(config_.beam);
+    }
     alpha_per_m_ =
         beamtrace::extinction_per_m(config_.atmosphere, config_.radiometry.wavelength_nm);
 }
@@ -146,15 +155,19 @@ void PulseSimulator::sub_rays(std::uint64_t seed, std::uint64_t pulse_index, con
 }
 
 double PulseSimulator::echo_sigma_ns(const SubRayHit& hit) const {
+    return echo_sigma_ns(hit, cell_sigma_);
+}
+
+double PulseSimulator::echo_sigma_ns(const SubRayHit& hit, double cell_sigma) const {
     const double sigma_p = config_.waveform.pulse_fwhm_ns / (2.0 * std::sqrt(2.0 * std::log(2.0)));
     const double w_m = footprint_radius_m(config_.beam, hit.range_m);
-    if (!(w_m > 0) || !(cell_sigma_ > 0)) {
+    if (!(w_m > 0) || !(cell_sigma > 0)) {
         return sigma_p;
     }
     constexpr double kMinCos = 0.008726535498373935;  // cos 89.5 deg: tan i at most 114.6
     const double c = std::clamp(hit.cos_incidence, kMinCos, 1.0);
     const double tan_i = std::sqrt((1.0 - c) * (1.0 + c)) / c;
-    const double spread_ns = tan_i * cell_sigma_ * w_m * round_trip_ns_per_m();
+    const double spread_ns = tan_i * cell_sigma * w_m * round_trip_ns_per_m();
     return std::sqrt(sigma_p * sigma_p + spread_ns * spread_ns);
 }
 
@@ -172,6 +185,64 @@ double PulseSimulator::sub_ray_power_w(const SubRayHit& hit, double weight) cons
 void PulseSimulator::simulate(std::uint64_t seed, std::uint64_t pulse_index,
                               std::span<const SubRayHit> hits, PulseResponse& out) const {
     assert(hits.size() == pattern_.size());
+    std::vector<BeamSample> samples = std::move(out.samples);
+    samples.clear();
+    const std::size_t n = std::min(hits.size(), pattern_.size());
+    for (std::size_t j = 0; j < n; ++j) {
+        samples.push_back(cell_sample(hits[j], j));
+    }
+    simulate_samples(seed, pulse_index, samples, out);
+    out.samples = std::move(samples);
+}
+
+BeamSample PulseSimulator::cell_sample(const SubRayHit& hit, std::size_t cell) const {
+    return {hit, pattern_[cell].weight, cell_sigma_};
+}
+
+BeamSample PulseSimulator::edge_sample(const SubRayHit& hit, std::size_t cell) const {
+    // The sub-ray and its P probes share the cell; each probe's sub-cell is 1/sqrt(P) the
+    // cell's size along each axis, and so is the spread of its echo.
+    const auto p = static_cast<double>(probes_per_cell_);
+    return {hit, pattern_[cell].weight / (p + 1.0), cell_sigma_ / std::sqrt(p)};
+}
+
+void PulseSimulator::edge_cells(std::span<const std::int64_t> target,
+                                std::vector<std::uint32_t>& out) const {
+    out.clear();
+    if (probes_per_cell_ == 0 || target.size() != neighbours_.size()) {
+        return;
+    }
+    if (std::all_of(target.begin(), target.end(), [&](auto t) { return t == target[0]; })) {
+        return;
+    }
+    for (std::size_t j = 0; j < target.size(); ++j) {
+        for (const std::uint32_t m : neighbours_[j]) {
+            if (target[m] != target[j]) {
+                out.push_back(static_cast<std::uint32_t>(j));
+                break;
+            }
+        }
+    }
+}
+
+void PulseSimulator::probe_rays(const Vec3d& origin, const Vec3d& axis, std::size_t cell,
+                                std::span<Vec3d> origins, std::span<Vec3d> dirs) const {
+    assert(origins.size() == probes_per_cell_ && dirs.size() == probes_per_cell_);
+    const std::span<const Vec3d> frame{probe_frame_.data() + cell * probes_per_cell_,
+                                       probes_per_cell_};
+    beamtrace::sub_ray_directions(axis, frame, dirs);
+    if (config_.beam.exit_diameter_m > 0) {
+        beamtrace::sub_ray_origins(
+            origin, axis, {probe_origins_.data() + cell * probes_per_cell_, probes_per_cell_},
+            origins);
+    } else {
+        std::fill(origins.begin(), origins.end(), origin);
+    }
+}
+
+void PulseSimulator::simulate_samples(std::uint64_t seed, std::uint64_t pulse_index,
+                                      std::span<const BeamSample> samples,
+                                      PulseResponse& out) const {
     out.dropped = false;
     out.returns.clear();
     out.echoes.clear();
@@ -186,13 +257,15 @@ void PulseSimulator::simulate(std::uint64_t seed, std::uint64_t pulse_index,
         out.dropped = true;
         return;
     }
-    const std::size_t n = std::min(hits.size(), pattern_.size());
+    const std::size_t n = samples.size();
     std::vector<double>& powers = out.sub_ray_power_w;
     powers.assign(n, 0.0);
     for (std::size_t j = 0; j < n; ++j) {
-        powers[j] = sub_ray_power_w(hits[j], pattern_[j].weight);
+        const BeamSample& s = samples[j];
+        powers[j] = sub_ray_power_w(s.hit, s.weight);
         if (powers[j] > 0) {
-            out.contributions.push_back({hits[j].range_m, powers[j], echo_sigma_ns(hits[j])});
+            out.contributions.push_back(
+                {s.hit.range_m, powers[j], echo_sigma_ns(s.hit, s.cell_sigma)});
         }
     }
     if (out.contributions.empty()) {
@@ -223,7 +296,7 @@ void PulseSimulator::simulate(std::uint64_t seed, std::uint64_t pulse_index,
         r.intensity = las_intensity(config_.radiometry, echo.power_w);
         r.return_number = static_cast<std::uint8_t>(e - begin + 1);
         r.number_of_returns = count;
-        r.sub_ray = dominant_sub_ray(hits, powers, out.contributions, echo.range_m);
+        r.sub_ray = dominant_sample(samples, powers, out.contributions, echo.range_m);
         out.returns.push_back(r);
     }
 }

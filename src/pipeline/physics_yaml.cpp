@@ -107,10 +107,11 @@ void parse_radiometry(YamlChecker& c, const YAML::Node& n, PhysicsConfig& out) {
     }
 }
 
-/// physics.beam: divergence_mrad, rings, exit_diameter_m.
+/// physics.beam: divergence_mrad, rings, exit_diameter_m, edge_samples.
 void parse_beam(YamlChecker& c, const YAML::Node& n, PhysicsConfig& out) {
     if (const auto b = section(c, n, "beam")) {
-        c.only_keys(b, "physics.beam", {"divergence_mrad", "rings", "exit_diameter_m"});
+        c.only_keys(b, "physics.beam",
+                    {"divergence_mrad", "rings", "exit_diameter_m", "edge_samples"});
         const std::string q = "physics.beam.";
         number(c, b, q, "divergence_mrad", out.beam.divergence_rad, 1e-3);
         long rings = 0;
@@ -118,6 +119,10 @@ void parse_beam(YamlChecker& c, const YAML::Node& n, PhysicsConfig& out) {
             out.beam.rings = static_cast<int>(rings);
         }
         number(c, b, q, "exit_diameter_m", out.beam.exit_diameter_m);
+        long edge = 0;
+        if (b["edge_samples"] && c.integer(b["edge_samples"], q + "edge_samples", 0, 8, edge)) {
+            out.beam.edge_samples = static_cast<int>(edge);
+        }
     }
 }
 

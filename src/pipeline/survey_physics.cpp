@@ -8,33 +8,105 @@ SurveyPhysics::SurveyPhysics(const PulseSimulator& sim, const Scene& scene,
                              std::vector<Material> materials, std::uint64_t seed)
     : sim_(&sim), scene_(&scene), materials_(std::move(materials)), seed_(seed) {}
 
-void SurveyPhysics::run(BlockWork& w) const {
+SubRayHit SurveyPhysics::sub_ray_hit(const RayBatch& rays, const HitBatch& hits,
+                                     std::size_t h) const {
+    if (!hits.hit(h)) {
+        return SubRayHit{};
+    }
     const Scene& scene = *scene_;
+    const Vec3d d{rays.dx[h], rays.dy[h], rays.dz[h]};
+    const double t = hits.t[h];
+    const ScenePart& part = scene.parts[scene.part_of_face(hits.face[h])];
+    // The true ray's origin: w.origin is the measured one (georeferencing errors).
+    const Vec3d at = Vec3d{rays.ox[h], rays.oy[h], rays.oz[h]} + d * t;
+    return make_sub_ray_hit(materials_[part.material], scene.pattern_frame(part, hits.face[h]), t,
+                            at, scene.geometry.normal_at(hits.face[h], at), d);
+}
+
+void SurveyPhysics::find_edges(BlockWork& w) const {
     const std::size_t sub_rays = this->sub_rays();
-    const std::size_t max_returns = this->max_returns();
+    const std::size_t probes = sim_->probes_per_cell();
+    w.edge_cell.clear();
+    w.edge_start.assign(w.pulse_count + 1, 0);
+    if (probes == 0) {
+        return;
+    }
+    w.target.resize(sub_rays);
     for (std::size_t k = 0; k < w.pulse_count; ++k) {
         for (std::size_t j = 0; j < sub_rays; ++j) {
             const std::size_t h = k * sub_rays + j;
-            if (!w.hits.hit(h)) {
-                w.sub[j] = SubRayHit{};
-                continue;
-            }
-            const Vec3d d{w.rays.dx[h], w.rays.dy[h], w.rays.dz[h]};
-            const double t = w.hits.t[h];
-            const ScenePart& part = scene.parts[scene.part_of_face(w.hits.face[h])];
-            // The true ray's origin: w.origin is the measured one (georeferencing errors).
-            const Vec3d at = Vec3d{w.rays.ox[h], w.rays.oy[h], w.rays.oz[h]} + d * t;
-            w.sub[j] = make_sub_ray_hit(materials_[part.material],
-                                        scene.pattern_frame(part, w.hits.face[h]), t, at,
-                                        scene.geometry.normal_at(w.hits.face[h], at), d);
+            w.target[j] = w.hits.hit(h)
+                              ? static_cast<std::int64_t>(scene_->part_of_face(w.hits.face[h]))
+                              : -1;
         }
-        sim_->simulate(seed_, w.first + k, w.sub, w.response);
+        sim_->edge_cells(w.target, w.edges);
+        w.edge_cell.insert(w.edge_cell.end(), w.edges.begin(), w.edges.end());
+        w.edge_start[k + 1] = static_cast<std::uint32_t>(w.edge_cell.size());
+    }
+    if (w.edge_cell.empty()) {
+        return;
+    }
+    w.probe_rays.resize(w.edge_cell.size() * probes);
+    w.probe_origins.resize(probes);
+    w.probe_dirs.resize(probes);
+    for (std::size_t k = 0; k < w.pulse_count; ++k) {
+        const std::size_t c = k * sub_rays;  // the centre sub-ray (on the jittered axis)
+        const Vec3d o{w.rays.ox[c], w.rays.oy[c], w.rays.oz[c]};
+        const Vec3d d{w.rays.dx[c], w.rays.dy[c], w.rays.dz[c]};
+        for (std::uint32_t e = w.edge_start[k]; e < w.edge_start[k + 1]; ++e) {
+            sim_->probe_rays(o, d, w.edge_cell[e], w.probe_origins, w.probe_dirs);
+            for (std::size_t p = 0; p < probes; ++p) {
+                w.probe_rays.set(e * probes + p, w.probe_origins[p], w.probe_dirs[p],
+                                 w.rays.tmin[c], w.rays.tmax[c]);
+            }
+        }
+    }
+}
+
+void SurveyPhysics::simulate(BlockWork& w, std::size_t k) const {
+    const std::size_t sub_rays = this->sub_rays();
+    const std::size_t probes = sim_->probes_per_cell();
+    std::vector<BeamSample>& samples = w.response.samples;
+    samples.clear();
+    w.sample_face.clear();
+    std::uint32_t e = w.edge_start[k];
+    for (std::size_t j = 0; j < sub_rays; ++j) {
+        const std::size_t h = k * sub_rays + j;
+        const SubRayHit hit = sub_ray_hit(w.rays, w.hits, h);
+        w.sample_face.push_back(w.hits.face[h]);
+        if (e == w.edge_start[k + 1] || w.edge_cell[e] != j) {
+            samples.push_back(sim_->cell_sample(hit, j));
+            continue;
+        }
+        samples.push_back(sim_->edge_sample(hit, j));
+        for (std::size_t p = e * probes; p < (e + 1) * probes; ++p) {
+            samples.push_back(sim_->edge_sample(sub_ray_hit(w.probe_rays, w.probe_hits, p), j));
+            w.sample_face.push_back(w.probe_hits.face[p]);
+        }
+        ++e;
+    }
+    std::vector<BeamSample> kept = std::move(samples);
+    sim_->simulate_samples(seed_, w.first + k, kept, w.response);
+    w.response.samples = std::move(kept);
+}
+
+void SurveyPhysics::run(BlockWork& w, const Backend& backend) const {
+    const std::size_t max_returns = this->max_returns();
+    find_edges(w);
+    if (!w.edge_cell.empty()) {
+        w.probe_hits.resize(w.probe_rays.size());
+        backend.intersect(w.probe_rays, 0, w.probe_rays.size(), w.probe_hits, w.this_thread);
+    }
+    for (std::size_t k = 0; k < w.pulse_count; ++k) {
+        simulate(w, k);
         if (keeps_waveforms()) {
             keep_waveform(w, k);
         }
         const std::size_t n = std::min(w.response.returns.size(), max_returns);
-        std::copy_n(w.response.returns.begin(), n,
-                    w.returns.begin() + static_cast<std::ptrdiff_t>(k * max_returns));
+        for (std::size_t r = 0; r < n; ++r) {
+            w.returns[k * max_returns + r] = w.response.returns[r];
+            w.return_face[k * max_returns + r] = w.sample_face[w.response.returns[r].sub_ray];
+        }
         w.return_count[k] = static_cast<std::uint8_t>(n);
     }
 }

@@ -36,9 +36,10 @@ void SurveyPoints::run(BlockWork& w) const {
         const std::size_t n = physics ? w.return_count[k] : (w.hits.hit(k) ? 1 : 0);
         for (std::size_t r = 0; r < n; ++r) {
             const PulseReturn* ret = physics ? &w.returns[k * max_returns + r] : nullptr;
-            const std::size_t h = physics ? k * sub_rays + ret->sub_ray : k;
+            const std::uint32_t face =
+                physics ? w.return_face[k * max_returns + r] : w.hits.face[k];
             const double t = physics ? ret->range_m : double{w.hits.t[k]};
-            const ScenePart& part = scene->parts[scene->part_of_face(w.hits.face[h])];
+            const ScenePart& part = scene->parts[scene->part_of_face(face)];
             const Vec3d xyz = w.origin[k] + w.axis[k] * t + scene->origin_m;
             BlockPoint& p = out.emplace_back();
             p.x = xyz.x;
@@ -47,7 +48,7 @@ void SurveyPoints::run(BlockWork& w) const {
             p.gps_time = w.pulses.time_s[k];
             p.range_m = static_cast<float>(t);
             p.scan_angle_deg = w.scan_angle[k];
-            p.face = w.hits.face[h];
+            p.face = face;
             p.return_number = ret ? ret->return_number : 1;
             p.number_of_returns = ret ? ret->number_of_returns : 1;
             p.intensity = ret ? ret->intensity : 0;
@@ -57,7 +58,7 @@ void SurveyPoints::run(BlockWork& w) const {
             p.user_data = static_cast<std::uint8_t>(w.pulses.channel[k] & 0xFFu);  // beam / row
             p.pulse = w.first + k;
             if (!colours.empty()) {
-                const auto& c = colours[scene->part_of_face(w.hits.face[h])];
+                const auto& c = colours[scene->part_of_face(face)];
                 p.red = c[0];
                 p.green = c[1];
                 p.blue = c[2];

@@ -72,6 +72,9 @@ struct LasRecordBlock {
     void clear();
 };
 
+/// Adds `block`'s count, bounds and counts by return to `totals` (its bytes untouched).
+void las_add_totals(LasRecordBlock& totals, const LasRecordBlock& block);
+
 /// What LasWriter writes besides the points. Defaults give a valid LAS 1.4 / format 6 file with
 /// millimetre coordinates around the origin (±2147 km); use las_config_for_extent() for data
 /// elsewhere.
@@ -144,6 +147,10 @@ class LasWriter {
     /// Throws ConfigError listing every problem of `config`, OutputError if the file cannot be
     /// created.
     LasWriter(std::filesystem::path path, LasWriterConfig config);
+    /// An encoder without a file: encode() and header_bytes() work, write(), write_block() and
+    /// close() throw. For records placed in the file by someone else (a survey written by many
+    /// MPI ranks at once). Throws ConfigError for a bad `config` or compression laz.
+    explicit LasWriter(LasWriterConfig config);
     ~LasWriter();
     LasWriter(const LasWriter&) = delete;
     LasWriter& operator=(const LasWriter&) = delete;
@@ -171,6 +178,11 @@ class LasWriter {
     /// copied into the Waveform Data Packets EVLR, the first EVLR, right after the points.
     void close_with_waveform_data(const std::filesystem::path& packets);
 
+    /// The header and VLRs, offset_to_point_data bytes, of a file whose records `totals` sums
+    /// up (las_add_totals of its blocks: count, integer bounds, counts by return), as close()
+    /// writes them. Throws ConfigError when the file would have EVLRs or is compressed.
+    [[nodiscard]] std::vector<std::uint8_t> header_bytes(const LasRecordBlock& totals) const;
+
     /// Points accepted so far.
     [[nodiscard]] std::uint64_t point_count() const { return header_.point_count + chunk_points_; }
     /// The header; its point count, bounds and EVLR start are final only after close().
@@ -178,6 +190,10 @@ class LasWriter {
     [[nodiscard]] const std::filesystem::path& path() const { return path_; }
 
   private:
+    void set_up_header();
+    static void append_vlr(const LasVlr& v, std::vector<std::uint8_t>& out);
+    /// encode_header() and the VLRs (not the LASzip one).
+    [[nodiscard]] std::vector<std::uint8_t> header_and_vlrs(const LasHeader& h) const;
     void encode(const LasPoint& p, std::uint64_t index, std::uint8_t* record);
     void encode_record(const LasPoint& p, std::uint64_t index, std::uint8_t* record,
                        std::int32_t q[3]) const;
@@ -198,7 +214,7 @@ class LasWriter {
     /// the point data ends.
     [[nodiscard]] std::uint64_t finish_points();
     void write_laz_table_offset();
-    [[nodiscard]] std::array<std::uint8_t, 375> encode_header() const;
+    [[nodiscard]] std::array<std::uint8_t, 375> encode_header(const LasHeader& h) const;
     [[noreturn]] void fail(const std::string& what);
 
     std::filesystem::path path_;

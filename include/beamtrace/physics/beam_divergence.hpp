@@ -22,8 +22,16 @@
 // sub-rays from (D0/2) u_j (cos a, sin a)). D0 = 0 (the default): every sub-ray starts at the
 // sensor's origin.
 // rings = 0, or no divergence and no exit diameter, is a single ray of weight 1.
+// Edge cells (targets smaller than a cell). A sub-ray stands for its whole cell, so a wire or a
+// branch that one sub-ray meets would count as filling the cell. Where a cell's sub-ray sees
+// another target than a neighbouring cell's (a hit against a miss, or another part), the cell
+// is sampled again by edge_samples^2 probe rays: its annulus cut into edge_samples bands of
+// equal energy, each cut into edge_samples equal sectors, a probe at each sub-cell's centroid
+// (cell_probe_pattern). The cell's energy is then shared equally by its sub-ray and its probes,
+// so a target receives the fraction of the cell it covers, to 1 / (edge_samples^2 + 1).
 #pragma once
 
+#include <cstdint>
 #include <span>
 #include <string>
 #include <vector>
@@ -36,6 +44,9 @@ struct BeamConfig {
     double divergence_rad = 0.0;   ///< full angle at 1/e^2; 0: an ideal ray (one sub-ray)
     int rings = 2;                 ///< rings around the centre: 1 + 3 r (r + 1) sub-rays
     double exit_diameter_m = 0.0;  ///< 1/e^2 diameter at the exit pupil (the waist); 0: a point
+    /// Probe rays per axis of an edge cell (edge_samples^2 probes); 0: a sub-ray always fills
+    /// its cell.
+    int edge_samples = 3;
 
     /// Every problem with these settings; empty when valid.
     [[nodiscard]] std::vector<std::string> validate() const;
@@ -51,6 +62,15 @@ struct SubRayOffset {
 
 /// The sub-ray pattern of `config` (1 entry when divergence_rad is 0). Deterministic.
 [[nodiscard]] std::vector<SubRayOffset> beam_pattern(const BeamConfig& config);
+
+/// The probes of every cell of beam_pattern(config): cell j's edge_samples^2 probes are entries
+/// [j P, (j + 1) P) with P = edge_samples^2, each with its sub-cell's energy as weight (the
+/// weights of a cell's probes sum to its own). Empty for a single ray or edge_samples 0.
+[[nodiscard]] std::vector<SubRayOffset> cell_probe_pattern(const BeamConfig& config);
+
+/// The neighbours of every cell of beam_pattern(config): cells of one ring next to each other,
+/// and cells of adjacent rings whose sectors overlap. Empty lists for a single ray.
+[[nodiscard]] std::vector<std::vector<std::uint32_t>> cell_neighbours(const BeamConfig& config);
 
 /// Number of sub-rays beam_pattern returns: 1 + 3 rings (rings + 1), or 1 without divergence
 /// and exit diameter.

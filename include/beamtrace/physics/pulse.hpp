@@ -92,6 +92,15 @@ struct SubRayHit {
                                          const Vec3d& point_m, const Vec3d& normal,
                                          const Vec3d& direction);
 
+/// One weighted sample of the beam: a sub-ray, or in an edge cell the sub-ray or one of its
+/// probes (beam_divergence.hpp), with its share of the pulse energy and the per-axis spread of
+/// the footprint it stands for (beam units, the echo's stretch: echo_sigma_ns).
+struct BeamSample {
+    SubRayHit hit;
+    double weight = 1.0;
+    double cell_sigma = 0.0;
+};
+
 struct PulseReturn {
     double range_m = 0.0;            ///< one-way range with range noise
     double amplitude_w = 0.0;        ///< peak power of the echo
@@ -100,7 +109,8 @@ struct PulseReturn {
     std::uint16_t intensity = 0;     ///< LAS intensity of power_w (range_equation.hpp)
     std::uint8_t return_number = 1;  ///< 1-based, in range order among the reported returns
     std::uint8_t number_of_returns = 1;
-    std::uint32_t sub_ray = 0;  ///< index of the sub-ray that contributed most
+    std::uint32_t sub_ray = 0;  ///< index of the sub-ray (simulate_samples: sample) that
+                                ///< contributed most
 };
 
 struct PulseResponse {
@@ -110,6 +120,7 @@ struct PulseResponse {
     Waveform waveform;                            ///< the sampled waveform (when keep_waveform)
     std::vector<double> sub_ray_power_w;          ///< received power of every sub-ray (0: miss)
     std::vector<EchoContribution> contributions;  ///< the sub-rays with power > 0
+    std::vector<BeamSample> samples;              ///< simulate()'s working space
 };
 
 /// The physics of a configuration, with the beam pattern and constants precomputed.
@@ -148,9 +159,30 @@ class PulseSimulator {
     /// configured BRDF's monostatic L(i).
     [[nodiscard]] double sub_ray_power_w(const SubRayHit& hit, double weight) const;
     /// The returns of pulse `pulse_index` whose sub-rays saw `hits` (hits.size() must equal
-    /// sub_ray_count(); hits[j] belongs to pattern()[j]).
+    /// sub_ray_count(); hits[j] belongs to pattern()[j]), each sub-ray filling its cell.
     void simulate(std::uint64_t seed, std::uint64_t pulse_index, std::span<const SubRayHit> hits,
                   PulseResponse& out) const;
+    /// The same from weighted samples of the beam (their weights sum to 1); returns[r].sub_ray
+    /// is then the index of the sample that contributed most to the echo.
+    void simulate_samples(std::uint64_t seed, std::uint64_t pulse_index,
+                          std::span<const BeamSample> samples, PulseResponse& out) const;
+
+    // Edge cells (beam_divergence.hpp): targets smaller than a sub-ray's cell.
+    /// Probe rays per edge cell: edge_samples^2, or 0 (a single ray, or edge_samples 0).
+    [[nodiscard]] std::size_t probes_per_cell() const { return probes_per_cell_; }
+    /// The cells whose sub-ray met another target than one of its neighbours' into `out`, in
+    /// order: target[j] names what sub-ray j met (e.g. the part; -1 for a miss). Empty when
+    /// every sub-ray met the same target or probes_per_cell() is 0.
+    void edge_cells(std::span<const std::int64_t> target, std::vector<std::uint32_t>& out) const;
+    /// The probe rays of `cell` into `origins` and `dirs` (probes_per_cell() entries each):
+    /// `origin` and `axis` are those of the pulse's centre sub-ray (pattern()[0], on the beam's
+    /// jittered axis), as sub_rays() made them.
+    void probe_rays(const Vec3d& origin, const Vec3d& axis, std::size_t cell,
+                    std::span<Vec3d> origins, std::span<Vec3d> dirs) const;
+    /// The BeamSample of a sub-ray filling cell j, or of one of the probe_rays of an edge cell
+    /// (sharing its energy with the sub-ray and the cell's other probes).
+    [[nodiscard]] BeamSample cell_sample(const SubRayHit& hit, std::size_t cell) const;
+    [[nodiscard]] BeamSample edge_sample(const SubRayHit& hit, std::size_t cell) const;
 
   private:
     PhysicsConfig config_;
@@ -158,6 +190,13 @@ class PulseSimulator {
     std::vector<Vec3d> beam_frame_;    ///< pattern_ as unit vectors in the beam frame
     std::vector<Vec3d> beam_origins_;  ///< start offsets in the beam frame (exit pupil)
     double cell_sigma_ = 0.0;          ///< sqrt(cell_variance(pattern_)), beam units
+    std::size_t probes_per_cell_ = 0;
+    std::vector<Vec3d> probe_frame_;    ///< cell_probe_pattern as unit vectors (beam frame)
+    std::vector<Vec3d> probe_origins_;  ///< their start offsets in the beam frame
+    std::vector<std::vector<std::uint32_t>> neighbours_;  ///< cell_neighbours
+
+    /// echo_sigma_ns of a footprint of per-axis spread `cell_sigma` (beam units).
+    [[nodiscard]] double echo_sigma_ns(const SubRayHit& hit, double cell_sigma) const;
     double alpha_per_m_ = 0.0;
 };
 

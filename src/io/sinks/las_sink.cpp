@@ -7,6 +7,7 @@
 #include "beamtrace/io/las_crs.hpp"
 #include "beamtrace/io/las_writer.hpp"
 #include "beamtrace/io/point_sink.hpp"
+#include "beamtrace/io/survey_las.hpp"
 #include "io/sinks/wave_packet_stream.hpp"
 
 namespace beamtrace {
@@ -116,6 +117,10 @@ class LasSink final : public PointSink {
 };
 
 }  // namespace
+
+LasWriterConfig survey_las_config(const SinkFacts& facts) {
+    return las_config(facts, nullptr, LasCompression::none);
+}
 
 std::unique_ptr<PointSink> make_las_sink(const SinkFacts& facts) {
     return std::make_unique<LasSink>(facts);

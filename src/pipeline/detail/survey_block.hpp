@@ -35,6 +35,16 @@ struct BlockWork {
     std::vector<std::uint8_t> return_count;  ///< returns of each pulse
     std::vector<SubRayHit> sub;
     PulseResponse response;
+    std::vector<std::uint32_t> return_face;  ///< the face of each return (max_returns per pulse)
+    // Edge cells (physics/beam_divergence.hpp): the cells of pulse k that probes sample again
+    // are edge_cell[edge_start[k], edge_start[k + 1]), cell i of that list has the probe rays
+    // [i P, (i + 1) P) of probe_rays (P probes per cell).
+    std::vector<std::int64_t> target;  ///< what each sub-ray of one pulse met (part, -1: miss)
+    std::vector<std::uint32_t> edges, edge_cell, edge_start;
+    RayBatch probe_rays;
+    HitBatch probe_hits;
+    std::vector<Vec3d> probe_origins, probe_dirs;
+    std::vector<std::uint32_t> sample_face;  ///< the face each of a pulse's samples met
     PointBlock points;
     ThreadPool this_thread{1};  ///< no workers: the backend traces the block on the caller
 
@@ -52,6 +62,7 @@ struct BlockWork {
         axis.resize(pulse_count);
         scan_angle.resize(pulse_count);
         returns.resize(pulse_count * max_returns);
+        return_face.resize(pulse_count * max_returns);
         return_count.resize(pulse_count);
         sub.resize(sub_rays);
         points.clear();

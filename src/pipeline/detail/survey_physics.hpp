@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "beamtrace/accel/backend.hpp"
 #include "beamtrace/physics/material.hpp"
 #include "beamtrace/physics/pulse.hpp"
 #include "beamtrace/scene/scene.hpp"
@@ -24,11 +25,19 @@ class SurveyPhysics {
     }
     [[nodiscard]] bool keeps_waveforms() const { return sim_->config().keep_waveform; }
 
-    /// Fills w.returns and w.return_count from w.rays and w.hits; appends the waveforms to
+    /// Fills w.returns, w.return_face and w.return_count from w.rays and w.hits, tracing the
+    /// probes of edge cells with `backend` on the caller's thread; appends the waveforms to
     /// w.points when they are kept. Thread-safe (const): blocks run on many threads at once.
-    void run(BlockWork& w) const;
+    void run(BlockWork& w, const Backend& backend) const;
 
   private:
+    /// The edge cells of every pulse of the block and their probe rays (w.edge_*, w.probe_*).
+    void find_edges(BlockWork& w) const;
+    /// The SubRayHit of ray h of `rays` (hits[h] a hit).
+    [[nodiscard]] SubRayHit sub_ray_hit(const RayBatch& rays, const HitBatch& hits,
+                                        std::size_t h) const;
+    /// Pulse k's beam samples (w.response.samples, w.sample_face), simulated into w.response.
+    void simulate(BlockWork& w, std::size_t k) const;
     void keep_waveform(BlockWork& w, std::size_t k) const;
 
     const PulseSimulator* sim_;

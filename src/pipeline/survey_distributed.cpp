@@ -1,0 +1,338 @@
+#include "beamtrace/pipeline/survey_distributed.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <exception>
+#include <limits>
+#include <random>
+#include <system_error>
+
+#include "beamtrace/core/cancel.hpp"
+#include "beamtrace/core/error.hpp"
+#include "beamtrace/io/survey_las.hpp"
+#include "core/created_dirs.hpp"
+#include "pipeline/detail/survey_outputs.hpp"
+#include "pipeline/detail/survey_session.hpp"
+
+namespace beamtrace {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+/// Collective: returns when no rank has an error. Otherwise every rank throws: a rank with its
+/// own error rethrows it, the others an error of the same kind with the message of the lowest
+/// failing rank.
+void agree(Communicator& comm, const std::exception_ptr& error) {
+    std::int64_t first = error ? comm.rank() : std::numeric_limits<std::int64_t>::max();
+    comm.min({&first, 1});
+    if (first == std::numeric_limits<std::int64_t>::max()) {
+        return;
+    }
+    // The kind (c config, i input, x interrupted, o other) and the message of that rank.
+    std::string said;
+    if (error) {
+        try {
+            std::rethrow_exception(error);
+        } catch (const ConfigError& e) {
+            said = std::string("c") + e.what();
+        } catch (const InputError& e) {
+            said = std::string("i") + e.what();
+        } catch (const Interrupted& e) {
+            said = "x" + std::to_string(e.reason());
+        } catch (const std::exception& e) {
+            said = std::string("o") + e.what();
+        } catch (...) {
+            said = "ounknown error";
+        }
+    }
+    said = comm.broadcast(said, static_cast<int>(first));
+    if (error) {
+        std::rethrow_exception(error);
+    }
+    const std::string text = said.substr(1);
+    switch (said.empty() ? 'o' : said[0]) {
+        case 'c':
+            throw ConfigError(text);
+        case 'i':
+            throw InputError("rank " + std::to_string(first), text);
+        case 'x':
+            throw Interrupted("survey", std::stoi(text));
+        default:
+            throw OutputError("rank " + std::to_string(first) + ": " + text);
+    }
+}
+
+/// Runs `step` on every rank, then agree()s on the outcome.
+template <class Step>
+void collectively(Communicator& comm, Step&& step) {
+    std::exception_ptr error;
+    try {
+        step();
+    } catch (...) {
+        error = std::current_exception();
+    }
+    agree(comm, error);
+}
+
+/// ConfigError for what the ranks cannot write together.
+void check_outputs(const SurveySpec& spec, const SinkFacts& facts) {
+    for (const std::string& name : spec.outputs) {
+        if (name != "las" && name != "preview") {
+            throw ConfigError(spec.source.string() + ": output." + name +
+                              ": not written by a survey across MPI ranks (points.las and "
+                              "trajectory.csv are); turn it off or run on one process");
+        }
+    }
+    if (std::find(spec.outputs.begin(), spec.outputs.end(), "las") == spec.outputs.end()) {
+        throw ConfigError(spec.source.string() +
+                          ": output.las: a survey across MPI ranks writes points.las; turn it on");
+    }
+    if (facts.waveform) {
+        throw ConfigError(spec.source.string() +
+                          ": physics.waveform.keep: waveforms are not written by a survey across "
+                          "MPI ranks; turn it off or run on one process");
+    }
+    if (facts.image) {
+        throw ConfigError(spec.source.string() +
+                          ": an image scanner's range images are not written by a survey across "
+                          "MPI ranks; run it on one process");
+    }
+}
+
+/// A name no other run picks: rank 0's random token, on every rank.
+std::string shared_token(Communicator& comm) {
+    std::string token;
+    if (comm.rank() == 0) {
+        std::random_device device;
+        token = std::to_string(device()) + std::to_string(device());
+    }
+    return comm.broadcast(token, 0);
+}
+
+/// Collective: throws OutputError on every rank unless every rank sees the file rank 0 wrote
+/// into `dir` (an output directory on a file system the ranks share).
+void check_shared_directory(Communicator& comm, const std::filesystem::path& dir,
+                            const std::string& token) {
+    const std::filesystem::path marker = dir / (".beamtrace-rank0-" + token);
+    collectively(comm, [&] {
+        if (comm.rank() == 0) {
+            open_posix_shared_file(marker, true)->close();
+        }
+    });
+    std::error_code ec;
+    std::int64_t blind = std::filesystem::exists(marker, ec)
+                             ? std::numeric_limits<std::int64_t>::max()
+                             : comm.rank();
+    comm.min({&blind, 1});
+    if (comm.rank() == 0) {
+        std::filesystem::remove(marker, ec);
+    }
+    if (blind != std::numeric_limits<std::int64_t>::max()) {
+        throw OutputError(dir.string() + ": rank " + std::to_string(blind) +
+                          " does not see rank 0's files there: the output directory must be on a "
+                          "file system all ranks share");
+    }
+}
+
+/// What every rank has written so far: the records' totals, and the bytes before its round.
+struct Written {
+    LasRecordBlock totals;
+    std::uint64_t bytes = 0;
+};
+
+/// The sums, minima and maxima of every rank's totals.
+LasRecordBlock reduce_totals(Communicator& comm, const LasRecordBlock& mine) {
+    std::vector<std::uint64_t> sums{mine.count};
+    sums.insert(sums.end(), mine.by_return.begin(), mine.by_return.end());
+    comm.sum(sums);
+    constexpr auto kNone = std::numeric_limits<std::int64_t>::max();
+    std::vector<std::int64_t> mins(6, kNone);
+    for (std::size_t k = 0; k < 3 && mine.count > 0; ++k) {
+        mins[k] = mine.lo[k];
+        mins[3 + k] = -std::int64_t{mine.hi[k]};
+    }
+    comm.min(mins);
+    LasRecordBlock all;
+    all.count = static_cast<std::size_t>(sums[0]);
+    std::copy(sums.begin() + 1, sums.end(), all.by_return.begin());
+    for (std::size_t k = 0; k < 3 && all.count > 0; ++k) {
+        all.lo[k] = static_cast<std::int32_t>(mins[k]);
+        all.hi[k] = static_cast<std::int32_t>(-mins[3 + k]);
+    }
+    return all;
+}
+
+/// The survey's rounds: each rank runs its blocks of the round on its pool, encodes them and
+/// all ranks write them at once.
+class RoundWriter {
+  public:
+    RoundWriter(const detail::SurveySession& session, const LasWriter& encoder, SharedFile& file,
+                Communicator& comm, std::size_t per_rank)
+        : session_(session), encoder_(encoder), file_(file), comm_(comm), per_rank_(per_rank) {}
+
+    [[nodiscard]] std::size_t rounds() const {
+        const std::size_t step = per_rank_ * static_cast<std::size_t>(comm_.size());
+        return (session_.blocks() + step - 1) / step;
+    }
+    /// Round r: this rank's blocks traced and encoded (any error agreed on), then written.
+    void run(std::size_t r, ThreadPool& pool, std::uint64_t data_start) {
+        const std::size_t first =
+            (r * static_cast<std::size_t>(comm_.size()) + static_cast<std::size_t>(comm_.rank())) *
+            per_rank_;
+        const std::size_t end = std::min(session_.blocks(), first + per_rank_);
+        const std::size_t count = end > first ? end - first : 0;
+        records_.resize(std::max(records_.size(), count));
+        collectively(comm_, [&] {
+            pool.parallel_for(count, 1, [&](std::size_t b, std::size_t e) {
+                std::unique_ptr<detail::BlockWork> w = shelf_.take();
+                for (std::size_t k = b; k < e; ++k) {
+                    session_.run_block(first + k, *w);
+                    records_[k].clear();
+                    for (const BlockPoint& p : w->points.points) {
+                        encoder_.encode(static_cast<const LasSimplePoint&>(p), records_[k]);
+                    }
+                }
+                shelf_.put(std::move(w));
+            });
+            bytes_.clear();
+            for (std::size_t k = 0; k < count; ++k) {
+                const std::size_t size = records_[k].count * encoder_.header().point_record_length;
+                bytes_.insert(bytes_.end(), records_[k].bytes.begin(),
+                              records_[k].bytes.begin() + static_cast<std::ptrdiff_t>(size));
+                las_add_totals(written_.totals, records_[k]);
+            }
+        });
+        const std::uint64_t before = comm_.exclusive_sum(bytes_.size());
+        std::vector<std::uint64_t> total{bytes_.size()};
+        comm_.sum(total);
+        collectively(comm_,
+                     [&] { file_.write_at_all(data_start + written_.bytes + before, bytes_); });
+        written_.bytes += total[0];
+    }
+    [[nodiscard]] const LasRecordBlock& totals() const { return written_.totals; }
+
+  private:
+    const detail::SurveySession& session_;
+    const LasWriter& encoder_;
+    SharedFile& file_;
+    Communicator& comm_;
+    std::size_t per_rank_;
+    detail::WorkShelf shelf_;
+    std::vector<LasRecordBlock> records_;
+    std::vector<std::uint8_t> bytes_;
+    Written written_;
+};
+
+}  // namespace
+
+SurveyResult run_survey_distributed(const SurveySpec& spec, const SurveyRunConfig& run,
+                                    Communicator& comm, const ProgressFn& progress) {
+    if (run.output_dir.empty()) {
+        throw ConfigError("no output directory");
+    }
+    if (!run.write_files || !run.extra_sinks.empty()) {
+        throw ConfigError(
+            "surveys across processes write files only: no extra sinks, "
+            "write_files on");
+    }
+    ThreadPool pool(run.threads);
+    std::unique_ptr<detail::SurveySession> session;
+    collectively(comm, [&] {
+        throw_if_cancelled(run.cancel, "survey");
+        session = std::make_unique<detail::SurveySession>(spec, run, pool);
+        check_outputs(spec, session->facts());
+    });
+    SurveyResult result = session->result();
+    // Rank 0 makes the folder (and removes it again if it made it and the run fails).
+    std::optional<CreatedDirs> created;
+    collectively(comm, [&] {
+        if (comm.rank() == 0) {
+            created.emplace(run.output_dir);
+            std::error_code ec;
+            std::filesystem::create_directories(run.output_dir, ec);
+            if (ec || !std::filesystem::is_directory(run.output_dir)) {
+                throw OutputError(run.output_dir.string() + ": cannot create output directory" +
+                                  (ec ? ": " + ec.message() : std::string()));
+            }
+        }
+    });
+    const std::string token = shared_token(comm);
+    check_shared_directory(comm, run.output_dir, token);
+    const std::filesystem::path final_path = run.output_dir / "points.las";
+    const std::filesystem::path temp_path = run.output_dir / (".points.las." + token + ".tmp");
+    const auto remove_temp = [&] {
+        std::error_code ec;
+        if (comm.rank() == 0) {
+            std::filesystem::remove(temp_path, ec);
+        }
+    };
+    const auto t0 = Clock::now();
+    try {
+        const LasWriter encoder(survey_las_config(session->facts()));
+        std::unique_ptr<SharedFile> file;
+        collectively(comm, [&] { file = comm.open_shared(temp_path); });
+        const std::size_t per_rank = std::max<std::size_t>(
+            1, (run.chunk_pulses + detail::kBlockPulses - 1) / detail::kBlockPulses);
+        RoundWriter rounds(*session, encoder, *file, comm, per_rank);
+        const std::uint64_t data_start = encoder.header().offset_to_point_data;
+        // The progress callback may throw (an interrupt): it is one of the agreed steps.
+        const auto report = [&](std::uint64_t done) {
+            collectively(comm, [&] {
+                if (progress) {
+                    progress(static_cast<std::size_t>(std::min(done, result.pulses)),
+                             static_cast<std::size_t>(result.pulses));
+                }
+                throw_if_cancelled(run.cancel, "survey");
+            });
+        };
+        report(0);
+        for (std::size_t r = 0; r < rounds.rounds(); ++r) {
+            rounds.run(r, pool, data_start);
+            report((r + 1) * per_rank * detail::kBlockPulses *
+                   static_cast<std::uint64_t>(comm.size()));
+        }
+        const LasRecordBlock totals = reduce_totals(comm, rounds.totals());
+        collectively(comm, [&] {
+            if (comm.rank() == 0) {
+                file->write_at(0, encoder.header_bytes(totals));
+            }
+        });
+        collectively(comm, [&] { file->close(); });
+        result.points = totals.count;
+        // Rank 0: the trajectory, then points.las into place; every rank learns how it went.
+        collectively(comm, [&] {
+            if (comm.rank() != 0) {
+                return;
+            }
+            SurveySpec others = spec;
+            others.outputs.clear();  // the sinks that are not switchable: trajectory.csv
+            detail::SinkSet sinks = detail::open_survey_sinks(others, session->facts());
+            result.outputs = sinks.commit();
+            std::error_code ec;
+            std::filesystem::rename(temp_path, final_path, ec);
+            if (ec) {
+                for (const auto& f : result.outputs) {
+                    std::filesystem::remove(f, ec);
+                }
+                throw OutputError(final_path.string() +
+                                  ": cannot rename into place: " + ec.message());
+            }
+            result.outputs.insert(result.outputs.begin(), final_path);
+        });
+    } catch (...) {
+        remove_temp();
+        throw;
+    }
+    if (created) {
+        created->keep();
+    }
+    result.survey_s = std::chrono::duration<double>(Clock::now() - t0).count();
+    if (std::find(spec.outputs.begin(), spec.outputs.end(), "preview") != spec.outputs.end()) {
+        result.notes.emplace_back("preview.png: not made by a survey across MPI ranks");
+    }
+    result.few_points_reasons = session->diagnose(result.points, pool);
+    return result;
+}
+
+}  // namespace beamtrace

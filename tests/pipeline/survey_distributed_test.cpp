@@ -1,0 +1,167 @@
+// run_survey_distributed: ranks as threads (thread_communicator.hpp) write one points.las that
+// equals run_survey's byte for byte, for 1-3 ranks and 1-2 threads per rank; errors on any rank
+// stop every rank and leave nothing; outputs the ranks cannot write together are refused.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <atomic>
+#include <filesystem>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "beamtrace/core/error.hpp"
+#include "beamtrace/pipeline/survey_distributed.hpp"
+#include "pipeline/thread_communicator.hpp"
+#include "test_support.hpp"
+
+namespace beamtrace {
+namespace {
+
+namespace fs = std::filesystem;
+
+/// The first 40 blocks of each survey: at 8 blocks per rank and round, 2 to 5 rounds.
+constexpr std::uint64_t kPulses = 40 * 1024;
+
+/// Example survey `name` (scene: demo), writing points.las and trajectory.csv only.
+SurveySpec example(const std::string& name) {
+    SurveySpec spec =
+        load_survey_spec(fs::path(BEAMTRACE_EXAMPLES_DIR) / "surveys" / (name + ".yaml"));
+    spec.outputs = {"las"};
+    return spec;
+}
+
+/// Runs `spec` on `ranks` thread ranks with `threads` threads each into `dir`; returns the
+/// message of every rank's error ("" for none), by rank.
+std::vector<std::string> run_ranks(const SurveySpec& spec, const fs::path& dir, int ranks,
+                                   unsigned threads, std::size_t chunk_pulses,
+                                   const ProgressFn& progress_of_rank1 = {}) {
+    std::vector<std::string> errors(static_cast<std::size_t>(ranks));
+    test::ThreadWorld world(ranks);
+    world.run([&](Communicator& comm) {
+        SurveyRunConfig run;
+        run.output_dir = dir;
+        run.threads = threads;
+        run.chunk_pulses = chunk_pulses;
+        run.seed = 7;
+        run.max_pulses = kPulses;
+        try {
+            (void)run_survey_distributed(spec, run, comm,
+                                         comm.rank() == 1 ? progress_of_rank1 : ProgressFn{});
+        } catch (const std::exception& e) {
+            errors[static_cast<std::size_t>(comm.rank())] = e.what();
+        }
+    });
+    return errors;
+}
+
+std::string single_process_las(const SurveySpec& spec, const fs::path& dir) {
+    SurveyRunConfig run;
+    run.output_dir = dir;
+    run.threads = 2;
+    run.seed = 7;
+    run.max_pulses = kPulses;
+    (void)run_survey(spec, run);
+    return test::read_file(dir / "points.las");
+}
+
+TEST(SurveyDistributed, OneLasFileIdenticalToOneProcessForAnyRanksAndThreads) {
+    for (const std::string name : {"car_hdl64", "airborne_line_physics"}) {
+        SurveySpec spec = example(name);
+        test::TempDir dir;
+        const std::string expected = single_process_las(spec, dir / "single");
+        const std::string trajectory = test::read_file(dir / "single" / "trajectory.csv");
+        for (const int ranks : {1, 2, 3}) {
+            for (const unsigned threads : {1u, 2u}) {
+                SCOPED_TRACE(name + ": " + std::to_string(ranks) + " ranks x " +
+                             std::to_string(threads) + " threads");
+                const fs::path out = dir / (std::to_string(ranks) + "x" + std::to_string(threads));
+                // 8 blocks per rank and round: many rounds, the last ones partly empty.
+                const auto errors = run_ranks(spec, out, ranks, threads, 8 * 1024);
+                for (const auto& e : errors) {
+                    EXPECT_EQ(e, "");
+                }
+                EXPECT_TRUE(test::read_file(out / "points.las") == expected);
+                EXPECT_EQ(test::read_file(out / "trajectory.csv"), trajectory);
+                std::vector<std::string> files;
+                for (const auto& f : fs::directory_iterator(out)) {
+                    files.push_back(f.path().filename().string());
+                }
+                std::sort(files.begin(), files.end());
+                EXPECT_EQ(files, (std::vector<std::string>{"points.las", "trajectory.csv"}));
+            }
+        }
+    }
+}
+
+TEST(SurveyDistributed, AFailingRankStopsEveryRankAndLeavesNothing) {
+    const SurveySpec spec = example("car_hdl64");
+    test::TempDir dir;
+    // Rank 1 fails after its second round.
+    std::atomic<int> calls{0};
+    const auto fail = [&](std::size_t, std::size_t) {
+        if (++calls == 3) {
+            throw OutputError("disk full (test)");
+        }
+    };
+    const auto errors = run_ranks(spec, dir / "out", 3, 1, 4 * 1024, fail);
+    EXPECT_EQ(errors[1], "disk full (test)");
+    EXPECT_EQ(errors[0], "rank 1: disk full (test)");
+    EXPECT_EQ(errors[2], "rank 1: disk full (test)");
+    EXPECT_FALSE(fs::exists(dir / "out")) << "the folder the run made is removed with its files";
+}
+
+TEST(SurveyDistributed, OutputsTheRanksCannotWriteTogetherAreRefusedOnEveryRank) {
+    SurveySpec spec = example("car_hdl64");
+    spec.outputs = {"las", "csv"};
+    test::TempDir dir;
+    const auto errors = run_ranks(spec, dir / "out", 2, 1, 4 * 1024);
+    for (const auto& e : errors) {
+        EXPECT_NE(e.find("output.csv: not written by a survey across MPI ranks"), std::string::npos)
+            << e;
+    }
+    EXPECT_FALSE(fs::exists(dir / "out"));
+}
+
+TEST(SurveyDistributed, HeaderOfRecordsPlacedApartEqualsTheWritersOwn) {
+    // LasWriter's encoder and header_bytes: the same file as LasWriter writes itself.
+    test::TempDir dir;
+    LasWriterConfig config;
+    config.creation_day_of_year = 100;
+    config.creation_year = 2026;
+    LasVlr vlr;
+    vlr.user_id = "beamtrace";
+    vlr.record_id = 1;
+    vlr.description = "test";
+    vlr.data = {'a', 'b'};
+    config.vlrs.push_back(vlr);
+    std::vector<LasPoint> points(5);
+    for (std::size_t i = 0; i < points.size(); ++i) {
+        points[i].x = 1.0 + double(i);
+        points[i].y = -2.0 * double(i);
+        points[i].z = 0.5;
+        points[i].return_number = static_cast<std::uint8_t>(1 + i % 2);
+        points[i].number_of_returns = 2;
+    }
+    {
+        LasWriter writer(dir / "a.las", config);
+        writer.write(points);
+        writer.close();
+    }
+    const LasWriter encoder(config);
+    LasRecordBlock records, totals;
+    for (const auto& p : points) {
+        encoder.encode(p, records);
+    }
+    las_add_totals(totals, records);
+    std::vector<std::uint8_t> bytes = encoder.header_bytes(totals);
+    bytes.insert(bytes.end(), records.bytes.begin(),
+                 records.bytes.begin() + static_cast<std::ptrdiff_t>(
+                                             records.count * encoder.header().point_record_length));
+    EXPECT_EQ(std::string(bytes.begin(), bytes.end()), test::read_file(dir / "a.las"));
+    LasWriter no_file(config);
+    EXPECT_THROW(no_file.close(), OutputError);  // an encoder has no file to close
+}
+
+}  // namespace
+}  // namespace beamtrace
