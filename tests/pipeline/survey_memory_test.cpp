@@ -9,10 +9,12 @@
 #include <string>
 #include <vector>
 
+#include "beamtrace/core/communicator.hpp"
 #include "beamtrace/core/error.hpp"
 #include "beamtrace/io/callback_sink.hpp"
 #include "beamtrace/io/las_reader.hpp"
 #include "beamtrace/pipeline/survey.hpp"
+#include "beamtrace/pipeline/survey_distributed.hpp"
 #include "test_support.hpp"
 
 namespace beamtrace {
@@ -109,6 +111,23 @@ TEST(SurveyMemory, FilesStillNeedAnOutputDirectory) {
     test::write_file(dir / "survey.yaml", kSurvey);
     SurveyRunConfig run;  // write_files, no output_dir
     EXPECT_THROW((void)run_survey(load_survey_spec(dir / "survey.yaml"), run), ConfigError);
+}
+
+TEST(SurveyMemory, SurveysAcrossProcessesRefuseExtraSinks) {
+    test::TempDir dir;
+    test::write_file(dir / "survey.yaml", kSurvey);
+    const SurveySpec spec = load_survey_spec(dir / "survey.yaml");
+    SurveyRunConfig run;
+    run.output_dir = dir / "out";
+    run.extra_sinks.emplace_back([](const SinkFacts& facts) {
+        return make_callback_sink(facts, [](std::span<const BlockPoint>) {});
+    });
+    const auto solo = solo_communicator();
+    EXPECT_THROW((void)run_survey_distributed(spec, run, *solo), ConfigError);
+    run.extra_sinks.clear();
+    run.write_files = false;
+    EXPECT_THROW((void)run_survey_distributed(spec, run, *solo), ConfigError);
+    EXPECT_FALSE(fs::exists(dir / "out"));
 }
 
 }  // namespace
