@@ -21,7 +21,7 @@ struct Field {
 };
 
 /// The columns of read_las's array, packed in this order (write_point follows it).
-constexpr std::array<Field, 13> kFields{{{"x", "f8"},
+constexpr std::array<Field, 14> kFields{{{"x", "f8"},
                                          {"y", "f8"},
                                          {"z", "f8"},
                                          {"intensity", "u2"},
@@ -33,8 +33,9 @@ constexpr std::array<Field, 13> kFields{{{"x", "f8"},
                                          {"point_source_id", "u2"},
                                          {"red", "u2"},
                                          {"green", "u2"},
-                                         {"blue", "u2"}}};
-constexpr std::size_t kRecordBytes = 3 * 8 + 2 + 3 + 8 + 4 + 2 + 3 * 2;
+                                         {"blue", "u2"},
+                                         {"user_data", "u1"}}};
+constexpr std::size_t kRecordBytes = 3 * 8 + 2 + 3 + 8 + 4 + 2 + 3 * 2 + 1;
 
 py::dtype point_dtype() {
     py::list fields;
@@ -63,6 +64,7 @@ void write_point(const LasPoint& p, std::uint8_t* record) {
     put(p.red);
     put(p.green);
     put(p.blue);
+    put(p.user_data);
 }
 
 py::tuple vec3_tuple(const Vec3d& v) {

@@ -42,5 +42,7 @@ class PyScene {
 
 /// Registers Scene.trace, Scene.occluded and the Hits class on `scene`.
 void bind_scene_queries(py::module_& m, py::class_<PyScene>& scene);
+/// Registers Scene.all_hits and the AllHits class on `scene`.
+void bind_scene_all_hits(py::module_& m, py::class_<PyScene>& scene);
 
 }  // namespace beamtrace::python

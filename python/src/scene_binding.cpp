@@ -54,6 +54,7 @@ void bind_scene(py::module_& m) {
                                 "list of dicts: name, first_face, face_count, label, part_id, "
                                 "material");
     bind_scene_queries(m, scene);
+    bind_scene_all_hits(m, scene);
 }
 
 }  // namespace beamtrace::python

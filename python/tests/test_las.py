@@ -8,7 +8,7 @@ import numpy as np
 import beamtrace
 
 FIELDS = ["x", "y", "z", "intensity", "return_number", "number_of_returns", "classification",
-          "gps_time", "scan_angle", "point_source_id", "red", "green", "blue"]
+          "gps_time", "scan_angle", "point_source_id", "red", "green", "blue", "user_data"]
 
 
 def test_las_and_laz_twins_read_the_same(shared_data):

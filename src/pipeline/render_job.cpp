@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cmath>
 #include <numbers>
+#include <utility>
 
 #include "beamtrace/core/error.hpp"
 #include "beamtrace/core/thread_pool.hpp"
@@ -110,7 +111,7 @@ RenderConfig resolve_render_config(const RenderJobConfig& job, const RenderScene
     return config;
 }
 
-RenderJobResult run_render_job(const RenderJobConfig& job) {
+RenderedJob render_job_image(const RenderJobConfig& job) {
     using clock = std::chrono::steady_clock;
     const auto t0 = clock::now();
     if (const auto problems = job.validate(); !problems.empty()) {
@@ -126,12 +127,19 @@ RenderJobResult run_render_job(const RenderJobConfig& job) {
     ThreadPool pool(job.threads);
     const auto t1 = clock::now();
     const Renderer renderer(rs, pool, job.backend);
-    const RenderImage image = renderer.render(config);
+    RenderImage image = renderer.render(config);
     const auto t2 = clock::now();
-    write_render_png(job.output, image, job.exposure, job.gamma);
     const auto secs = [](auto a, auto b) { return std::chrono::duration<double>(b - a).count(); };
-    return {rs.mesh.faces.size(), rs.spheres.size(),    rs.planes.size(), image.width,
-            image.height,         config.lights.size(), secs(t0, t1),     secs(t1, t2)};
+    const RenderJobResult result{rs.mesh.faces.size(), rs.spheres.size(), rs.planes.size(),
+                                 image.width,          image.height,      config.lights.size(),
+                                 secs(t0, t1),         secs(t1, t2)};
+    return {std::move(image), result};
+}
+
+RenderJobResult run_render_job(const RenderJobConfig& job) {
+    const RenderedJob rendered = render_job_image(job);
+    write_render_png(job.output, rendered.image, job.exposure, job.gamma);
+    return rendered.result;
 }
 
 }  // namespace beamtrace

@@ -275,6 +275,15 @@ class RoundWriter {
     RoundRecords slots_[2];
 };
 
+/// The ranks write points.las together: no in-memory outputs (SurveyRunConfig::extra_sinks).
+void refuse_memory_outputs(const SurveyRunConfig& run) {
+    if (!run.write_files || !run.extra_sinks.empty()) {
+        throw ConfigError(
+            "surveys across processes write files only: no extra sinks, "
+            "write_files on");
+    }
+}
+
 }  // namespace
 
 SurveyResult run_survey_distributed(const SurveySpec& spec, const SurveyRunConfig& run,
@@ -282,6 +291,7 @@ SurveyResult run_survey_distributed(const SurveySpec& spec, const SurveyRunConfi
     if (run.output_dir.empty()) {
         throw ConfigError("no output directory");
     }
+    refuse_memory_outputs(run);
     ThreadPool pool(run.threads);
     std::unique_ptr<detail::SurveySession> session;
     collectively(comm, [&] {

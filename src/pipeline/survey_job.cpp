@@ -132,7 +132,7 @@ RayBatch survey_rays(const SurveySpec& spec, std::uint64_t seed, std::uint64_t m
 
 SurveyResult run_survey(const SurveySpec& spec, const SurveyRunConfig& run,
                         const ProgressFn& progress) {
-    if (run.output_dir.empty()) {
+    if (run.write_files && run.output_dir.empty()) {
         throw ConfigError("no output directory");
     }
     throw_if_cancelled(run.cancel, "survey");
@@ -142,9 +142,12 @@ SurveyResult run_survey(const SurveySpec& spec, const SurveyRunConfig& run,
     throw_if_cancelled(run.cancel, "survey");
     // Declared before the sinks: on an error or interrupt the sinks remove their temporaries
     // first, then the folders this run created go if empty.
-    CreatedDirs created(run.output_dir);
-    create_output_dir(run.output_dir);
-    detail::SinkSet sinks = detail::open_survey_sinks(spec, session.facts());
+    std::optional<CreatedDirs> created;
+    if (run.write_files) {
+        created.emplace(run.output_dir);
+        create_output_dir(run.output_dir);
+    }
+    detail::SinkSet sinks = detail::open_run_sinks(spec, run, session.facts());
     const auto t0 = Clock::now();
     // At most chunk_pulses (rounded up to whole blocks) in flight between the oldest block not
     // yet written and the newest one taken.
@@ -155,7 +158,9 @@ SurveyResult run_survey(const SurveySpec& spec, const SurveyRunConfig& run,
     throw_if_cancelled(run.cancel, "survey");
     result.outputs = sinks.commit();
     result.notes = sinks.notes();
-    created.keep();
+    if (created) {
+        created->keep();
+    }
     result.survey_s = seconds_since(t0);
     result.few_points_reasons = session.diagnose(result.points, pool);
     return result;

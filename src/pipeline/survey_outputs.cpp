@@ -72,4 +72,14 @@ SinkSet open_survey_sinks(const SurveySpec& spec, const SinkFacts& facts) {
     return sinks;
 }
 
+SinkSet open_run_sinks(const SurveySpec& spec, const SurveyRunConfig& run, const SinkFacts& facts) {
+    SinkSet sinks = run.write_files ? open_survey_sinks(spec, facts) : SinkSet{};
+    for (const SinkFactory& make : run.extra_sinks) {
+        if (make) {
+            sinks.add(make(facts));
+        }
+    }
+    return sinks;
+}
+
 }  // namespace beamtrace::detail

@@ -88,7 +88,10 @@ SurveySession::SurveySession(const SurveySpec& spec, const SurveyRunConfig& run,
     facts_ = survey_sink_facts(spec, run, scene_, *pattern_, *trajectory_, sim_ ? &*sim_ : nullptr,
                                result_.pulses);
     facts_.provenance.insert(facts_.provenance.find('\n') + 1, provenance_line);
-    if (const auto box = pilot_hit_bounds(spec, *pattern_, *trajectory_, *backend_, pool)) {
+    // The footprint frames preview.png: no pilot without file outputs.
+    if (const auto box = run.write_files
+                             ? pilot_hit_bounds(spec, *pattern_, *trajectory_, *backend_, pool)
+                             : std::nullopt) {
         facts_.footprint_m = {Vec3d(box->lo) + scene_.origin_m, Vec3d(box->hi) + scene_.origin_m};
     }
     source_ = SurveyRaySource{&spec, trajectory_.get(), sim_ ? &*sim_ : nullptr, run.seed};

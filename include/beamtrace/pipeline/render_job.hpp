@@ -62,8 +62,18 @@ struct RenderJobResult {
     double render_s = 0.0;  ///< rendering
 };
 
-/// Validates `job` (ConfigError with every problem), loads the scene, renders it and writes the
-/// PNG. Throws ConfigError, InputError or OutputError with context.
+/// A job's image before it is written, and what the summary says of it.
+struct RenderedJob {
+    RenderImage image;  ///< radiance; to_rgb8(image, job.exposure, job.gamma) is the PNG's pixels
+    RenderJobResult result;
+};
+
+/// Validates `job` (ConfigError with every problem), loads the scene and renders it; job.output
+/// is not used. Throws ConfigError or InputError with context.
+[[nodiscard]] RenderedJob render_job_image(const RenderJobConfig& job);
+
+/// render_job_image, then the PNG written to job.output. Throws ConfigError, InputError or
+/// OutputError with context.
 [[nodiscard]] RenderJobResult run_render_job(const RenderJobConfig& job);
 
 }  // namespace beamtrace

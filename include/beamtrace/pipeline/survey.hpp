@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <limits>
 #include <memory>
 #include <optional>
@@ -16,6 +17,7 @@
 #include "beamtrace/core/ray_batch.hpp"
 #include "beamtrace/core/thread_pool.hpp"
 #include "beamtrace/io/las_writer.hpp"
+#include "beamtrace/io/point_sink.hpp"
 #include "beamtrace/physics/pulse.hpp"
 #include "beamtrace/sensor/image_pattern.hpp"
 #include "beamtrace/sensor/line_scanner.hpp"
@@ -67,9 +69,12 @@ struct SurveySpec {
 [[nodiscard]] SurveySpec parse_survey_spec(const std::string& yaml_text,
                                            const std::filesystem::path& source);
 
+/// Makes a sink from the facts of the run (SurveyRunConfig::extra_sinks).
+using SinkFactory = std::function<std::unique_ptr<PointSink>(const SinkFacts& facts)>;
+
 struct SurveyRunConfig {
-    std::filesystem::path output_dir;
-    unsigned threads = 0;    ///< 0 = all cores; results identical for any value
+    std::filesystem::path output_dir;  ///< where the files go (unused without write_files)
+    unsigned threads = 0;              ///< 0 = all cores; results identical for any value
     std::uint64_t seed = 1;  ///< recorded in the LAS VLR; keys the physics noise (counter RNG)
     BackendKind backend = default_backend_kind();
     /// Most pulses in flight between the oldest block not yet written and the newest one taken
@@ -81,6 +86,13 @@ struct SurveyRunConfig {
     /// (and the output directory, if it created it and it is empty) and throws Interrupted.
     /// Null: the survey runs to the end. The token must outlive the call.
     const CancelToken* cancel = nullptr;
+    /// Sinks fed the same points as the file outputs, after them (e.g. make_callback_sink of
+    /// io/callback_sink.hpp: the points in memory); each factory is called once, before the
+    /// first point. Empty: none.
+    std::vector<SinkFactory> extra_sinks;
+    /// false: the survey file's outputs (points.las, preview.png...) are not written and
+    /// output_dir is not used; only extra_sinks get the points.
+    bool write_files = true;
 };
 
 struct SurveyResult {

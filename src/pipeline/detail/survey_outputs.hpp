@@ -28,5 +28,8 @@ namespace beamtrace::detail {
 /// Opens, in registry order, every sink that applies to `facts` and is not switchable or is
 /// switched on in spec.outputs.
 [[nodiscard]] SinkSet open_survey_sinks(const SurveySpec& spec, const SinkFacts& facts);
+/// The sinks of a run: open_survey_sinks when run.write_files, then run.extra_sinks in order.
+[[nodiscard]] SinkSet open_run_sinks(const SurveySpec& spec, const SurveyRunConfig& run,
+                                     const SinkFacts& facts);
 
 }  // namespace beamtrace::detail
