@@ -2,8 +2,11 @@
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <exception>
+#include <functional>
 #include <new>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "beamtrace/core/error.hpp"
 #include "commands.hpp"
@@ -22,25 +25,9 @@ std::string command_line(int argc, char** argv) {
     return text.size() > 80 ? text.substr(0, 77) + "..." : text;
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-    // Under mpirun: every rank runs this; rank 0 alone reports (errors are agreed on, so every
-    // rank exits with the same status).
-    const auto mpi = beamtrace::cli::start_mpi(argc, argv);
-    beamtrace::Communicator* world = mpi ? &mpi->comm() : nullptr;
-    const bool reports = world == nullptr || world->rank() == 0;
-    CLI::App app{"beamtrace " BEAMTRACE_VERSION " - LiDAR simulator and ray tracer", "beamtrace"};
-    app.set_version_flag("--version", "beamtrace " BEAMTRACE_VERSION);
-    app.require_subcommand(1);
-    app.failure_message([](const CLI::App*, const CLI::Error& e) { return std::string(e.what()); });
-    const auto run_scan = beamtrace::cli::add_scan_command(app);
-    const auto run_info = beamtrace::cli::add_info_command(app);
-    const auto run_survey = beamtrace::cli::add_survey_command(app, world);
-    const auto run_view = beamtrace::cli::add_view_command(app);
-    const auto run_render = beamtrace::cli::add_render_command(app);
-    const auto run_bench = beamtrace::cli::add_bench_command(app);
-    const auto run_convert = beamtrace::cli::add_convert_command(app);
+/// Parses the command line: -1 to go on, else the exit status (help, version, a bad option,
+/// printed only by the process that `reports`).
+int parse(CLI::App& app, int argc, char** argv, bool reports) {
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {
@@ -61,31 +48,41 @@ int main(int argc, char** argv) {
         }
         return 2;
     }
+    return -1;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    // Under mpirun: every rank runs this; rank 0 alone reports (errors are agreed on, so every
+    // rank exits with the same status).
+    const auto mpi = beamtrace::cli::start_mpi(argc, argv);
+    beamtrace::Communicator* world = mpi ? &mpi->comm() : nullptr;
+    const bool reports = world == nullptr || world->rank() == 0;
+    CLI::App app{"beamtrace " BEAMTRACE_VERSION " - LiDAR simulator and ray tracer", "beamtrace"};
+    app.set_version_flag("--version", "beamtrace " BEAMTRACE_VERSION);
+    app.require_subcommand(1);
+    app.failure_message([](const CLI::App*, const CLI::Error& e) { return std::string(e.what()); });
+    const std::vector<std::pair<std::string, std::function<int()>>> commands{
+        {"scan", beamtrace::cli::add_scan_command(app)},
+        {"info", beamtrace::cli::add_info_command(app)},
+        {"survey", beamtrace::cli::add_survey_command(app, world)},
+        {"view", beamtrace::cli::add_view_command(app)},
+        {"render", beamtrace::cli::add_render_command(app)},
+        {"bench", beamtrace::cli::add_bench_command(app)},
+        {"convert", beamtrace::cli::add_convert_command(app)}};
+    if (const int status = parse(app, argc, argv, reports); status >= 0) {
+        return status;
+    }
     try {
         if (world != nullptr && world->size() > 1 && !app.got_subcommand("survey")) {
             throw beamtrace::ConfigError(
                 "only `beamtrace survey` runs across MPI ranks; run this command without mpirun");
         }
-        if (app.got_subcommand("scan")) {
-            return run_scan();
-        }
-        if (app.got_subcommand("survey")) {
-            return run_survey();
-        }
-        if (app.got_subcommand("render")) {
-            return run_render();
-        }
-        if (app.got_subcommand("info")) {
-            return run_info();
-        }
-        if (app.got_subcommand("view")) {
-            return run_view();
-        }
-        if (app.got_subcommand("bench")) {
-            return run_bench();
-        }
-        if (app.got_subcommand("convert")) {
-            return run_convert();
+        for (const auto& [name, run] : commands) {
+            if (app.got_subcommand(name)) {
+                return run();
+            }
         }
     } catch (const beamtrace::Interrupted& e) {
         // SIGINT/SIGTERM (interrupt.hpp): the temporaries are gone; 130 or 143.

@@ -286,6 +286,89 @@ void refuse_memory_outputs(const SurveyRunConfig& run) {
 
 }  // namespace
 
+namespace {
+
+/// Collective: rank 0 makes the output folder (`created` removes it again if the run fails).
+void make_output_dir(Communicator& comm, const std::filesystem::path& dir,
+                     std::optional<CreatedDirs>& created) {
+    collectively(comm, [&] {
+        if (comm.rank() == 0) {
+            created.emplace(dir);
+            std::error_code ec;
+            std::filesystem::create_directories(dir, ec);
+            if (ec || !std::filesystem::is_directory(dir)) {
+                throw OutputError(dir.string() + ": cannot create output directory" +
+                                  (ec ? ": " + ec.message() : std::string()));
+            }
+        }
+    });
+}
+
+/// Collective: the records of every round into `file`, then the header (rank 0); returns the
+/// totals of all ranks' records.
+LasRecordBlock write_points(const detail::SurveySession& session, const SurveyRunConfig& run,
+                            Communicator& comm, SharedFile& file, ThreadPool& pool,
+                            const ProgressFn& progress) {
+    const LasWriter encoder(survey_las_config(session.facts()));
+    const std::size_t per_rank = std::max<std::size_t>(
+        1, (run.chunk_pulses + detail::kBlockPulses - 1) / detail::kBlockPulses);
+    RoundWriter rounds(session, encoder, file, comm, per_rank, pool);
+    // The progress callback (it may throw: an interrupt) and the cancel check, after each of
+    // this rank's rounds is traced.
+    const std::uint64_t pulses = session.pulses();
+    const auto report = [&](std::uint64_t done) {
+        if (progress) {
+            progress(static_cast<std::size_t>(std::min(done, pulses)),
+                     static_cast<std::size_t>(pulses));
+        }
+        throw_if_cancelled(run.cancel, "survey");
+    };
+    collectively(comm, [&] { report(0); });
+    const LasRecordBlock mine =
+        rounds.run_all(encoder.header().offset_to_point_data, [&](std::size_t r) {
+            report((r + 1) * per_rank * detail::kBlockPulses *
+                   static_cast<std::uint64_t>(comm.size()));
+        });
+    const LasRecordBlock totals = reduce_totals(comm, mine);
+    collectively(comm, [&] {
+        if (comm.rank() == 0) {
+            file.write_at(0, encoder.header_bytes(totals));
+        }
+    });
+    collectively(comm, [&] { file.close(); });
+    return totals;
+}
+
+/// Collective: rank 0 writes trajectory.csv and renames `temp` to `final_path`; returns the
+/// files (rank 0; none on the others).
+std::vector<std::filesystem::path> commit_outputs(const SurveySpec& spec, const SinkFacts& facts,
+                                                  Communicator& comm,
+                                                  const std::filesystem::path& temp,
+                                                  const std::filesystem::path& final_path) {
+    std::vector<std::filesystem::path> files;
+    collectively(comm, [&] {
+        if (comm.rank() != 0) {
+            return;
+        }
+        SurveySpec others = spec;
+        others.outputs.clear();  // the sinks that are not switchable: trajectory.csv
+        detail::SinkSet sinks = detail::open_survey_sinks(others, facts);
+        files = sinks.commit();
+        std::error_code ec;
+        std::filesystem::rename(temp, final_path, ec);
+        if (ec) {
+            for (const auto& f : files) {
+                std::filesystem::remove(f, ec);
+            }
+            throw OutputError(final_path.string() + ": cannot rename into place: " + ec.message());
+        }
+        files.insert(files.begin(), final_path);
+    });
+    return files;
+}
+
+}  // namespace
+
 SurveyResult run_survey_distributed(const SurveySpec& spec, const SurveyRunConfig& run,
                                     Communicator& comm, const ProgressFn& progress) {
     if (run.output_dir.empty()) {
@@ -300,85 +383,23 @@ SurveyResult run_survey_distributed(const SurveySpec& spec, const SurveyRunConfi
         check_outputs(spec, session->facts());
     });
     SurveyResult result = session->result();
-    // Rank 0 makes the folder (and removes it again if it made it and the run fails).
     std::optional<CreatedDirs> created;
-    collectively(comm, [&] {
-        if (comm.rank() == 0) {
-            created.emplace(run.output_dir);
-            std::error_code ec;
-            std::filesystem::create_directories(run.output_dir, ec);
-            if (ec || !std::filesystem::is_directory(run.output_dir)) {
-                throw OutputError(run.output_dir.string() + ": cannot create output directory" +
-                                  (ec ? ": " + ec.message() : std::string()));
-            }
-        }
-    });
+    make_output_dir(comm, run.output_dir, created);
     const std::string token = shared_token(comm);
     check_shared_directory(comm, run.output_dir, token);
-    const std::filesystem::path final_path = run.output_dir / "points.las";
-    const std::filesystem::path temp_path = run.output_dir / (".points.las." + token + ".tmp");
-    const auto remove_temp = [&] {
-        std::error_code ec;
-        if (comm.rank() == 0) {
-            std::filesystem::remove(temp_path, ec);
-        }
-    };
+    const std::filesystem::path temp = run.output_dir / (".points.las." + token + ".tmp");
     const auto t0 = Clock::now();
     try {
-        const LasWriter encoder(survey_las_config(session->facts()));
         std::unique_ptr<SharedFile> file;
-        collectively(comm, [&] { file = comm.open_shared(temp_path); });
-        const std::size_t per_rank = std::max<std::size_t>(
-            1, (run.chunk_pulses + detail::kBlockPulses - 1) / detail::kBlockPulses);
-        RoundWriter rounds(*session, encoder, *file, comm, per_rank, pool);
-        const std::uint64_t data_start = encoder.header().offset_to_point_data;
-        // The progress callback (it may throw: an interrupt) and the cancel check, after each
-        // of this rank's rounds is traced.
-        const auto total = static_cast<std::size_t>(result.pulses);
-        const auto report = [&](std::size_t r) {
-            if (progress) {
-                const std::uint64_t done = (r + 1) * per_rank * detail::kBlockPulses *
-                                           static_cast<std::uint64_t>(comm.size());
-                progress(static_cast<std::size_t>(std::min(done, result.pulses)), total);
-            }
-            throw_if_cancelled(run.cancel, "survey");
-        };
-        collectively(comm, [&] {
-            if (progress) {
-                progress(0, total);
-            }
-        });
-        const LasRecordBlock mine = rounds.run_all(data_start, report);
-        const LasRecordBlock totals = reduce_totals(comm, mine);
-        collectively(comm, [&] {
-            if (comm.rank() == 0) {
-                file->write_at(0, encoder.header_bytes(totals));
-            }
-        });
-        collectively(comm, [&] { file->close(); });
-        result.points = totals.count;
-        // Rank 0: the trajectory, then points.las into place; every rank learns how it went.
-        collectively(comm, [&] {
-            if (comm.rank() != 0) {
-                return;
-            }
-            SurveySpec others = spec;
-            others.outputs.clear();  // the sinks that are not switchable: trajectory.csv
-            detail::SinkSet sinks = detail::open_survey_sinks(others, session->facts());
-            result.outputs = sinks.commit();
-            std::error_code ec;
-            std::filesystem::rename(temp_path, final_path, ec);
-            if (ec) {
-                for (const auto& f : result.outputs) {
-                    std::filesystem::remove(f, ec);
-                }
-                throw OutputError(final_path.string() +
-                                  ": cannot rename into place: " + ec.message());
-            }
-            result.outputs.insert(result.outputs.begin(), final_path);
-        });
+        collectively(comm, [&] { file = comm.open_shared(temp); });
+        result.points = write_points(*session, run, comm, *file, pool, progress).count;
+        result.outputs =
+            commit_outputs(spec, session->facts(), comm, temp, run.output_dir / "points.las");
     } catch (...) {
-        remove_temp();
+        std::error_code ec;
+        if (comm.rank() == 0) {
+            std::filesystem::remove(temp, ec);
+        }
         throw;
     }
     if (created) {
