@@ -213,6 +213,19 @@ TEST(SurveyExtraBytes, IndependentReadersNameAndDecodeThem) {
                 << r.fields[f].name << " of point " << i;
         }
     }
+    // And against the geometry, from copc.js's own X, Y, Z: the centre pixel 40 m away at 30
+    // degrees, every range |xyz|.
+    const auto at = [&](std::size_t i, const char* dim) {
+        return decoded->at(i, static_cast<std::size_t>(decoded->dim(dim)));
+    };
+    for (std::size_t i = 0; i < decoded->count; ++i) {
+        const Vec3d xyz{at(i, "X"), at(i, "Y"), at(i, "Z")};
+        EXPECT_NEAR(at(i, "range_m"), length(xyz), 2e-3) << "point " << i;
+        EXPECT_NEAR(at(i, "echo_width_ns"), 5.0, 0.15) << "point " << i;
+        EXPECT_EQ(at(i, "object_id"), kPartId);
+    }
+    EXPECT_NEAR(at(4, "range_m"), kDepthM, 1e-3);
+    EXPECT_NEAR(at(4, "incidence_angle_deg"), kTiltDeg, 0.006);
 }
 
 /// The error of a survey whose output block is `output` (one line, or "" when it loads).
