@@ -147,6 +147,23 @@ TEST(SurveyExtraBytes, ValuesEqualTheGeometryWithPhysics) {
     }
 }
 
+TEST(SurveyExtraBytes, FollowTheWavePacketsOfFormat9) {
+    test::TempDir dir;
+    write_scene(dir);
+    test::run_survey_in(tilted_survey(std::string(", extra_bytes: ") + kAll,
+                                      "physics:\n  atmosphere: {enabled: false}\n"
+                                      "  waveform: {pulse_fwhm_ns: 5, keep: true}\n"),
+                        dir, 2, 1 << 16, 1);
+    const Read r = read_back(dir / "out" / "points.las");
+    EXPECT_EQ(r.header.point_format, 9);
+    EXPECT_EQ(r.header.point_record_length, 30 + 29 + 14);
+    expect_geometry(r, true);
+    for (const LasPoint& p : r.points) {
+        EXPECT_NE(p.wave_descriptor_index, 0) << "the wave packet fields are kept";
+        EXPECT_GT(p.wave_packet_size, 0u);
+    }
+}
+
 TEST(SurveyExtraBytes, ValuesEqualTheGeometryWithoutPhysics) {
     test::TempDir dir;
     write_scene(dir);
