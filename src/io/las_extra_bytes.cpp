@@ -90,6 +90,20 @@ std::string text(const std::uint8_t* at) {
     return {c, static_cast<std::size_t>(std::find(c, c + kTextBytes, '\0') - c)};
 }
 
+LasExtraBytesDescriptor parse_descriptor(const std::uint8_t* d) {
+    LasExtraBytesDescriptor e;
+    e.data_type = static_cast<LasExtraType>(d[kType]);
+    e.options = d[kOptions];
+    e.name = text(d + kName);
+    e.no_data = load_any(d + kNoData, e.data_type);
+    e.min = load_any(d + kMin, e.data_type);
+    e.max = load_any(d + kMax, e.data_type);
+    std::memcpy(&e.scale, d + kScale, 8);
+    std::memcpy(&e.offset, d + kOffset, 8);
+    e.description = text(d + kDescription);
+    return e;
+}
+
 }  // namespace
 
 std::size_t las_extra_type_size(LasExtraType type) {
@@ -144,30 +158,19 @@ LasVlr las_extra_bytes_vlr(std::span<const LasExtraBytesDescriptor> descriptors)
 }
 
 std::vector<LasExtraBytesDescriptor> las_extra_bytes_descriptors(std::span<const LasVlr> vlrs) {
-    const auto it = std::find_if(vlrs.begin(), vlrs.end(), [](const LasVlr& v) {
-        return v.user_id == "LASF_Spec" && v.record_id == 4;
-    });
     std::vector<LasExtraBytesDescriptor> out;
-    if (it == vlrs.end()) {
-        return out;
-    }
-    if (it->data.size() % kLasExtraBytesDescriptorBytes != 0) {
-        throw InputError("LAS Extra Bytes VLR",
-                         std::to_string(it->data.size()) +
-                             " bytes is not a whole number of 192-byte descriptors");
-    }
-    for (std::size_t at = 0; at < it->data.size(); at += kLasExtraBytesDescriptorBytes) {
-        const std::uint8_t* d = it->data.data() + at;
-        LasExtraBytesDescriptor& e = out.emplace_back();
-        e.data_type = static_cast<LasExtraType>(d[kType]);
-        e.options = d[kOptions];
-        e.name = text(d + kName);
-        e.no_data = load_any(d + kNoData, e.data_type);
-        e.min = load_any(d + kMin, e.data_type);
-        e.max = load_any(d + kMax, e.data_type);
-        std::memcpy(&e.scale, d + kScale, 8);
-        std::memcpy(&e.offset, d + kOffset, 8);
-        e.description = text(d + kDescription);
+    for (const LasVlr& v : vlrs) {
+        if (v.user_id != "LASF_Spec" || v.record_id != 4) {
+            continue;
+        }
+        if (v.data.size() % kLasExtraBytesDescriptorBytes != 0) {
+            throw InputError("LAS Extra Bytes VLR", std::to_string(v.data.size()) +
+                                                        " bytes is not a whole number of "
+                                                        "192-byte descriptors");
+        }
+        for (std::size_t at = 0; at < v.data.size(); at += kLasExtraBytesDescriptorBytes) {
+            out.push_back(parse_descriptor(v.data.data() + at));
+        }
     }
     return out;
 }

@@ -9,7 +9,9 @@
 
 #include "beamtrace/core/error.hpp"
 #include "beamtrace/io/las_extra_bytes.hpp"
+#include "beamtrace/io/las_reader.hpp"
 #include "beamtrace/io/point_attributes.hpp"
+#include "test_support.hpp"
 
 namespace beamtrace {
 namespace {
@@ -71,6 +73,20 @@ TEST(LasExtraBytes, AttributesRoundToTheirScaleAndClamp) {
     encode_point_attributes(all, {-1, 0, 1e9, 0, 0}, bytes.data());
     EXPECT_EQ(at<std::uint16_t>(bytes, 6), 65534);
     EXPECT_EQ(at<std::uint32_t>(bytes, 0), 0u) << "negative ranges clamp to 0";
+}
+
+TEST(LasExtraBytes, ReadsTheDescriptorsOfAThirdPartyFile) {
+    // Written by LAStools, with two Extra Bytes VLRs of one descriptor each.
+    const LasReader reader(test::shared_data("las/derived/las_with_several_extra_byte_bloc.las"));
+    const auto d = las_extra_bytes_descriptors(reader.vlrs());
+    ASSERT_EQ(d.size(), 2u);
+    EXPECT_EQ(d[0].name, "Deviation");
+    EXPECT_EQ(d[0].data_type, LasExtraType::u16);
+    EXPECT_EQ(d[0].options, 7);
+    EXPECT_EQ(d[0].description, "Pulse shape deviation");
+    EXPECT_EQ(d[1].name, "confidence");
+    EXPECT_EQ(d[1].data_type, LasExtraType::u8);
+    EXPECT_EQ(las_extra_bytes_size(d), reader.header().extra_bytes_per_point());
 }
 
 TEST(LasExtraBytes, BadVlrsAndNamesThrow) {

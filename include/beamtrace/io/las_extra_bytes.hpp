@@ -53,8 +53,9 @@ inline constexpr std::size_t kLasExtraBytesDescriptorBytes = 192;
 /// than 31 characters or an undocumented type.
 [[nodiscard]] LasVlr las_extra_bytes_vlr(std::span<const LasExtraBytesDescriptor> descriptors);
 
-/// The descriptors of the Extra Bytes VLR among `vlrs` (empty when there is none). Throws
-/// InputError when its length is not a multiple of 192 bytes.
+/// The descriptors of the Extra Bytes VLR among `vlrs` (empty when there is none; several such
+/// VLRs, as some writers make, are read one after the other). Throws InputError when one's
+/// length is not a multiple of 192 bytes.
 [[nodiscard]] std::vector<LasExtraBytesDescriptor> las_extra_bytes_descriptors(
     std::span<const LasVlr> vlrs);
 
