@@ -97,6 +97,15 @@ TEST(SurveyExtraBytes, DescriptorsNameTypeAndScaleEveryAttribute) {
               LasExtraBytesDescriptor::kNoData);
     EXPECT_EQ(r.fields[2].no_data, 65535.0);
     EXPECT_EQ(r.header.point_record_length, 30 + 14);
+    // beamtrace info lists them under the VLR.
+    const auto info = test::run_command(std::string(BEAMTRACE_CLI_PATH) + " info '" +
+                                        (dir / "out" / "points.las").string() + "'");
+    EXPECT_EQ(info.exit_code, 0) << info.out;
+    for (const char* line : {"    range_m: uint32 x 0.001  \"range from beam origin, m\"\n",
+                             "    echo_width_ns: uint16 x 0.01, no data 65535  \"echo FWHM, ns\"\n",
+                             "    object_id: uint32  \"scene part_id of the hit\"\n"}) {
+        EXPECT_NE(info.out.find(line), std::string::npos) << line << info.out;
+    }
 }
 
 /// Every value of every point against the plane: range = |xyz| (the scanner is at the origin),
