@@ -3,7 +3,6 @@
 // VLR, the extra bytes of output.extra_bytes with their Extra Bytes VLR. Records are encoded on
 // the pool threads. points.laz: the same file, LASzip-compressed.
 #include <algorithm>
-#include <cmath>
 
 #include "beamtrace/core/error.hpp"
 #include "beamtrace/io/las_crs.hpp"
