@@ -173,6 +173,26 @@ TEST(SurveyExtraBytes, FollowTheWavePacketsOfFormat9) {
     }
 }
 
+TEST(SurveyExtraBytes, DivergentBeamAtNormalIncidenceKeepsThePulseWidth) {
+    test::TempDir dir;
+    test::write_file(dir / "plane.yaml", R"(materials: [{name: white, reflectance: 1}]
+parts: [{plane: {point_m: [0, 0, -40], normal: [0, 0, 1], size_m: 200}, material: white}]
+)");
+    // A 2 mrad beam of sub-rays: the dominant sub-ray is at most 1 mrad (0.057 deg) off normal.
+    test::run_survey_in(
+        "scene: plane.yaml\n"
+        "scanner: {type: pinhole, width: 1, height: 1, hfov_deg: 1, vfov_deg: 1}\n"
+        "platform: {type: static, position_m: [0, 0, 0], rotate_deg: [0, -90, 0]}\n"
+        "physics:\n  atmosphere: {enabled: false}\n  beam: {divergence_mrad: 2}\n"
+        "  waveform: {pulse_fwhm_ns: 5}\n"
+        "output: {trajectory_rate_hz: 0, extra_bytes: [incidence_angle, echo_width]}\n",
+        dir, 1, 1 << 16, 1);
+    const Read r = read_back(dir / "out" / "points.las");
+    ASSERT_EQ(r.points.size(), 1u);
+    EXPECT_NEAR(value(r, 0, r.points[0]), 0.0, 0.06);
+    EXPECT_NEAR(value(r, 1, r.points[0]), 5.0, 0.15) << "a flat target keeps the pulse's FWHM";
+}
+
 TEST(SurveyExtraBytes, ValuesEqualTheGeometryWithoutPhysics) {
     test::TempDir dir;
     write_scene(dir);
