@@ -6,10 +6,13 @@
 #include <cstdio>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
+#include "beamtrace/core/error.hpp"
 #include "beamtrace/io/las_crs.hpp"
+#include "beamtrace/io/las_extra_bytes.hpp"
 #include "beamtrace/io/las_reader.hpp"
 #include "beamtrace/io/las_stats.hpp"
 #include "commands.hpp"
@@ -114,6 +117,30 @@ void print_header(const std::string& file, const LasHeader& h) {
                 h.offset_to_point_data);
 }
 
+/// One line per descriptor of an Extra Bytes VLR (nothing for one that does not parse).
+void print_extra_bytes(const LasVlr& v) {
+    static constexpr std::array<const char*, 11> kTypes = {"bytes", "uint8",   "int8",   "uint16",
+                                                           "int16", "uint32",  "int32",  "uint64",
+                                                           "int64", "float32", "float64"};
+    std::vector<LasExtraBytesDescriptor> fields;
+    try {
+        fields = las_extra_bytes_descriptors(std::span(&v, 1));
+    } catch (const InputError&) {
+        return;
+    }
+    for (const LasExtraBytesDescriptor& e : fields) {
+        const auto t = static_cast<std::size_t>(e.data_type);
+        std::string line = "    " + e.name + ": " + (t < kTypes.size() ? kTypes[t] : "?");
+        if ((e.options & LasExtraBytesDescriptor::kScale) != 0) {
+            line += " x " + shortest(e.scale);
+        }
+        if ((e.options & LasExtraBytesDescriptor::kNoData) != 0) {
+            line += ", no data " + shortest(e.no_data);
+        }
+        std::printf("%s  \"%s\"\n", line.c_str(), e.description.c_str());
+    }
+}
+
 void print_vlrs(const LasReader& reader) {
     const LasHeader& h = reader.header();
     std::size_t n_vlr = 0;
@@ -128,6 +155,9 @@ void print_vlrs(const LasReader& reader) {
         }
         std::printf("  %-16s %5u  %8llu bytes  \"%s\"\n", v.user_id.c_str(), v.record_id,
                     static_cast<unsigned long long>(v.length), v.description.c_str());
+        if (v.user_id == "LASF_Spec" && v.record_id == 4) {
+            print_extra_bytes(v);
+        }
     }
 }
 

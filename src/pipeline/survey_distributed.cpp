@@ -251,6 +251,8 @@ class RoundWriter {
                 for (const BlockPoint& p : w->points.points) {
                     encoder_.encode(static_cast<const LasSimplePoint&>(p), out.blocks[k]);
                 }
+                encode_las_extra_bytes(session_.facts().extra_bytes, w->points.points, encoder_,
+                                       out.blocks[k]);
             }
             shelf_.put(std::move(w));
         });

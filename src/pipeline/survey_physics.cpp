@@ -105,7 +105,10 @@ void SurveyPhysics::run(BlockWork& w, const Backend& backend) const {
         const std::size_t n = std::min(w.response.returns.size(), max_returns);
         for (std::size_t r = 0; r < n; ++r) {
             w.returns[k * max_returns + r] = w.response.returns[r];
-            w.return_face[k * max_returns + r] = w.sample_face[w.response.returns[r].sub_ray];
+            const std::uint32_t sample = w.response.returns[r].sub_ray;
+            w.return_face[k * max_returns + r] = w.sample_face[sample];
+            w.return_cos_incidence[k * max_returns + r] =
+                static_cast<float>(w.response.samples[sample].hit.cos_incidence);
         }
         w.return_count[k] = static_cast<std::uint8_t>(n);
     }

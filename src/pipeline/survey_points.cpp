@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 namespace beamtrace::detail {
 
@@ -27,6 +28,21 @@ std::vector<std::array<std::uint16_t, 4>> part_colours(const Scene& scene,
                            std::lround(std::clamp(m.reflectance, 0.0, 1.0) * 65535.0))});
     }
     return out;
+}
+
+float SurveyPoints::incidence_deg(const BlockWork& w, std::size_t k, std::size_t r) const {
+    double c = 1.0;
+    if (physics) {
+        c = w.return_cos_incidence[k * max_returns + r];
+    } else {
+        const std::size_t h = k * sub_rays;  // the pulse's central ray
+        const Vec3d d{w.rays.dx[h], w.rays.dy[h], w.rays.dz[h]};
+        const Vec3d at = Vec3d{w.rays.ox[h], w.rays.oy[h], w.rays.oz[h]} + d * double{w.hits.t[h]};
+        const Vec3d n = scene->geometry.normal_at(w.hits.face[h], at);
+        const double nd = length(n) * length(d);
+        c = nd > 0 ? std::abs(dot(n, d)) / nd : 0.0;
+    }
+    return static_cast<float>(std::acos(std::clamp(c, 0.0, 1.0)) * 180.0 / std::numbers::pi);
 }
 
 void SurveyPoints::run(BlockWork& w) const {
@@ -57,6 +73,12 @@ void SurveyPoints::run(BlockWork& w) const {
             p.channel = w.pulses.channel[k];
             p.user_data = static_cast<std::uint8_t>(w.pulses.channel[k] & 0xFFu);  // beam / row
             p.pulse = w.first + k;
+            if (ret != nullptr) {
+                p.echo_width_ns = static_cast<float>(ret->echo_width_ns);
+            }
+            if (incidence) {
+                p.incidence_deg = incidence_deg(w, k, r);
+            }
             if (!colours.empty()) {
                 const auto& c = colours[scene->part_of_face(face)];
                 p.red = c[0];

@@ -1,5 +1,6 @@
 #include "pipeline/detail/survey_session.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <string>
 
@@ -97,6 +98,8 @@ SurveySession::SurveySession(const SurveySpec& spec, const SurveyRunConfig& run,
     source_ = SurveyRaySource{&spec, trajectory_.get(), sim_ ? &*sim_ : nullptr, run.seed};
     sub_rays_ = source_.sub_rays();
     points_ = SurveyPoints{&scene_, sim_.has_value(), sub_rays_, max_returns_, std::move(colours)};
+    points_.incidence = std::find(spec.extra_bytes.begin(), spec.extra_bytes.end(),
+                                  PointAttribute::incidence_angle) != spec.extra_bytes.end();
 }
 
 std::size_t SurveySession::blocks() const {

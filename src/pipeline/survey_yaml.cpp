@@ -148,6 +148,30 @@ void parse_mount(YamlChecker& c, const YAML::Node& m, SurveySpec& s) {
     s.mount = Mount::from_lever_arm(arm, rpy_deg(bore));
 }
 
+/// output.extra_bytes: a list of point attribute names (io/point_attributes.hpp), each at most
+/// once.
+void parse_extra_bytes(YamlChecker& c, const YAML::Node& x, SurveySpec& s) {
+    const std::string key = "output.extra_bytes";
+    if (!x.IsSequence()) {
+        c.error(x, key, "expected a list of names (" + point_attribute_keys() + ")");
+        return;
+    }
+    for (const YAML::Node& item : x) {
+        const std::optional<PointAttribute> a =
+            item.IsScalar() ? point_attribute_named(item.Scalar()) : std::nullopt;
+        if (!a) {
+            c.error(item, key,
+                    (item.IsScalar() ? "unknown name '" + item.Scalar() + "'" : "not a name") +
+                        "; expected one of " + point_attribute_keys());
+        } else if (std::find(s.extra_bytes.begin(), s.extra_bytes.end(), *a) !=
+                   s.extra_bytes.end()) {
+            c.error(item, key, "'" + item.Scalar() + "' is listed twice");
+        } else {
+            s.extra_bytes.push_back(*a);
+        }
+    }
+}
+
 /// The `output:` block: the LAS point format, the trajectory rate, and one `<key>: true|false`
 /// per switchable sink of the registry (an empty block, null in YAML, keeps the defaults).
 void parse_output(YamlChecker& c, const YAML::Node& o, SurveySpec& s) {
@@ -159,7 +183,8 @@ void parse_output(YamlChecker& c, const YAML::Node& o, SurveySpec& s) {
                 "expected a map (point_format, trajectory_rate_hz, a switch per sink)");
         return;
     }
-    std::vector<std::string> known{"point_format", "trajectory_rate_hz", "wave_packets"};
+    std::vector<std::string> known{"point_format", "trajectory_rate_hz", "wave_packets",
+                                   "extra_bytes"};
     for (const SinkEntry& e : point_sinks()) {
         if (!e.key.empty()) {
             known.emplace_back(e.key);
@@ -194,6 +219,9 @@ void parse_output(YamlChecker& c, const YAML::Node& o, SurveySpec& s) {
                 s.outputs.emplace_back(e.name);
             }
         }
+    }
+    if (const auto x = o["extra_bytes"]) {
+        parse_extra_bytes(c, x, s);
     }
     if (o["trajectory_rate_hz"] &&
         c.number(o["trajectory_rate_hz"], "output.trajectory_rate_hz", s.trajectory_rate_hz) &&

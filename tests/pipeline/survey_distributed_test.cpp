@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "beamtrace/core/error.hpp"
+#include "beamtrace/io/las_reader.hpp"
 #include "beamtrace/pipeline/survey_distributed.hpp"
 #include "pipeline/thread_communicator.hpp"
 #include "test_support.hpp"
@@ -92,6 +93,27 @@ TEST(SurveyDistributed, OneLasFileIdenticalToOneProcessForAnyRanksAndThreads) {
             }
         }
     }
+}
+
+TEST(SurveyDistributed, ExtraBytesIdenticalToOneProcess) {
+    SurveySpec spec = example("airborne_line_physics");
+    spec.extra_bytes = {PointAttribute::range, PointAttribute::incidence_angle,
+                        PointAttribute::echo_width, PointAttribute::beam,
+                        PointAttribute::object_id};
+    test::TempDir dir;
+    const std::string expected = single_process_las(spec, dir / "single");
+    const auto errors = run_ranks(spec, dir / "ranks", 2, 1, 8 * 1024);
+    for (const auto& e : errors) {
+        EXPECT_EQ(e, "");
+    }
+    const std::string got = test::read_file(dir / "ranks" / "points.las");
+    EXPECT_TRUE(got == expected);
+    // The records carry the extra bytes, and not as zeros.
+    LasReader reader(dir / "ranks" / "points.las");
+    EXPECT_EQ(reader.header().point_record_length, 30 + 14);
+    std::vector<LasPoint> points(64);
+    ASSERT_EQ(reader.read(points), 64u);
+    EXPECT_NE(points[0].extra_bytes, std::vector<std::uint8_t>(14, 0));
 }
 
 TEST(SurveyDistributed, AFailingRankStopsEveryRankAndLeavesNothing) {

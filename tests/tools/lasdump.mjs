@@ -1,8 +1,9 @@
 #!/usr/bin/env node
 // Decodes every point of a LAS/LAZ file with two independent third-party readers, for the tests
-// to compare with what beamtrace wrote. No code of ours decodes anything here:
-//   * copc@0.0.8 (Las.Header, Las.Vlr, Las.View; LAZ via laz-perf): the header, the VLRs and
-//     every point dimension;
+// to compare with what beamtrace wrote. No code of ours decodes anything here
+// (but the extra bytes' scale and offset, which copc.js reads big-endian):
+//   * copc@0.0.8 (Las.Header, Las.Vlr, Las.ExtraBytes, Las.View; LAZ via laz-perf): the header,
+//     the VLRs and every point dimension, extra bytes named by the Extra Bytes VLR;
 //   * @loaders.gl/las@4.4.5 (laz-rs compiled to wasm): X, Y, Z, intensity, classification.
 // Usage: node lasdump.mjs FILE OUT
 // Writes OUT.json (header, VLRs with their bytes in hex, the dimension names), OUT.copc.f64
@@ -37,7 +38,28 @@ const points = compressed
   ? await Las.PointData.decompressFile(buf)
   : buf.subarray(header.pointDataOffset,
       header.pointDataOffset + header.pointCount * header.pointDataRecordLength);
-const view = Las.View.create(points, header, []);
+// The Extra Bytes VLR (LASF_Spec / 4) names the extra dimensions. copc.js reads each
+// descriptor's scale and offset big-endian (lib/las/extra-bytes.js: getFloat64(112) without the
+// little-endian flag); LAS is little-endian, so they are read again here. A VLR copc.js cannot
+// parse leaves the extra bytes undecoded, as before.
+const extraBytes = (() => {
+  const v = Las.Vlr.find(vlrs, 'LASF_Spec', 4);
+  if (!v) return [];
+  const b = buf.subarray(v.contentOffset, v.contentOffset + v.contentLength);
+  try {
+    const eb = Las.ExtraBytes.parse(b);
+    const dv = new DataView(b.buffer, b.byteOffset, b.byteLength);
+    eb.forEach((e, i) => {
+      const options = b[192 * i + 3];
+      if (options & 8) e.scale = dv.getFloat64(192 * i + 112, true);
+      if (options & 16) e.offset = dv.getFloat64(192 * i + 136, true);
+    });
+    return eb;
+  } catch {
+    return [];
+  }
+})();
+const view = Las.View.create(points, header, extraBytes);
 const dims = Object.keys(view.dimensions);
 const getters = dims.map((d) => view.getter(d));
 const n = view.pointCount;

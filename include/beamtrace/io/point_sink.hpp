@@ -8,6 +8,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <string>
@@ -15,6 +16,7 @@
 
 #include "beamtrace/core/vec3.hpp"
 #include "beamtrace/io/las_writer.hpp"
+#include "beamtrace/io/point_attributes.hpp"
 #include "beamtrace/sensor/scan_pattern.hpp"
 #include "beamtrace/sensor/trajectory.hpp"
 
@@ -29,6 +31,11 @@ struct BlockPoint : LasSimplePoint {
     std::uint32_t face = 0;     ///< face of the hit (PLY face_id)
     std::uint16_t channel = 0;  ///< beam / row of the scanner
     std::uint64_t pulse = 0;    ///< pulse (or ray) index: PLY `ray`, image pixel
+    /// Angle between the beam (physics: the sub-ray that dominated the return) and the hit
+    /// surface's normal, 0 to 90 degrees. Filled when the LAS extra bytes ask for it.
+    float incidence_deg = 0.0f;
+    /// FWHM of the return's echo (physics only; NaN without: unknown).
+    float echo_width_ns = std::numeric_limits<float>::quiet_NaN();
 };
 
 /// One pulse's sampled echo (physics.waveform.keep): samples [first_sample, + count) of the block.
@@ -87,6 +94,9 @@ struct SinkFacts {
     /// The platform's samples for trajectory.csv (none: no trajectory output).
     std::optional<SampledTrajectory> trajectory;
     double trajectory_rate_hz = 0.0;
+    /// The attributes points.las and points.laz carry as LAS extra bytes, in record order
+    /// (output.extra_bytes); empty: none (the records are the bare point format).
+    std::vector<PointAttribute> extra_bytes;
 };
 
 /// What a sink encodes from one block, on a pool thread, for its write(). Reused block to block.

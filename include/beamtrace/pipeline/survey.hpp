@@ -54,7 +54,10 @@ struct SurveySpec {
     /// whenever the survey calls for them.
     std::vector<std::string> outputs{"las", "preview"};
     double trajectory_rate_hz = 10.0;  ///< samples per second in trajectory.csv (0: none)
-    std::string text;                  ///< the file's text (recorded in the LAS VLR)
+    /// output.extra_bytes: the attributes every point of points.las / points.laz carries as
+    /// LAS extra bytes, in that order (io/point_attributes.hpp); empty (the default): none.
+    std::vector<PointAttribute> extra_bytes;
+    std::string text;  ///< the file's text (recorded in the LAS VLR)
     /// The `physics:` block (docs/physics.md); nullopt: ideal single rays, no intensity/noise.
     std::optional<PhysicsConfig> physics;
 

@@ -1,6 +1,7 @@
 // points.las: LAS 1.4 (formats 6-8), coordinates quantised to 1 mm around the scene, the
 // scene's CRS in an OGC WKT VLR when it has one, the provenance (version, seed, survey file) in a
-// VLR. Records are encoded on the pool threads. points.laz: the same file, LASzip-compressed.
+// VLR, the extra bytes of output.extra_bytes with their Extra Bytes VLR. Records are encoded on
+// the pool threads. points.laz: the same file, LASzip-compressed.
 #include <algorithm>
 
 #include "beamtrace/core/error.hpp"
@@ -53,6 +54,14 @@ LasWriterConfig las_config(const SinkFacts& facts, const detail::WavePacketStrea
                     record.begin() + static_cast<std::ptrdiff_t>(
                                          std::min<std::size_t>(record.size(), kMaxProvenance)));
     las.vlrs.push_back(std::move(vlr));
+    if (!facts.extra_bytes.empty()) {
+        std::vector<LasExtraBytesDescriptor> fields;
+        for (const PointAttribute a : facts.extra_bytes) {
+            fields.push_back(point_attribute_descriptor(a));
+        }
+        las.extra_bytes_per_point = static_cast<std::uint16_t>(las_extra_bytes_size(fields));
+        las.vlrs.push_back(las_extra_bytes_vlr(fields));
+    }
     if (waves != nullptr) {
         las.waveform_storage = facts.waveform->storage;
         for (auto& d : waves->vlrs()) {
@@ -65,13 +74,15 @@ LasWriterConfig las_config(const SinkFacts& facts, const detail::WavePacketStrea
 class LasSink final : public PointSink {
   public:
     explicit LasSink(const SinkFacts& facts)
-        : waves_(wave_packets(facts)),
+        : extra_(facts.extra_bytes),
+          waves_(wave_packets(facts)),
           writer_(
               std::make_unique<LasWriter>(facts.output_dir / "points.las",
                                           las_config(facts, waves_.get(), LasCompression::none))) {}
     /// points.laz: no wave packets (the survey refuses `laz` with kept waveforms).
     LasSink(const SinkFacts& facts, LasCompression compression)
-        : writer_(std::make_unique<LasWriter>(facts.output_dir / "points.laz",
+        : extra_(facts.extra_bytes),
+          writer_(std::make_unique<LasWriter>(facts.output_dir / "points.laz",
                                               las_config(facts, nullptr, compression))) {}
 
     [[nodiscard]] std::unique_ptr<SinkBuffer> make_buffer() const override {
@@ -86,11 +97,12 @@ class LasSink final : public PointSink {
         }
         if (waves_) {
             waves_->encode(block, *writer_, las, static_cast<LasBuffer&>(out).packets);
-            return;
+        } else {
+            for (const BlockPoint& p : block.points) {
+                writer_->encode(static_cast<const LasSimplePoint&>(p), las);
+            }
         }
-        for (const BlockPoint& p : block.points) {
-            writer_->encode(static_cast<const LasSimplePoint&>(p), las);
-        }
+        encode_las_extra_bytes(extra_, block.points, *writer_, las);
     }
     void write(const SinkBuffer& encoded) override {
         const auto& buffer = static_cast<const LasBuffer&>(encoded);
@@ -112,11 +124,29 @@ class LasSink final : public PointSink {
     }
 
   private:
+    std::vector<PointAttribute> extra_;
     std::unique_ptr<detail::WavePacketStream> waves_;
     std::unique_ptr<LasWriter> writer_;
 };
 
 }  // namespace
+
+void encode_las_extra_bytes(std::span<const PointAttribute> attributes,
+                            std::span<const BlockPoint> points, const LasWriter& writer,
+                            LasRecordBlock& records) {
+    if (attributes.empty()) {
+        return;
+    }
+    const std::size_t length = writer.header().point_record_length;
+    const std::size_t field = las_point_record_size(writer.header().point_format);
+    std::uint8_t* r = records.bytes.data() + (records.count - points.size()) * length + field;
+    for (const BlockPoint& p : points) {
+        encode_point_attributes(
+            attributes, {p.range_m, p.incidence_deg, p.echo_width_ns, p.channel, p.point_source_id},
+            r);
+        r += length;
+    }
+}
 
 LasWriterConfig survey_las_config(const SinkFacts& facts) {
     return las_config(facts, nullptr, LasCompression::none);

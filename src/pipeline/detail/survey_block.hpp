@@ -36,6 +36,8 @@ struct BlockWork {
     std::vector<SubRayHit> sub;
     PulseResponse response;
     std::vector<std::uint32_t> return_face;  ///< the face of each return (max_returns per pulse)
+    /// |cos| of the incidence of the sample that dominated each return (max_returns per pulse)
+    std::vector<float> return_cos_incidence;
     // Edge cells (physics/beam_divergence.hpp): the cells of pulse k that probes sample again
     // are edge_cell[edge_start[k], edge_start[k + 1]), cell i of that list has the probe rays
     // [i P, (i + 1) P) of probe_rays (P probes per cell).
@@ -63,6 +65,7 @@ struct BlockWork {
         scan_angle.resize(pulse_count);
         returns.resize(pulse_count * max_returns);
         return_face.resize(pulse_count * max_returns);
+        return_cos_incidence.resize(pulse_count * max_returns);
         return_count.resize(pulse_count);
         sub.resize(sub_rays);
         points.clear();

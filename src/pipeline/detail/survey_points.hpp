@@ -19,9 +19,16 @@ struct SurveyPoints {
     /// Per scene part: LAS red, green, blue (its material's colour in sRGB, 16 bits) and NIR
     /// (its reflectance); empty: all 0. part_colours() makes it.
     std::vector<std::array<std::uint16_t, 4>> colours;
+    /// Fill BlockPoint::incidence_deg (the LAS extra bytes ask for it).
+    bool incidence = false;
 
     /// Appends the block's points to w.points.points, in pulse order. Thread-safe.
     void run(BlockWork& w) const;
+
+  private:
+    /// The incidence angle of pulse k's return r (physics: of the sample that dominated it;
+    /// else of the pulse's ray and the hit face's normal), degrees.
+    [[nodiscard]] float incidence_deg(const BlockWork& w, std::size_t k, std::size_t r) const;
 };
 
 /// The colours of SurveyPoints::colours for `scene`'s parts: red, green, blue from the part
