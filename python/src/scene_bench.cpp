@@ -20,12 +20,13 @@ namespace {
 py::tuple intersect_seconds(PyScene& self, const py::handle& origins, const py::handle& directions,
                             const std::string& backend, unsigned threads, unsigned repeats) {
     const BackendKind kind = parse_backend_kind(backend);
-    const RayBatch rays = make_rays(origins, directions, std::numeric_limits<double>::infinity());
+    ThreadPool pool(threads);
+    const RayBatch rays =
+        make_rays(origins, directions, std::numeric_limits<double>::infinity(), pool);
     double best = std::numeric_limits<double>::infinity();
     std::size_t hit_count = 0;
     {
         py::gil_scoped_release release;
-        ThreadPool pool(threads);
         const Backend& b = self.backend(kind, pool);
         HitBatch hits;
         hits.resize(rays.size());
