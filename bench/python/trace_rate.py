@@ -89,7 +89,7 @@ def main():
         ratio = cpp_best / py_best
         worst = min(worst, ratio)
         label = threads if threads else f"{os.cpu_count()} (0)"
-        print(f"| {label} | {args.rays / py_best / 1e6:.2f} | {args.rays / cpp_best / 1e6:.2f} "
+        print(f"| {label} | {args.rays / py_best / 1e6:.3g} | {args.rays / cpp_best / 1e6:.3g} "
               f"| {ratio:.3f} |")
     if worst < args.min_ratio:
         sys.exit(f"trace_rate: ratio {worst:.3f} below --min-ratio {args.min_ratio}")

@@ -40,7 +40,9 @@ RowProblem row_problem(const Vec3d& org, const Vec3d& dir, double len) {
     throw py::value_error(std::string(name) + ": row " + std::to_string(row) + " " + what);
 }
 
-constexpr std::size_t kGrain = 16384;
+// Rows per block: a batch up to this size is converted on the calling thread (waking the pool
+// costs more than it saves).
+constexpr std::size_t kGrain = 65536;
 
 }  // namespace
 
