@@ -21,8 +21,8 @@ struct Hits {
 // The per-ray results before they become arrays (filled with the GIL released).
 struct TraceOutput {
     HitBatch hits;
-    std::vector<std::int64_t> face, part, label;
-    std::vector<double> normal;  ///< 3 per ray
+    OutputVector<std::int64_t> face, part, label;  // written ray by ray: no zero fill first
+    OutputVector<double> normal;                   ///< 3 per ray
 };
 
 // Face, part, label and normal of the hits of rays [begin, end) (a miss: -1, normal 0).
@@ -31,6 +31,7 @@ void describe_hits(const Scene& scene, const RayBatch& rays, TraceOutput& out, s
     for (std::size_t i = begin; i < end; ++i) {
         if (!out.hits.hit(i)) {
             out.face[i] = out.part[i] = out.label[i] = -1;
+            out.normal[3 * i] = out.normal[3 * i + 1] = out.normal[3 * i + 2] = 0.0;
             continue;
         }
         const std::uint32_t f = out.hits.face[i];
@@ -57,7 +58,7 @@ void trace_and_describe(const Scene& scene, const Backend& b, const RayBatch& ra
     out.face.resize(n);
     out.part.resize(n);
     out.label.resize(n);
-    out.normal.resize(3 * n);  // 0 for a miss
+    out.normal.resize(3 * n);
     pool.parallel_for(n, b.traits().preferred_batch_rays, [&](std::size_t begin, std::size_t end) {
         ThreadPool serial(1);  // no workers: this thread traces the block
         b.intersect(rays, begin, end, out.hits, serial);
