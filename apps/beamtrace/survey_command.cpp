@@ -3,9 +3,9 @@
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
-#include <thread>
 #include <memory>
 #include <string>
+#include <thread>
 
 #include "beamtrace/core/error.hpp"
 #include "beamtrace/core/memory_usage.hpp"
@@ -167,6 +167,9 @@ std::function<int()> add_survey_command(CLI::App& app, Communicator* world) {
            "--backend", [&rc](const std::string& s) { rc.backend = parse_backend_kind(s); },
            backend_choices())
         ->default_str(std::string(to_string(rc.backend)));
+    cmd->add_option("--max-pulses", rc.max_pulses,
+                    "Run the first N pulses only (0 = all; the same points as the full run's)")
+        ->capture_default_str();
     cmd->add_flag("--quiet", opts->quiet, "No progress bar and no summary");
     cmd->add_flag("--progress", opts->progress,
                   "Show the progress bar even when not on a terminal");

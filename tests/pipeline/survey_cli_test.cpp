@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <string>
 
+#include "beamtrace/io/las_reader.hpp"
 #include "test_support.hpp"
 
 namespace beamtrace {
@@ -122,6 +123,34 @@ TEST(SurveyCli, WriteFailureLeavesNoPartialOrTemporaryFiles) {
                      "scene: scene.yaml\n" + std::string(kGoodScanner) + "output: {csv: true}\n");
     const auto r = run_survey_cli(dir, "trap '' XFSZ; ulimit -f 128; ");
     expect_one_line_error(r, (dir / "out").string(), dir / "out");
+}
+
+}  // namespace
+}  // namespace beamtrace
+
+namespace beamtrace {
+namespace {
+
+TEST(SurveyCli, MaxPulsesGivesTheFirstPointsOfTheFullRun) {
+    test::TempDir dir;
+    test::write_file(dir / "scene.yaml", kFloor);
+    test::write_file(dir / "survey.yaml", std::string("scene: scene.yaml\n") + kGoodScanner);
+    ASSERT_EQ(run_survey_cli(dir, "", (dir / "full").string()).exit_code, 0);
+    const auto r = test::run_command(
+        "'" + std::string(BEAMTRACE_CLI_PATH) + "' survey '" + (dir / "survey.yaml").string() +
+        "' --quiet --max-pulses 5000 --output '" + (dir / "part").string() + "'");
+    ASSERT_EQ(r.exit_code, 0) << r.out;
+    const auto full = read_las_points(dir / "full" / "points.las");
+    const auto part = read_las_points(dir / "part" / "points.las");
+    ASSERT_GT(part.size(), 1000u);
+    ASSERT_LT(part.size(), full.size());
+    for (std::size_t i = 0; i < part.size(); ++i) {
+        ASSERT_EQ(part[i].x, full[i].x) << i;
+        ASSERT_EQ(part[i].y, full[i].y) << i;
+        ASSERT_EQ(part[i].gps_time, full[i].gps_time) << i;
+    }
+    // Every point of the full run after them comes from a later pulse.
+    EXPECT_GT(full[part.size()].gps_time, part.back().gps_time);
 }
 
 }  // namespace

@@ -21,14 +21,7 @@
 namespace beamtrace {
 namespace {
 
-constexpr const char* kBoxRoom = R"(parts:
-  - {plane: {point_m: [0, 0, -5], normal: [0, 0, 1], size_m: 20}, label: 2}
-  - {plane: {point_m: [0, 0, 5], normal: [0, 0, -1], size_m: 20}, label: 3}
-  - {plane: {point_m: [10, 0, 1.5], normal: [-1, 0, 0], size_m: 20}, label: 6}
-  - {plane: {point_m: [-10, 0, 1.5], normal: [1, 0, 0], size_m: 20}, label: 6}
-  - {plane: {point_m: [0, 10, 1.5], normal: [0, -1, 0], size_m: 20}, label: 6}
-  - {plane: {point_m: [0, -10, 1.5], normal: [0, 1, 0], size_m: 20}, label: 6}
-)";
+using test::kBoxRoom;
 
 TEST(SurveySensorPresets, Vlp16InABoxRoomGivesThePointsPerRevolutionPerLaser) {
     test::TempDir dir;

@@ -20,14 +20,7 @@ namespace {
 
 using test::run_and_read;
 
-constexpr const char* kRoom = R"(parts:
-  - {plane: {point_m: [0, 0, -5], normal: [0, 0, 1], size_m: 20}, label: 2}
-  - {plane: {point_m: [0, 0, 5], normal: [0, 0, -1], size_m: 20}, label: 3}
-  - {plane: {point_m: [10, 0, 1.5], normal: [-1, 0, 0], size_m: 20}, label: 6}
-  - {plane: {point_m: [-10, 0, 1.5], normal: [1, 0, 0], size_m: 20}, label: 6}
-  - {plane: {point_m: [0, 10, 1.5], normal: [0, -1, 0], size_m: 20}, label: 6}
-  - {plane: {point_m: [0, -10, 1.5], normal: [0, 1, 0], size_m: 20}, label: 6}
-)";
+constexpr const char* kRoom = test::kBoxRoom;
 
 TEST(Survey, StaticRotatingScannerInABoxRoom) {
     test::TempDir dir;

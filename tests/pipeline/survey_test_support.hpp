@@ -10,6 +10,16 @@
 
 namespace beamtrace::test {
 
+/// A closed 20 m box room (floor label 2, ceiling 3, walls 6) around the origin, as a scene file.
+constexpr const char* kBoxRoom = R"(parts:
+  - {plane: {point_m: [0, 0, -5], normal: [0, 0, 1], size_m: 20}, label: 2}
+  - {plane: {point_m: [0, 0, 5], normal: [0, 0, -1], size_m: 20}, label: 3}
+  - {plane: {point_m: [10, 0, 1.5], normal: [-1, 0, 0], size_m: 20}, label: 6}
+  - {plane: {point_m: [-10, 0, 1.5], normal: [1, 0, 0], size_m: 20}, label: 6}
+  - {plane: {point_m: [0, 10, 1.5], normal: [0, -1, 0], size_m: 20}, label: 6}
+  - {plane: {point_m: [0, -10, 1.5], normal: [0, 1, 0], size_m: 20}, label: 6}
+)";
+
 /// Writes `yaml` as survey.yaml in `dir` and runs it into dir/out.
 inline void run_survey_in(const std::string& yaml, const TempDir& dir, unsigned threads,
                           std::size_t chunk, std::uint64_t seed) {
