@@ -12,7 +12,9 @@ pkgs=(build-essential cmake libcli11-dev libpng-dev libtiff-dev libyaml-cpp-dev 
       # surveys across MPI ranks (mpirun -n N beamtrace survey, docs/cluster.md) and their tests
       libopenmpi-dev openmpi-bin
       # the Python module (python/, docs/python.md) and its pytest suite
-      pybind11-dev python3-dev python3-numpy python3-pytest)
+      pybind11-dev python3-dev python3-numpy python3-pytest
+      # `pip install .` of the module (setup.py), offline, and its test (a venv)
+      python3-pip python3-setuptools python3-wheel python3-venv)
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

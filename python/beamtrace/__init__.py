@@ -6,6 +6,7 @@
     points, header = beamtrace.read_las("cloud.laz")
     points = beamtrace.run_survey("examples/surveys/tripod_panorama.yaml", seed=1)
     image = beamtrace.render("demo", size=(320, 240))  # (240, 320, 3) uint8
+    image = beamtrace.view("cloud.las", size=(640, 360))  # (360, 640, 3) uint8
 """
 
 import json
@@ -25,6 +26,7 @@ from ._beamtrace import (
     _run_survey_text,
     read_las,
     render,
+    view,
 )
 
 __all__ = [
@@ -38,6 +40,7 @@ __all__ = [
     "__version__",
     "read_las",
     "render",
+    "view",
     "run_survey",
 ]
 

@@ -16,6 +16,8 @@ void bind_scene(py::module_& m);
 void bind_las(py::module_& m);
 /// beamtrace.render.
 void bind_render(py::module_& m);
+/// beamtrace.view.
+void bind_view(py::module_& m);
 /// beamtrace.run_survey's C++ part (_run_survey_file, _run_survey_text).
 void bind_survey(py::module_& m);
 

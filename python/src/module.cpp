@@ -14,4 +14,5 @@ PYBIND11_MODULE(_beamtrace, m) {
     bp::bind_las(m);
     bp::bind_survey(m);
     bp::bind_render(m);
+    bp::bind_view(m);
 }

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "bindings.hpp"
@@ -26,12 +27,39 @@ using CArray = py::array_t<T, py::array::c_style | py::array::forcecast>;
 /// naming `name` when its dtype is not an integer one or its shape is wrong.
 [[nodiscard]] CArray<std::int64_t> index_array(const py::handle& obj, const char* name, int ndim);
 
-/// Moves `v` into a NumPy array of `shape` (its size must match) that owns it: no copy.
+/// An allocator whose resize() leaves new elements uninitialised (default-initialised): for
+/// output buffers that are filled element by element afterwards, on several threads.
 template <typename T>
-[[nodiscard]] py::array_t<T> to_numpy(std::vector<T>&& v, const std::vector<py::ssize_t>& shape) {
-    auto owned = std::make_unique<std::vector<T>>(std::move(v));
+struct UninitAllocator : std::allocator<T> {
+    template <typename U>
+    struct rebind {
+        using other = UninitAllocator<U>;
+    };
+    UninitAllocator() = default;
+    template <typename U>
+    explicit UninitAllocator(const UninitAllocator<U>& /*other*/) {}
+    template <typename U>
+    void construct(U* p) {
+        ::new (static_cast<void*>(p)) U;
+    }
+    template <typename U, typename... Args>
+    void construct(U* p, Args&&... args) {
+        ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+    }
+};
+
+/// A vector for output buffers that every element of is written before it is read.
+template <typename T>
+using OutputVector = std::vector<T, UninitAllocator<T>>;
+
+/// Moves `v` into a NumPy array of `shape` (its size must match) that owns it: no copy.
+template <typename T, typename Alloc>
+[[nodiscard]] py::array_t<T> to_numpy(std::vector<T, Alloc>&& v,
+                                      const std::vector<py::ssize_t>& shape) {
+    using Vector = std::vector<T, Alloc>;
+    auto owned = std::make_unique<Vector>(std::move(v));
     T* data = owned->data();
-    py::capsule base(owned.get(), [](void* p) { delete static_cast<std::vector<T>*>(p); });
+    py::capsule base(owned.get(), [](void* p) { delete static_cast<Vector*>(p); });
     owned.release();
     return py::array_t<T>(shape, data, base);
 }

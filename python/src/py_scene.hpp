@@ -44,5 +44,7 @@ class PyScene {
 void bind_scene_queries(py::module_& m, py::class_<PyScene>& scene);
 /// Registers Scene.all_hits and the AllHits class on `scene`.
 void bind_scene_all_hits(py::module_& m, py::class_<PyScene>& scene);
+/// Registers Scene._intersect_seconds (the C++ rate for bench/python/trace_rate.py) on `scene`.
+void bind_scene_bench(py::class_<PyScene>& scene);
 
 }  // namespace beamtrace::python

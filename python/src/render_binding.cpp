@@ -4,32 +4,17 @@
 #include <pybind11/stl.h>
 #include <pybind11/stl/filesystem.h>
 
-#include <cstdio>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "beamtrace/pipeline/render_job.hpp"
 #include "bindings.hpp"
+#include "camera_text.hpp"
 #include "numpy_arrays.hpp"
 
 namespace beamtrace::python {
 namespace {
-
-/// A camera or look-at argument as the CLI's text: "X,Y,Z,..." as given, or a sequence of numbers
-/// joined with commas (every digit of each).
-std::string position_text(const py::handle& value) {
-    if (py::isinstance<py::str>(value)) {
-        return value.cast<std::string>();
-    }
-    std::string text;
-    for (const py::handle item : value) {
-        char number[32];
-        std::snprintf(number, sizeof number, "%.17g", item.cast<double>());
-        text += (text.empty() ? "" : ",") + std::string(number);
-    }
-    return text;
-}
 
 /// What render() was given, besides the scene.
 struct RenderArgs {

@@ -63,11 +63,11 @@ AllHitsArrays all_hits(PyScene& self, const py::handle& origins, const py::handl
                        const std::string& facing) {
     const BackendKind kind = parse_backend_kind(backend);
     const Facing sides = parse_facing(facing);
-    const RayBatch rays = make_rays(origins, directions, max_range_m);
+    ThreadPool pool(threads);
+    const RayBatch rays = make_rays(origins, directions, max_range_m, pool);
     AllHitsOutput out;
     {
         py::gil_scoped_release release;
-        ThreadPool pool(threads);
         self.backend(kind, pool).intersect_all(rays, sides, out.hits, pool);
         describe(self.scene(), out);
     }

@@ -55,6 +55,7 @@ void bind_scene(py::module_& m) {
                                 "material");
     bind_scene_queries(m, scene);
     bind_scene_all_hits(m, scene);
+    bind_scene_bench(scene);
 }
 
 }  // namespace beamtrace::python

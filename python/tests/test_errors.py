@@ -101,3 +101,19 @@ def test_bad_mesh_file_names_the_line(tmp_path):
     path.write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n")
     with pytest.raises(beamtrace.InputError, match=re.escape(f"{path}:4")):
         beamtrace.Scene.load(path)
+
+
+def test_the_lowest_bad_row_is_named_whichever_thread_finds_it(scene):
+    # Rows are checked in blocks on several threads: the message names the lowest bad row.
+    origins = np.zeros((200_000, 3))
+    directions = np.tile([0.0, 0.0, -1.0], (200_000, 1))
+    for row in (180_000, 120_000, 70_000):
+        directions[row] = 0.0
+    origins[150_000, 0] = np.inf
+    for threads in (1, 2, 4):
+        with pytest.raises(ValueError, match="^directions: row 70000 has zero length$"):
+            scene.trace(origins, directions, threads=threads)
+    directions[70_000] = [0.0, 0.0, 1.0]
+    origins[100_000, 2] = np.nan
+    with pytest.raises(ValueError, match="^origins: row 100000 is not finite$"):
+        scene.occluded(origins, directions, threads=4)

@@ -160,3 +160,18 @@ def test_zero_copy_and_concurrent_calls():
     for hits in results:
         np.testing.assert_array_equal(hits.range_m, reference.range_m)
         np.testing.assert_array_equal(hits.face, reference.face)
+
+
+def test_misses_after_hits_read_minus_one_and_zero():
+    # The output buffers are not zeroed before they are filled, and the allocator hands the
+    # memory of earlier results out again: every miss must still be written.
+    scene = beamtrace.Scene.from_arrays(*unit_cube())
+    start = np.tile([0.5, 0.5, 3.0], (3000, 1))
+    down = np.tile([0.0, 0.0, -1.0], (3000, 1))
+    for _ in range(3):
+        hits = scene.trace(start, down, threads=2)
+        assert (hits.face >= 0).all() and np.abs(hits.normal).sum() == 3000
+        del hits
+        misses = scene.trace(start, -down, threads=2)
+        assert (misses.face == -1).all() and (misses.part == -1).all()
+        assert (misses.label == -1).all() and not misses.normal.any()
