@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
+#include <exception>
 #include <memory>
 #include <string>
 #include <thread>
@@ -85,7 +86,21 @@ SurveyResult run_either(const SurveySpec& spec, const SurveyCommand& o, const Su
 constexpr int kEmptyResultExit = 3;
 
 int run(const SurveyCommand& o) {
-    const SurveySpec spec = load_survey_spec(o.file);
+    // Across MPI ranks every rank reads the file; they agree on any error before going on, so
+    // a rank that cannot read it never leaves the others waiting.
+    SurveySpec spec;
+    std::exception_ptr error;
+    try {
+        spec = load_survey_spec(o.file);
+    } catch (...) {
+        error = std::current_exception();
+        if (o.world == nullptr) {
+            throw;
+        }
+    }
+    if (o.world != nullptr) {
+        agree_on_error(*o.world, error);
+    }
     // Across MPI ranks rank 0 alone shows progress and the summary.
     const bool reports = o.world == nullptr || o.world->rank() == 0;
     ProgressBar bar("surveying", reports && !o.quiet && (o.progress || stderr_is_terminal()));

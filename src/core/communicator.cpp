@@ -5,6 +5,8 @@
 
 #include <cerrno>
 #include <cstring>
+#include <exception>
+#include <limits>
 
 #include "beamtrace/core/error.hpp"
 
@@ -81,6 +83,46 @@ class SoloCommunicator final : public Communicator {
 };
 
 }  // namespace
+
+void agree_on_error(Communicator& comm, const std::exception_ptr& error) {
+    std::int64_t first = error ? comm.rank() : std::numeric_limits<std::int64_t>::max();
+    comm.min({&first, 1});
+    if (first == std::numeric_limits<std::int64_t>::max()) {
+        return;
+    }
+    // The kind (c config, i input, x interrupted, o other) and the message of that rank.
+    std::string said;
+    if (error) {
+        try {
+            std::rethrow_exception(error);
+        } catch (const ConfigError& e) {
+            said = std::string("c") + e.what();
+        } catch (const InputError& e) {
+            said = std::string("i") + e.what();
+        } catch (const Interrupted& e) {
+            said = "x" + std::to_string(e.reason());
+        } catch (const std::exception& e) {
+            said = std::string("o") + e.what();
+        } catch (...) {
+            said = "ounknown error";
+        }
+    }
+    said = comm.broadcast(said, static_cast<int>(first));
+    if (error) {
+        std::rethrow_exception(error);
+    }
+    const std::string text = said.substr(1);
+    switch (said.empty() ? 'o' : said[0]) {
+        case 'c':
+            throw ConfigError(text);
+        case 'i':
+            throw InputError("rank " + std::to_string(first), text);
+        case 'x':
+            throw Interrupted("survey", std::stoi(text));
+        default:
+            throw OutputError("rank " + std::to_string(first) + ": " + text);
+    }
+}
 
 std::unique_ptr<Communicator> solo_communicator() {
     return std::make_unique<SoloCommunicator>();

@@ -22,50 +22,7 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-/// Collective: returns when no rank has an error. Otherwise every rank throws: a rank with its
-/// own error rethrows it, the others an error of the same kind with the message of the lowest
-/// failing rank.
-void agree(Communicator& comm, const std::exception_ptr& error) {
-    std::int64_t first = error ? comm.rank() : std::numeric_limits<std::int64_t>::max();
-    comm.min({&first, 1});
-    if (first == std::numeric_limits<std::int64_t>::max()) {
-        return;
-    }
-    // The kind (c config, i input, x interrupted, o other) and the message of that rank.
-    std::string said;
-    if (error) {
-        try {
-            std::rethrow_exception(error);
-        } catch (const ConfigError& e) {
-            said = std::string("c") + e.what();
-        } catch (const InputError& e) {
-            said = std::string("i") + e.what();
-        } catch (const Interrupted& e) {
-            said = "x" + std::to_string(e.reason());
-        } catch (const std::exception& e) {
-            said = std::string("o") + e.what();
-        } catch (...) {
-            said = "ounknown error";
-        }
-    }
-    said = comm.broadcast(said, static_cast<int>(first));
-    if (error) {
-        std::rethrow_exception(error);
-    }
-    const std::string text = said.substr(1);
-    switch (said.empty() ? 'o' : said[0]) {
-        case 'c':
-            throw ConfigError(text);
-        case 'i':
-            throw InputError("rank " + std::to_string(first), text);
-        case 'x':
-            throw Interrupted("survey", std::stoi(text));
-        default:
-            throw OutputError("rank " + std::to_string(first) + ": " + text);
-    }
-}
-
-/// Runs `step` on every rank, then agree()s on the outcome.
+/// Runs `step` on every rank, then agree_on_error()s on the outcome.
 template <class Step>
 void collectively(Communicator& comm, Step&& step) {
     std::exception_ptr error;
@@ -74,7 +31,7 @@ void collectively(Communicator& comm, Step&& step) {
     } catch (...) {
         error = std::current_exception();
     }
-    agree(comm, error);
+    agree_on_error(comm, error);
 }
 
 /// ConfigError for what the ranks cannot write together.
@@ -169,7 +126,7 @@ struct RoundRecords {
 /// The survey's rounds. While the ranks exchange their byte counts and write round r, the pool
 /// traces round r + 1 (on a thread of its own): the writing overlaps the tracing, as in a
 /// one-process survey. One all_gather per round: the byte counts, or kFailed from a rank whose
-/// tracing, progress callback or writing failed (then every rank agree()s on the error).
+/// tracing, progress callback or writing failed (then every rank agree_on_error()s).
 class RoundWriter {
   public:
     RoundWriter(const detail::SurveySession& session, const LasWriter& encoder, SharedFile& file,
@@ -213,7 +170,7 @@ class RoundWriter {
                 if (next.valid()) {
                     next.wait();  // its own error, if any, is not needed: one is enough
                 }
-                agree(comm_, error);
+                agree_on_error(comm_, error);
             }
             std::uint64_t before = 0, all = 0;
             for (std::size_t k = 0; k < sizes.size(); ++k) {
@@ -228,7 +185,7 @@ class RoundWriter {
             las_add_totals(totals, mine.totals);
             written += all;
         }
-        agree(comm_, error);
+        agree_on_error(comm_, error);
         return totals;
     }
 

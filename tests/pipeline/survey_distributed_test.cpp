@@ -133,6 +133,34 @@ TEST(SurveyDistributed, AFailingRankStopsEveryRankAndLeavesNothing) {
     EXPECT_FALSE(fs::exists(dir / "out")) << "the folder the run made is removed with its files";
 }
 
+TEST(SurveyDistributed, OneRanksErrorReachesEveryRankWithItsKindAndMessage) {
+    // Rank 2 alone fails (a file only its node cannot read); the others learn it at once.
+    std::vector<std::string> kinds(3), messages(3);
+    test::ThreadWorld world(3);
+    world.run([&](Communicator& comm) {
+        const auto r = static_cast<std::size_t>(comm.rank());
+        agree_on_error(comm, nullptr);  // nobody failed: everyone goes on
+        std::exception_ptr error;
+        if (comm.rank() == 2) {
+            error = std::make_exception_ptr(ConfigError("bad.yaml:3: scanner.preset: unknown"));
+        }
+        try {
+            agree_on_error(comm, error);
+            kinds[r] = "none";
+        } catch (const ConfigError& e) {
+            kinds[r] = "config";
+            messages[r] = e.what();
+        } catch (const std::exception& e) {
+            kinds[r] = "other";
+            messages[r] = e.what();
+        }
+    });
+    for (std::size_t r = 0; r < 3; ++r) {
+        EXPECT_EQ(kinds[r], "config") << r;
+        EXPECT_EQ(messages[r], "bad.yaml:3: scanner.preset: unknown") << r;
+    }
+}
+
 TEST(SurveyDistributed, OutputsTheRanksCannotWriteTogetherAreRefusedOnEveryRank) {
     SurveySpec spec = example("car_hdl64");
     spec.outputs = {"las", "csv"};

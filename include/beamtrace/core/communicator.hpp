@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <exception>
 #include <filesystem>
 #include <memory>
 #include <span>
@@ -45,6 +46,12 @@ class Communicator {
     [[nodiscard]] virtual std::unique_ptr<SharedFile> open_shared(
         const std::filesystem::path& path) = 0;
 };
+
+/// Collective: returns when no rank has an error (`error` null on every rank). Otherwise every
+/// rank throws: a rank with its own error rethrows it, the others an error of the same kind
+/// (ConfigError, InputError, Interrupted; OutputError for any other) with the message of the
+/// lowest failing rank, so that rank 0 alone can report it.
+void agree_on_error(Communicator& comm, const std::exception_ptr& error);
 
 /// The communicator of a process on its own: rank 0 of 1.
 [[nodiscard]] std::unique_ptr<Communicator> solo_communicator();
