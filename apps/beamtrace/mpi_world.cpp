@@ -45,21 +45,6 @@ class MpiFile final : public SharedFile {
     MpiFile(const MpiFile&) = delete;
     MpiFile& operator=(const MpiFile&) = delete;
 
-    void write_at_all(std::uint64_t offset, std::span<const std::uint8_t> bytes) override {
-        // Every rank makes the same number of collective calls: the most any rank needs.
-        long long pieces = -static_cast<long long>((bytes.size() + kPiece - 1) / kPiece);
-        check(MPI_Allreduce(MPI_IN_PLACE, &pieces, 1, MPI_LONG_LONG, MPI_MIN, comm_),
-              path_.string());
-        for (long long k = 0; k < -pieces; ++k) {
-            const std::size_t from = std::min(bytes.size(), static_cast<std::size_t>(k) * kPiece);
-            const std::size_t size = std::min(kPiece, bytes.size() - from);
-            MPI_Status status;
-            check(MPI_File_write_at_all(file_, static_cast<MPI_Offset>(offset + from),
-                                        bytes.data() + from, static_cast<int>(size), MPI_BYTE,
-                                        &status),
-                  path_.string() + ": write failed");
-        }
-    }
     void write_at(std::uint64_t offset, std::span<const std::uint8_t> bytes) override {
         for (std::size_t from = 0; from < bytes.size(); from += kPiece) {
             const std::size_t size = std::min(kPiece, bytes.size() - from);
@@ -100,11 +85,6 @@ class MpiCommunicator final : public Communicator {
         check(MPI_Allgather(&value, 1, MPI_UINT64_T, out.data(), 1, MPI_UINT64_T, MPI_COMM_WORLD),
               "MPI gather");
         return out;
-    }
-    [[nodiscard]] std::uint64_t exclusive_sum(std::uint64_t value) override {
-        std::uint64_t below = 0;
-        check(MPI_Exscan(&value, &below, 1, MPI_UINT64_T, MPI_SUM, MPI_COMM_WORLD), "MPI scan");
-        return rank_ == 0 ? 0 : below;  // MPI leaves rank 0's result undefined
     }
     [[nodiscard]] std::string broadcast(const std::string& text, int root) override {
         unsigned long long size = text.size();

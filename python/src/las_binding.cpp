@@ -11,14 +11,10 @@
 
 #include "beamtrace/io/las_reader.hpp"
 #include "bindings.hpp"
+#include "numpy_arrays.hpp"
 
 namespace beamtrace::python {
 namespace {
-
-struct Field {
-    const char* name;
-    const char* format;  ///< NumPy type code (native byte order, as memcpy writes it)
-};
 
 /// The columns of read_las's array, packed in this order (write_point follows it).
 constexpr std::array<Field, 14> kFields{{{"x", "f8"},
@@ -38,19 +34,12 @@ constexpr std::array<Field, 14> kFields{{{"x", "f8"},
 constexpr std::size_t kRecordBytes = 3 * 8 + 2 + 3 + 8 + 4 + 2 + 3 * 2 + 1;
 
 py::dtype point_dtype() {
-    py::list fields;
-    for (const Field& f : kFields) {
-        fields.append(py::make_tuple(f.name, f.format));
-    }
-    return py::dtype::from_args(fields);
+    return structured_dtype(kFields);
 }
 
 void write_point(const LasPoint& p, std::uint8_t* record) {
     std::size_t at = 0;
-    const auto put = [&](const auto value) {
-        std::memcpy(record + at, &value, sizeof value);
-        at += sizeof value;
-    };
+    const auto put = [&](const auto value) { put_field(record, at, value); };
     put(p.x);
     put(p.y);
     put(p.z);

@@ -3,7 +3,9 @@
 #pragma once
 
 #include <cstdint>
+#include <cstring>
 #include <memory>
+#include <span>
 #include <string>
 #include <utility>
 #include <vector>
@@ -11,6 +13,28 @@
 #include "bindings.hpp"
 
 namespace beamtrace::python {
+
+/// One column of a packed structured array.
+struct Field {
+    const char* name;
+    const char* format;  ///< NumPy type code (native byte order, as put_field writes it)
+};
+
+/// The packed structured dtype of `fields`, in order.
+inline py::dtype structured_dtype(std::span<const Field> fields) {
+    py::list list;
+    for (const Field& f : fields) {
+        list.append(py::make_tuple(f.name, f.format));
+    }
+    return py::dtype::from_args(list);
+}
+
+/// Writes `value`'s bytes at record[at] and moves `at` past them (packed records).
+template <class T>
+void put_field(std::uint8_t* record, std::size_t& at, T value) {
+    std::memcpy(record + at, &value, sizeof value);
+    at += sizeof value;
+}
 
 /// A C-contiguous array of T (converted from the caller's dtype and layout where needed).
 template <typename T>

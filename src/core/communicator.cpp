@@ -31,9 +31,6 @@ class PosixSharedFile final : public SharedFile {
     PosixSharedFile(const PosixSharedFile&) = delete;
     PosixSharedFile& operator=(const PosixSharedFile&) = delete;
 
-    void write_at_all(std::uint64_t offset, std::span<const std::uint8_t> bytes) override {
-        write_at(offset, bytes);
-    }
     void write_at(std::uint64_t offset, std::span<const std::uint8_t> bytes) override {
         std::size_t done = 0;
         while (done < bytes.size()) {
@@ -72,7 +69,6 @@ class SoloCommunicator final : public Communicator {
     [[nodiscard]] std::vector<std::uint64_t> all_gather(std::uint64_t value) override {
         return {value};
     }
-    [[nodiscard]] std::uint64_t exclusive_sum(std::uint64_t /*value*/) override { return 0; }
     [[nodiscard]] std::string broadcast(const std::string& text, int /*root*/) override {
         return text;
     }

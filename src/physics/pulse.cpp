@@ -185,14 +185,12 @@ double PulseSimulator::sub_ray_power_w(const SubRayHit& hit, double weight) cons
 void PulseSimulator::simulate(std::uint64_t seed, std::uint64_t pulse_index,
                               std::span<const SubRayHit> hits, PulseResponse& out) const {
     assert(hits.size() == pattern_.size());
-    std::vector<BeamSample> samples = std::move(out.samples);
-    samples.clear();
+    out.samples.clear();
     const std::size_t n = std::min(hits.size(), pattern_.size());
     for (std::size_t j = 0; j < n; ++j) {
-        samples.push_back(cell_sample(hits[j], j));
+        out.samples.push_back(cell_sample(hits[j], j));
     }
-    simulate_samples(seed, pulse_index, samples, out);
-    out.samples = std::move(samples);
+    simulate_samples(seed, pulse_index, out.samples, out);
 }
 
 BeamSample PulseSimulator::cell_sample(const SubRayHit& hit, std::size_t cell) const {

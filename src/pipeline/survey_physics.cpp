@@ -85,9 +85,8 @@ void SurveyPhysics::simulate(BlockWork& w, std::size_t k) const {
         }
         ++e;
     }
-    std::vector<BeamSample> kept = std::move(samples);
-    sim_->simulate_samples(seed_, w.first + k, kept, w.response);
-    w.response.samples = std::move(kept);
+    // simulate_samples reads the samples and writes the rest of the response.
+    sim_->simulate_samples(seed_, w.first + k, samples, w.response);
 }
 
 void SurveyPhysics::run(BlockWork& w, const Backend& backend) const {

@@ -71,16 +71,6 @@ class ThreadCommunicator final : public Communicator {
         world_.sync_.arrive_and_wait();
         return out;
     }
-    [[nodiscard]] std::uint64_t exclusive_sum(std::uint64_t value) override {
-        mine_u64().assign(1, value);
-        world_.sync_.arrive_and_wait();
-        std::uint64_t below = 0;
-        for (int r = 0; r < rank_; ++r) {
-            below += world_.u64_[static_cast<std::size_t>(r)].at(0);
-        }
-        world_.sync_.arrive_and_wait();
-        return below;
-    }
     [[nodiscard]] std::string broadcast(const std::string& text, int root) override {
         world_.text_[static_cast<std::size_t>(rank_)] = text;
         world_.sync_.arrive_and_wait();

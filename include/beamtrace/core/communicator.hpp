@@ -18,8 +18,6 @@ namespace beamtrace {
 class SharedFile {
   public:
     virtual ~SharedFile() = default;
-    /// Collective: every rank writes its `bytes` (maybe none) at its `offset`.
-    virtual void write_at_all(std::uint64_t offset, std::span<const std::uint8_t> bytes) = 0;
     /// This rank alone writes `bytes` at `offset`.
     virtual void write_at(std::uint64_t offset, std::span<const std::uint8_t> bytes) = 0;
     /// Collective: flushes and closes the file. Throws OutputError naming it on failure.
@@ -37,8 +35,6 @@ class Communicator {
     virtual void min(std::span<std::int64_t> values) = 0;
     /// Every rank's `value`, by rank, on every rank.
     [[nodiscard]] virtual std::vector<std::uint64_t> all_gather(std::uint64_t value) = 0;
-    /// The sum of `value` over the ranks below this one (0 on rank 0).
-    [[nodiscard]] virtual std::uint64_t exclusive_sum(std::uint64_t value) = 0;
     /// Rank `root`'s `text` on every rank.
     [[nodiscard]] virtual std::string broadcast(const std::string& text, int root) = 0;
     /// Collective: `path` created (truncated) for writing by every rank. Throws OutputError
@@ -57,7 +53,7 @@ void agree_on_error(Communicator& comm, const std::exception_ptr& error);
 [[nodiscard]] std::unique_ptr<Communicator> solo_communicator();
 
 /// A SharedFile of POSIX writes (pwrite) to `path`; `create` truncates or creates it, else it
-/// must exist. write_at_all writes this rank's part only (the caller synchronises). Throws
+/// must exist. Throws
 /// OutputError naming the file.
 [[nodiscard]] std::unique_ptr<SharedFile> open_posix_shared_file(const std::filesystem::path& path,
                                                                  bool create);

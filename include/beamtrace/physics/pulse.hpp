@@ -114,11 +114,11 @@ struct PulseReturn {
 };
 
 struct PulseResponse {
-    bool dropped = false;                         ///< lost to a random dropout (then no returns)
-    std::vector<PulseReturn> returns;             ///< what the pulse reports, nearest first
-    std::vector<Echo> echoes;                     ///< every echo detected, before the return mode
-    Waveform waveform;                            ///< the sampled waveform (when keep_waveform)
-    std::vector<double> sub_ray_power_w;          ///< received power of every sub-ray (0: miss)
+    bool dropped = false;                 ///< lost to a random dropout (then no returns)
+    std::vector<PulseReturn> returns;     ///< what the pulse reports, nearest first
+    std::vector<Echo> echoes;             ///< every echo detected, before the return mode
+    Waveform waveform;                    ///< the sampled waveform (when keep_waveform)
+    std::vector<double> sub_ray_power_w;  ///< received power of every sub-ray or sample (0: miss)
     std::vector<EchoContribution> contributions;  ///< the sub-rays with power > 0
     std::vector<BeamSample> samples;              ///< simulate()'s working space
 };
@@ -163,7 +163,8 @@ class PulseSimulator {
     void simulate(std::uint64_t seed, std::uint64_t pulse_index, std::span<const SubRayHit> hits,
                   PulseResponse& out) const;
     /// The same from weighted samples of the beam (their weights sum to 1); returns[r].sub_ray
-    /// is then the index of the sample that contributed most to the echo.
+    /// is then the index of the sample that contributed most to the echo. `samples` may be
+    /// out.samples: only the other fields of `out` are written.
     void simulate_samples(std::uint64_t seed, std::uint64_t pulse_index,
                           std::span<const BeamSample> samples, PulseResponse& out) const;
 

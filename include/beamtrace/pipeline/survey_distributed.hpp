@@ -15,8 +15,9 @@ namespace beamtrace {
 ///
 /// Blocks of 1024 pulses are dealt in rounds of size() x W blocks (W = run.chunk_pulses / 1024,
 /// at least 1): rank i takes the W consecutive blocks i W.. of the round, so the ranks' records
-/// of a round follow each other in the file; each rank encodes its records, the exclusive
-/// prefix sum of the ranks' byte counts gives its offset, and all write at once (write_at_all).
+/// of a round follow each other in the file; each rank encodes its records, all_gather of the
+/// ranks' byte counts gives each its offset (the sum of the counts below it), and each writes
+/// its part there (SharedFile::write_at) while the next round is traced.
 /// The header (counts, counts by return, bounds) comes from reductions, written by rank 0 with
 /// the VLRs. The file is written under a temporary name and renamed by rank 0 once every rank
 /// has succeeded. trajectory.csv is written by rank 0; preview.png is not made (a note says so).
@@ -29,7 +30,8 @@ namespace beamtrace {
 ///
 /// `progress(done, total)` is called on every rank after each round with the pulses done by all
 /// ranks; run.cancel is checked between rounds (any rank's request stops all of them).
-/// Memory per rank: W blocks of points and records, as run_survey's window.
+/// Memory per rank: two rounds of W blocks of points and records (one traced while the other
+/// is written).
 [[nodiscard]] SurveyResult run_survey_distributed(const SurveySpec& spec,
                                                   const SurveyRunConfig& run, Communicator& comm,
                                                   const ProgressFn& progress = {});

@@ -33,7 +33,6 @@ struct BlockWork {
     std::vector<float> scan_angle;
     std::vector<PulseReturn> returns;        ///< max_returns per pulse
     std::vector<std::uint8_t> return_count;  ///< returns of each pulse
-    std::vector<SubRayHit> sub;
     PulseResponse response;
     std::vector<std::uint32_t> return_face;  ///< the face of each return (max_returns per pulse)
     /// |cos| of the incidence of the sample that dominated each return (max_returns per pulse)
@@ -67,7 +66,6 @@ struct BlockWork {
         return_face.resize(pulse_count * max_returns);
         return_cos_incidence.resize(pulse_count * max_returns);
         return_count.resize(pulse_count);
-        sub.resize(sub_rays);
         points.clear();
     }
 };
