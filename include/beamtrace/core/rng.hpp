@@ -29,6 +29,7 @@ enum class RngStream : std::uint32_t {
     waveform_noise = 6,
     gauss_markov_position = 7,  ///< white input of the position Gauss-Markov grid (per node)
     gauss_markov_attitude = 8,  ///< white input of the attitude Gauss-Markov grid (per node)
+    weather_particles = 9,      ///< rain and snow particles drawn in a beam cell (per sub-ray)
     user = 1000,                ///< first value free for callers outside the physics module
 };
 

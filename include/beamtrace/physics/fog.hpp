@@ -1,0 +1,84 @@
+// Fog as a soft target: the medium extinguishes the beam and scatters part of it back, so the
+// received waveform holds, besides the hard targets' echoes, the fog's own echo near the sensor.
+//
+// The monostatic LiDAR equation for a volume (soft) target, with the pulse shape p(t) (peak 1):
+//
+//   P_r(t) = P_t eta A_r  integral_0^R_end  beta xi(r) exp(-2 alpha r) / r^2  p(t - 2 r / c)  dr
+//
+// beta the volume backscatter coefficient [1/(m sr)], xi(r) the overlap of the transmitter's
+// beam and the receiver's field of view (0 close to the sensor, 1 from full_m on), alpha the
+// extinction [1/m] of everything along the path (air, fog, rain), A_r the receiver area [m^2],
+// eta the system efficiency, R_end the end of the path (the hard target that stops the beam or
+// the last range considered). For a rectangular pulse of length tau this is the textbook
+// P_t eta A_r beta (c tau / 2) exp(-2 alpha R) / R^2.
+//
+// Fog from its meteorological optical range (MOR, WMO: the path over which a collimated beam
+// keeps 5 % of its flux): alpha = ln(20) / MOR. In fog the droplets are large against near-
+// infrared wavelengths, so alpha hardly depends on the wavelength (Rasshofer, Spies and Spies,
+// Adv. Radio Sci. 9, 2011). The backscatter coefficient beta = 0.046 / MOR [1/(m sr)] is the
+// value for advection fog of Rasshofer et al. 2011 as used by Hahner et al. (ICCV 2021, "Fog
+// simulation on real LiDAR point clouds"). Both can be overridden.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "beamtrace/physics/waveform.hpp"
+
+namespace beamtrace {
+
+/// How much of the beam the receiver sees at range r: 0 up to start_m, rising linearly to 1 at
+/// full_m, 1 beyond (a biaxial sensor's blind zone and overlap region). start_m > 0: a ramp from
+/// r = 0 would make the fog's echo (xi / r^2 ~ 1 / r) infinite. The defaults are those of a
+/// typical automotive sensor; set them from your sensor's blind zone.
+struct OverlapConfig {
+    double start_m = 0.5;  ///< the receiver sees nothing of the beam closer than this [m]
+    double full_m = 2.0;   ///< full overlap from here on [m], > start_m
+    /// Every problem with these settings; empty when valid.
+    [[nodiscard]] std::vector<std::string> validate() const;
+};
+
+/// xi(r) of the header comment.
+[[nodiscard]] double overlap_fraction(const OverlapConfig& overlap, double range_m);
+
+struct FogConfig {
+    double mor_m = 0.0;  ///< meteorological optical range [m], > 0
+    /// alpha of the fog [1/m]; unset: ln(20) / mor_m.
+    std::optional<double> extinction_per_m;
+    /// beta of the fog [1/(m sr)]; unset: 0.046 / mor_m.
+    std::optional<double> backscatter_per_m_sr;
+    /// Every problem with these settings; empty when valid.
+    [[nodiscard]] std::vector<std::string> validate() const;
+};
+
+/// alpha of the fog [1/m].
+[[nodiscard]] double fog_extinction_per_m(const FogConfig& fog);
+/// beta of the fog [1/(m sr)].
+[[nodiscard]] double fog_backscatter_per_m_sr(const FogConfig& fog);
+
+/// A uniform soft target seen by one beam (or one sub-ray of it).
+struct SoftTarget {
+    double backscatter_per_m_sr = 0.0;  ///< beta of the medium
+    double extinction_per_m = 0.0;      ///< alpha of the whole path (two-way: exp(-2 alpha r))
+    OverlapConfig overlap;
+};
+
+/// How finely the soft target's integral is sampled, and where it stops.
+struct SoftTargetSampling {
+    double slab_m = 0.05;  ///< thickness of one slab [m]; a tenth of c sigma_p / 2 or finer
+    /// Slabs whose peak power falls below this [W] beyond full overlap end the sum (the
+    /// integrand only falls from there on): a fraction of the detection threshold.
+    double cutoff_w = 0.0;
+};
+
+/// Appends the soft target's echo to `out` as one contribution per slab of the path from
+/// overlap.start_m to end_m: a slab [r - d/2, r + d/2] adds a pulse of peak power
+/// emitted_power_w * receiver_gain * beta * xi(r) * exp(-2 alpha r) / r^2 * d at range r,
+/// receiver_gain being eta A_r [m^2]. This is the midpoint rule of the header's integral; its
+/// error is far below 1 % when the slab is a small fraction of the pulse length.
+void add_soft_target_echo(const SoftTarget& medium, double emitted_power_w, double receiver_gain_m2,
+                          double end_m, const SoftTargetSampling& sampling,
+                          std::vector<EchoContribution>& out);
+
+}  // namespace beamtrace
