@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 namespace beamtrace {
 
@@ -66,20 +67,44 @@ double fog_backscatter_per_m_sr(const FogConfig& fog) {
 void add_soft_target_echo(const SoftTarget& medium, double emitted_power_w, double receiver_gain_m2,
                           double end_m, const SoftTargetSampling& sampling,
                           std::vector<EchoContribution>& out) {
-    if (!(medium.backscatter_per_m_sr > 0.0) || !(sampling.slab_m > 0.0)) {
+    const BeamShare whole{1.0, end_m};
+    add_soft_target_echo(medium, emitted_power_w, receiver_gain_m2, std::span(&whole, 1), sampling,
+                         out);
+}
+
+void add_soft_target_echo(const SoftTarget& medium, double emitted_power_w, double receiver_gain_m2,
+                          std::span<const BeamShare> shares, const SoftTargetSampling& sampling,
+                          std::vector<EchoContribution>& out) {
+    if (!(medium.backscatter_per_m_sr > 0.0) || !(sampling.slab_m > 0.0) || shares.empty()) {
         return;
+    }
+    for (const BeamShare& s : shares) {
+        if (!std::isfinite(s.end_m)) {
+            throw std::invalid_argument("add_soft_target_echo: a share's end must be finite");
+        }
+    }
+    std::vector<BeamShare> ends(shares.begin(), shares.end());
+    std::sort(ends.begin(), ends.end(),
+              [](const BeamShare& a, const BeamShare& b) { return a.end_m < b.end_m; });
+    double travelling = 0.0;  // the weight of the shares not yet ended
+    for (const BeamShare& s : ends) {
+        travelling += s.weight;
     }
     const double d = sampling.slab_m;
     const double scale = emitted_power_w * receiver_gain_m2 * medium.backscatter_per_m_sr;
-    const double begin_m = std::max(medium.overlap.start_m, 0.0);
-    for (std::size_t k = 0;; ++k) {
-        const double lo = begin_m + static_cast<double>(k) * d;
-        if (!(lo < end_m)) {
+    std::size_t ended = 0;
+    // Slabs of width d, cut where a share ends so that each lies within one total weight.
+    for (double lo = std::max(medium.overlap.start_m, 0.0);;) {
+        while (ended < ends.size() && !(ends[ended].end_m > lo)) {
+            travelling -= ends[ended++].weight;
+        }
+        if (ended == ends.size()) {
             break;
         }
-        const double width = std::min(d, end_m - lo);
+        const double hi = std::min(lo + d, ends[ended].end_m);
+        const double width = hi - lo;
         const double r = lo + width / 2.0;
-        const double power = scale * width * overlap_fraction(medium.overlap, r) *
+        const double power = scale * travelling * width * overlap_fraction(medium.overlap, r) *
                              std::exp(-2.0 * medium.extinction_per_m * r) / (r * r);
         if (r > medium.overlap.full_m && power < sampling.cutoff_w * (width / d)) {
             break;  // beyond full overlap the integrand only falls
@@ -87,6 +112,7 @@ void add_soft_target_echo(const SoftTarget& medium, double emitted_power_w, doub
         if (power > 0.0) {
             out.push_back({r, power, 0.0});
         }
+        lo = hi;
     }
 }
 

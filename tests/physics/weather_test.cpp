@@ -4,7 +4,9 @@
 
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <numbers>
+#include <stdexcept>
 #include <vector>
 
 #include "beamtrace/physics/atmosphere.hpp"
@@ -140,6 +142,34 @@ TEST(WeatherFog, CutoffEndsTheSumWhereTheEchoIsNegligible) {
     ASSERT_FALSE(short_path.empty());
     EXPECT_LT(short_path.back().range_m, 10.02);
     EXPECT_GT(short_path.back().range_m, 9.99);
+}
+
+TEST(WeatherFog, HardTargetsShadowTheFogBehindThem) {
+    const SoftTarget medium{0.046 / 30.0, std::log(20.0) / 30.0, {0.5, 2.0}};
+    // Half the beam stops at 5 m, the other half at 20 m: the fog's echo is half the echo of
+    // a path to 5 m plus half the echo of a path to 20 m.
+    const std::vector<BeamShare> shares{{0.5, 20.0}, {0.5, 5.0}};
+    std::vector<EchoContribution> split, near, far;
+    add_soft_target_echo(medium, 1000.0, 1e-3, shares, {0.05, 0.0}, split);
+    add_soft_target_echo(medium, 500.0, 1e-3, 5.0, {0.05, 0.0}, near);
+    add_soft_target_echo(medium, 500.0, 1e-3, 20.0, {0.05, 0.0}, far);
+    near.insert(near.end(), far.begin(), far.end());
+    WaveformConfig wf;
+    Waveform a, b;
+    build_waveform(wf, split, a);
+    build_waveform(wf, near, b);
+    ASSERT_EQ(a.first_bin, b.first_bin);
+    ASSERT_EQ(a.samples_w.size(), b.samples_w.size());
+    for (std::size_t k = 0; k < a.samples_w.size(); ++k) {
+        EXPECT_NEAR(a.samples_w[k], b.samples_w[k], 1e-6 * b.samples_w[k] + 1e-20) << k;
+    }
+    // No slab lies behind the last target.
+    for (const EchoContribution& c : split) {
+        EXPECT_LT(c.range_m, 20.0);
+    }
+    const std::vector<BeamShare> open{{1.0, std::numeric_limits<double>::infinity()}};
+    EXPECT_THROW(add_soft_target_echo(medium, 1.0, 1.0, open, {0.05, 0.0}, split),
+                 std::invalid_argument);
 }
 
 TEST(WeatherPrecipitation, DistributionsFollowTheirPublishedForms) {

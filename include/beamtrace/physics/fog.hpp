@@ -21,6 +21,7 @@
 #pragma once
 
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -79,6 +80,20 @@ struct SoftTargetSampling {
 /// error is far below 1 % when the slab is a small fraction of the pulse length.
 void add_soft_target_echo(const SoftTarget& medium, double emitted_power_w, double receiver_gain_m2,
                           double end_m, const SoftTargetSampling& sampling,
+                          std::vector<EchoContribution>& out);
+
+/// A share of the beam (a sub-ray's weight) and where its path ends (its hard target's range,
+/// or the last range considered when it meets nothing).
+struct BeamShare {
+    double weight = 1.0;
+    double end_m = 0.0;
+};
+
+/// The same for a beam whose shares end at different ranges: the slab at r is weighted by the
+/// sum of the weights of the shares still travelling at r (the hard targets shadow the fog
+/// behind them). `shares` need not be sorted.
+void add_soft_target_echo(const SoftTarget& medium, double emitted_power_w, double receiver_gain_m2,
+                          std::span<const BeamShare> shares, const SoftTargetSampling& sampling,
                           std::vector<EchoContribution>& out);
 
 }  // namespace beamtrace
