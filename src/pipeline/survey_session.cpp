@@ -54,6 +54,10 @@ SurveySession::SurveySession(const SurveySpec& spec, const SurveyRunConfig& run,
       pattern_(spec.make_pattern()),
       trajectory_(spec.make_trajectory()) {
     check_platform_covers_scanner(spec, *pattern_, *trajectory_);
+    if (spec.weather) {  // parsed and validated; the pulse simulation does not use it yet
+        throw ConfigError(spec.source.string() +
+                          ": weather: not simulated yet by this version (issue 23)");
+    }
     // The survey file's materials are checked before the backend is built.
     std::vector<Material> materials;
     if (spec.physics) {

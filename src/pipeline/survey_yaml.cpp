@@ -7,6 +7,7 @@
 #include "beamtrace/pipeline/survey.hpp"
 #include "beamtrace/sensor/scan_pattern_registry.hpp"
 #include "pipeline/detail/physics_yaml.hpp"
+#include "pipeline/detail/weather_yaml.hpp"
 #include "text/yaml_checker.hpp"
 
 namespace beamtrace {
@@ -278,7 +279,8 @@ SurveySpec parse_survey_spec(const std::string& yaml_text, const std::filesystem
     SurveySpec s;
     s.source = source;
     s.text = yaml_text;
-    c.only_keys(root, "", {"scene", "scanner", "platform", "mount", "output", "physics"});
+    c.only_keys(root, "",
+                {"scene", "scanner", "platform", "mount", "output", "physics", "weather"});
     if (const auto sc = root["scene"]) {
         if (!sc.IsScalar()) {
             c.error(sc, "scene", "expected a scene file name or 'demo'");
@@ -300,6 +302,10 @@ SurveySpec parse_survey_spec(const std::string& yaml_text, const std::filesystem
     if (const auto ph = root["physics"]) {
         s.physics.emplace();
         detail::parse_physics_block(c, ph, *s.physics);
+    }
+    if (const auto w = root["weather"]) {
+        s.weather.emplace();
+        detail::parse_weather_block(c, w, *s.weather);
     }
     resolve_point_format(c, root, s);
     check_laz(c, root, s);

@@ -19,6 +19,7 @@
 #include "beamtrace/io/las_writer.hpp"
 #include "beamtrace/io/point_sink.hpp"
 #include "beamtrace/physics/pulse.hpp"
+#include "beamtrace/physics/weather.hpp"
 #include "beamtrace/sensor/image_pattern.hpp"
 #include "beamtrace/sensor/line_scanner.hpp"
 #include "beamtrace/sensor/rotating_scanner.hpp"
@@ -60,6 +61,8 @@ struct SurveySpec {
     std::string text;  ///< the file's text (recorded in the LAS VLR)
     /// The `physics:` block (docs/physics.md); nullopt: ideal single rays, no intensity/noise.
     std::optional<PhysicsConfig> physics;
+    /// The `weather:` block (docs/weather.md); nullopt: clear air, dry surfaces.
+    std::optional<WeatherConfig> weather;
 
     /// The scan pattern described by the file.
     [[nodiscard]] std::unique_ptr<ScanPattern> make_pattern() const;
