@@ -80,6 +80,7 @@ double ParticleSampler::echo_power_w(double diameter_m, double range_m) const {
     const double blocked = std::min(1.0, cross_section / cell_area_m2(range_m));
     return 2.0 / 3.0 * albedo_ / std::numbers::pi * blocked * cell_.energy_fraction *
            beam_.emitted_power_w * beam_.receiver_gain_m2 *
+           overlap_fraction(beam_.overlap, range_m) *
            std::exp(-2.0 * beam_.extinction_per_m * range_m) / (range_m * range_m);
 }
 

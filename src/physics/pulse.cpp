@@ -41,11 +41,13 @@ std::pair<std::size_t, std::size_t> reported_echoes(const std::vector<Echo>& ech
     return {0, std::min(echoes.size(), max_returns)};
 }
 
-/// The sample whose (stretched) echo adds most at an echo's peak at `range_m`; `contributions`
-/// holds one entry per sample of positive power, in order.
-std::uint32_t dominant_sample(std::span<const BeamSample> samples,
-                              const std::vector<double>& powers,
-                              const std::vector<EchoContribution>& contributions, double range_m) {
+/// The sample whose (stretched) echo adds most at an echo's peak at `range_m`, and how much
+/// (its power times the pulse's shape there, per metre); `contributions` starts with one entry
+/// per sample of positive power, in order.
+std::pair<std::uint32_t, double> dominant_sample(std::span<const BeamSample> samples,
+                                                 const std::vector<double>& powers,
+                                                 const std::vector<EchoContribution>& contributions,
+                                                 double range_m) {
     double best = -1.0;
     std::uint32_t best_j = 0;
     for (std::size_t j = 0, c = 0; j < powers.size(); ++j) {
@@ -59,7 +61,7 @@ std::uint32_t dominant_sample(std::span<const BeamSample> samples,
             }
         }
     }
-    return best_j;
+    return {best_j, best};
 }
 
 }  // namespace
@@ -74,8 +76,9 @@ ReturnMode parse_return_mode(std::string_view name) {
 
 std::vector<std::string> PhysicsConfig::validate() const {
     std::vector<std::string> p;
-    for (auto&& part : {radiometry.validate(), atmosphere.validate(), beam.validate(),
-                        noise.validate(), waveform.validate()}) {
+    for (auto&& part :
+         {radiometry.validate(), atmosphere.validate(), beam.validate(), noise.validate(),
+          waveform.validate(), weather ? weather->validate() : std::vector<std::string>{}}) {
         p.insert(p.end(), part.begin(), part.end());
     }
     if (max_returns < 1 || max_returns > 15) {
@@ -124,6 +127,13 @@ PulseSimulator::PulseSimulator(PhysicsConfig config) : config_(std::move(config)
     }
     alpha_per_m_ =
         beamtrace::extinction_per_m(config_.atmosphere, config_.radiometry.wavelength_nm);
+    if (config_.weather) {
+        alpha_per_m_ += weather_extinction_per_m(*config_.weather);
+        if (!config_.weather->clear_air()) {
+            medium_.emplace(*config_.weather, config_.radiometry, config_.beam, config_.waveform,
+                            alpha_per_m_);
+        }
+    }
 }
 
 Pose PulseSimulator::measured_pose(std::uint64_t seed, std::uint64_t pulse_index, double time_s,
@@ -259,12 +269,21 @@ void PulseSimulator::simulate_samples(std::uint64_t seed, std::uint64_t pulse_in
     std::vector<double>& powers = out.sub_ray_power_w;
     powers.assign(n, 0.0);
     for (std::size_t j = 0; j < n; ++j) {
+        powers[j] = sub_ray_power_w(samples[j].hit, samples[j].weight);
+    }
+    if (medium_) {
+        add_medium(seed, pulse_index, samples, out);
+    }
+    for (std::size_t j = 0; j < n; ++j) {
         const BeamSample& s = samples[j];
-        powers[j] = sub_ray_power_w(s.hit, s.weight);
         if (powers[j] > 0) {
             out.contributions.push_back(
                 {s.hit.range_m, powers[j], echo_sigma_ns(s.hit, s.cell_sigma)});
         }
+    }
+    if (medium_) {  // after the samples' (dominant_sample counts on their order)
+        out.contributions.insert(out.contributions.end(), out.medium.contributions.begin(),
+                                 out.medium.contributions.end());
     }
     if (out.contributions.empty()) {
         return;
@@ -294,9 +313,53 @@ void PulseSimulator::simulate_samples(std::uint64_t seed, std::uint64_t pulse_in
         r.intensity = las_intensity(config_.radiometry, echo.power_w);
         r.return_number = static_cast<std::uint8_t>(e - begin + 1);
         r.number_of_returns = count;
-        r.sub_ray = dominant_sample(samples, powers, out.contributions, echo.range_m);
+        const auto [sample, share] =
+            dominant_sample(samples, powers, out.contributions, echo.range_m);
+        r.sub_ray = sample;
+        if (medium_) {
+            r.weather = medium_dominates(out, share, echo.range_m);
+        }
         out.returns.push_back(r);
     }
+}
+
+void PulseSimulator::add_medium(std::uint64_t seed, std::uint64_t pulse_index,
+                                std::span<const BeamSample> samples, PulseResponse& out) const {
+    const double far_m = medium_->max_range_m();
+    out.shares.clear();
+    for (const BeamSample& s : samples) {
+        const double r = s.hit.range_m;
+        out.shares.push_back({s.weight, std::isfinite(r) && r > 0 ? std::min(r, far_m) : far_m});
+    }
+    medium_->echoes(seed, pulse_index, out.shares, out.medium);
+    for (const Particle& p : out.medium.particles) {
+        for (std::size_t j = 0; j < samples.size(); ++j) {
+            if (samples[j].hit.range_m > p.range_m) {
+                out.sub_ray_power_w[j] *= 1.0 - p.blocked_fraction;
+            }
+        }
+    }
+}
+
+WeatherEffect PulseSimulator::medium_dominates(const PulseResponse& out, double sample_share,
+                                               double range_m) const {
+    const double sigma_m = config_.waveform.pulse_fwhm_ns / (2.0 * std::sqrt(2.0 * std::log(2.0))) /
+                           round_trip_ns_per_m();
+    const MediumEchoes& m = out.medium;
+    // The medium's contributions add up at the echo's peak (a fog's slabs are one echo).
+    double fog = 0.0, particles = 0.0;
+    for (std::size_t i = 0; i < m.contributions.size(); ++i) {
+        const double d = (m.contributions[i].range_m - range_m) / sigma_m;
+        const double share = m.contributions[i].power_w / sigma_m * std::exp(-0.5 * d * d);
+        (m.effects[i] == WeatherEffect::fog ? fog : particles) += share;
+    }
+    if (std::max(fog, particles) <= sample_share) {
+        return WeatherEffect::none;
+    }
+    if (fog >= particles) {
+        return WeatherEffect::fog;
+    }
+    return particle_effect(config_.weather->precipitation->kind);
 }
 
 PulseResponse simulate_pulse(const PhysicsConfig& config, std::uint64_t seed,

@@ -2,6 +2,7 @@
 
 #include "beamtrace/core/error.hpp"
 #include "beamtrace/physics/material_library.hpp"
+#include "beamtrace/physics/wetness.hpp"
 
 namespace beamtrace::detail {
 
@@ -21,6 +22,11 @@ std::vector<Material> survey_materials(const Scene& scene, const PhysicsConfig& 
             pm.reflectance = lib->reflectance;
             pm.specular_weight = lib->specular_weight;
             pm.specular_exponent = lib->specular_exponent;
+        }
+        if (physics.weather) {  // wet surfaces, then snow on them (wetness.hpp)
+            pm = snow_covered_material(wet_material(pm, physics.weather->wetness),
+                                       physics.weather->snow_cover,
+                                       physics.radiometry.wavelength_nm);
         }
         materials.push_back(pm);
     }

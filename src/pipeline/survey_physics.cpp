@@ -105,9 +105,11 @@ void SurveyPhysics::run(BlockWork& w, const Backend& backend) const {
         for (std::size_t r = 0; r < n; ++r) {
             w.returns[k * max_returns + r] = w.response.returns[r];
             const std::uint32_t sample = w.response.returns[r].sub_ray;
-            w.return_face[k * max_returns + r] = w.sample_face[sample];
+            // The weather's echo: no face of the scene, facing the beam.
+            const bool medium = w.response.returns[r].weather != WeatherEffect::none;
+            w.return_face[k * max_returns + r] = medium ? kNoFace : w.sample_face[sample];
             w.return_cos_incidence[k * max_returns + r] =
-                static_cast<float>(w.response.samples[sample].hit.cos_incidence);
+                medium ? 1.0f : static_cast<float>(w.response.samples[sample].hit.cos_incidence);
         }
         w.return_count[k] = static_cast<std::uint8_t>(n);
     }

@@ -45,6 +45,14 @@ float SurveyPoints::incidence_deg(const BlockWork& w, std::size_t k, std::size_t
     return static_cast<float>(std::acos(std::clamp(c, 0.0, 1.0)) * 180.0 / std::numbers::pi);
 }
 
+void SurveyPoints::medium_point(BlockPoint& p, const PulseReturn& ret) const {
+    p.face = kNoFace;
+    p.classification = medium_class;
+    p.point_source_id = 0;
+    p.weather = static_cast<std::uint8_t>(ret.weather);
+    p.incidence_deg = 0.0f;
+}
+
 void SurveyPoints::run(BlockWork& w) const {
     std::vector<BlockPoint>& out = w.points.points;
     out.reserve(w.pulse_count * max_returns);
@@ -55,7 +63,6 @@ void SurveyPoints::run(BlockWork& w) const {
             const std::uint32_t face =
                 physics ? w.return_face[k * max_returns + r] : w.hits.face[k];
             const double t = physics ? ret->range_m : double{w.hits.t[k]};
-            const ScenePart& part = scene->parts[scene->part_of_face(face)];
             const Vec3d xyz = w.origin[k] + w.axis[k] * t + scene->origin_m;
             BlockPoint& p = out.emplace_back();
             p.x = xyz.x;
@@ -64,18 +71,23 @@ void SurveyPoints::run(BlockWork& w) const {
             p.gps_time = w.pulses.time_s[k];
             p.range_m = static_cast<float>(t);
             p.scan_angle_deg = w.scan_angle[k];
-            p.face = face;
             p.return_number = ret ? ret->return_number : 1;
             p.number_of_returns = ret ? ret->number_of_returns : 1;
             p.intensity = ret ? ret->intensity : 0;
-            p.classification = part.label;
-            p.point_source_id = part.part_id;
             p.channel = w.pulses.channel[k];
             p.user_data = static_cast<std::uint8_t>(w.pulses.channel[k] & 0xFFu);  // beam / row
             p.pulse = w.first + k;
             if (ret != nullptr) {
                 p.echo_width_ns = static_cast<float>(ret->echo_width_ns);
             }
+            if (ret != nullptr && ret->weather != WeatherEffect::none) {
+                medium_point(p, *ret);
+                continue;
+            }
+            const ScenePart& part = scene->parts[scene->part_of_face(face)];
+            p.face = face;
+            p.classification = part.label;
+            p.point_source_id = part.part_id;
             if (incidence) {
                 p.incidence_deg = incidence_deg(w, k, r);
             }

@@ -54,10 +54,6 @@ SurveySession::SurveySession(const SurveySpec& spec, const SurveyRunConfig& run,
       pattern_(spec.make_pattern()),
       trajectory_(spec.make_trajectory()) {
     check_platform_covers_scanner(spec, *pattern_, *trajectory_);
-    if (spec.weather) {  // parsed and validated; the pulse simulation does not use it yet
-        throw ConfigError(spec.source.string() +
-                          ": weather: not simulated yet by this version (issue 23)");
-    }
     // The survey file's materials are checked before the backend is built.
     std::vector<Material> materials;
     if (spec.physics) {
@@ -102,6 +98,9 @@ SurveySession::SurveySession(const SurveySpec& spec, const SurveyRunConfig& run,
     source_ = SurveyRaySource{&spec, trajectory_.get(), sim_ ? &*sim_ : nullptr, run.seed};
     sub_rays_ = source_.sub_rays();
     points_ = SurveyPoints{&scene_, sim_.has_value(), sub_rays_, max_returns_, std::move(colours)};
+    if (spec.physics && spec.physics->weather) {
+        points_.medium_class = spec.physics->weather->medium_class;
+    }
     points_.incidence = std::find(spec.extra_bytes.begin(), spec.extra_bytes.end(),
                                   PointAttribute::incidence_angle) != spec.extra_bytes.end();
 }

@@ -304,8 +304,12 @@ SurveySpec parse_survey_spec(const std::string& yaml_text, const std::filesystem
         detail::parse_physics_block(c, ph, *s.physics);
     }
     if (const auto w = root["weather"]) {
-        s.weather.emplace();
-        detail::parse_weather_block(c, w, *s.weather);
+        // The weather acts through the pulse's physics: its defaults when there is no block.
+        if (!s.physics) {
+            s.physics.emplace();
+        }
+        s.physics->weather.emplace();
+        detail::parse_weather_block(c, w, *s.physics->weather);
     }
     resolve_point_format(c, root, s);
     check_laz(c, root, s);

@@ -221,6 +221,7 @@ ParticleBeam rain_beam(double extinction) {
     b.extinction_per_m = extinction;
     b.floor_w = 1e-7;
     b.start_m = 0.5;
+    b.overlap = {0.5, 2.0};
     b.max_range_m = 150.0;
     return b;
 }
@@ -243,6 +244,7 @@ TEST(WeatherPrecipitation, ParticleEchoesPerPulseMatchTheExpectedCount) {
         // P = (2/3)(a/pi) (pi D^2 / 4) / A w P_t g exp(-2 alpha r) / r^2 = floor, D^2 below A.
         const double k = 2.0 / 3.0 * albedo / std::numbers::pi * cell.energy_fraction *
                          beam.emitted_power_w * beam.receiver_gain_m2 *
+                         std::min(1.0, (r - 0.5) / 1.5) *
                          std::exp(-2.0 * beam.extinction_per_m * r) / (r * r);
         if (k < beam.floor_w) {
             return std::numeric_limits<double>::infinity();

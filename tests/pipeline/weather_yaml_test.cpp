@@ -30,15 +30,15 @@ std::string error_of(const std::string& weather) {
 }
 
 TEST(WeatherYaml, NoBlockIsClearAir) {
-    EXPECT_FALSE(parse("").weather.has_value());
+    EXPECT_FALSE(parse("").physics->weather.has_value());
 }
 
 TEST(WeatherYaml, FogRainAndSurfaces) {
     const SurveySpec s = parse(
         "weather:\n  fog: {mor_m: 50}\n  rain: {rate_mm_h: 25, particle_albedo: 0.05}\n"
         "  wetness: 0.8\n  overlap_start_m: 0.3\n  overlap_full_m: 1.2\n  medium_class: 18\n");
-    ASSERT_TRUE(s.weather.has_value());
-    const WeatherConfig& w = *s.weather;
+    ASSERT_TRUE(s.physics->weather.has_value());
+    const WeatherConfig& w = *s.physics->weather;
     ASSERT_TRUE(w.fog.has_value());
     EXPECT_EQ(w.fog->mor_m, 50.0);
     EXPECT_NEAR(fog_extinction_per_m(*w.fog), std::log(20.0) / 50.0, 1e-15);
@@ -59,7 +59,7 @@ TEST(WeatherYaml, FogRainAndSurfaces) {
 
 TEST(WeatherYaml, SnowDefaults) {
     const SurveySpec s = parse("weather: {snow: {rate_mm_h: 2}, snow_cover: 1}\n");
-    const WeatherConfig& w = *s.weather;
+    const WeatherConfig& w = *s.physics->weather;
     EXPECT_FALSE(w.fog.has_value());
     EXPECT_EQ(w.precipitation->kind, PrecipitationKind::snow);
     EXPECT_FALSE(w.precipitation->particle_albedo.has_value());

@@ -36,6 +36,9 @@ struct BlockPoint : LasSimplePoint {
     float incidence_deg = 0.0f;
     /// FWHM of the return's echo (physics only; NaN without: unknown).
     float echo_width_ns = std::numeric_limits<float>::quiet_NaN();
+    /// What weather made the echo (WeatherEffect: 0 none, 1 fog, 2 rain, 3 snow); its point
+    /// has no face (kNoFace), part 0 and the weather's LAS class.
+    std::uint8_t weather = 0;
 };
 
 /// One pulse's sampled echo (physics.waveform.keep): samples [first_sample, + count) of the block.

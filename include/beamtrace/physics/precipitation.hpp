@@ -14,7 +14,8 @@
 // f = min(1, (pi D^2 / 4) / A(r)) of the cell's power and scatters it back as a Lambertian sphere
 // of albedo a, whose radiant intensity towards the sensor is 2/3 of a facing disc's (backscatter
 // efficiency Q_b = 8 a / 3). Its echo's peak power, a pulse like a hard target's:
-//   P = (2 / 3) (a / pi) f w P_t eta A_r exp(-2 alpha r) / r^2.
+//   P = (2 / 3) (a / pi) f w P_t eta A_r xi(r) exp(-2 alpha r) / r^2
+// (xi the receiver's overlap, fog.hpp).
 // The particles whose echo reaches a floor power are drawn per pulse and cell from the counter
 // RNG: a Poisson number with mean mu = integral A(r) n(r) dr up to the cell's end (its hard
 // target), n(r) = (N0 / Lambda) exp(-Lambda D_min(r)) the density of particles at least D_min(r)
@@ -28,6 +29,7 @@
 #include <vector>
 
 #include "beamtrace/core/rng.hpp"
+#include "beamtrace/physics/fog.hpp"
 
 namespace beamtrace {
 
@@ -63,8 +65,10 @@ struct ParticleBeam {
     double receiver_gain_m2 = 0.0;  ///< eta A_r
     double extinction_per_m = 0.0;  ///< alpha of the whole path
     double floor_w = 0.0;           ///< the weakest particle echo drawn (> 0)
-    double start_m = 0.0;           ///< no particle closer than this (the sensor's blind zone)
-    double max_range_m = 0.0;       ///< no particle beyond this
+    double start_m = 0.0;           ///< no particle closer than this (the sensor's blind zone), > 0
+    /// The receiver's view of the beam (fog.hpp): a particle's echo is scaled by xi(r).
+    OverlapConfig overlap{0.0, 1e-9};
+    double max_range_m = 0.0;  ///< no particle beyond this
 };
 
 /// One sub-ray's share of the beam.

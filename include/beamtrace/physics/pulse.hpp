@@ -23,6 +23,7 @@
 
 #include <cstdint>
 #include <limits>
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -35,6 +36,7 @@
 #include "beamtrace/physics/noise.hpp"
 #include "beamtrace/physics/range_equation.hpp"
 #include "beamtrace/physics/waveform.hpp"
+#include "beamtrace/physics/weather_medium.hpp"
 
 namespace beamtrace {
 
@@ -66,6 +68,9 @@ struct PhysicsConfig {
     ReturnMode return_mode = ReturnMode::all;
     int max_returns = 5;         ///< 1..15 (LAS 1.4 allows 15 returns per pulse)
     bool keep_waveform = false;  ///< keep the sampled waveform in PulseResponse::waveform
+    /// Fog, rain or snow and wet surfaces (weather.hpp; the survey file's `weather:` block);
+    /// nullopt: clear air.
+    std::optional<WeatherConfig> weather;
 
     /// Every problem of every part; empty when valid.
     [[nodiscard]] std::vector<std::string> validate() const;
@@ -110,7 +115,10 @@ struct PulseReturn {
     std::uint8_t return_number = 1;  ///< 1-based, in range order among the reported returns
     std::uint8_t number_of_returns = 1;
     std::uint32_t sub_ray = 0;  ///< index of the sub-ray (simulate_samples: sample) that
-                                ///< contributed most
+                                ///< contributed most among the beam's samples
+    /// What made the echo when the weather's medium contributed more to it than any sample of
+    /// the beam (its point is the medium's, not sub_ray's target); none otherwise.
+    WeatherEffect weather = WeatherEffect::none;
 };
 
 struct PulseResponse {
@@ -121,6 +129,8 @@ struct PulseResponse {
     std::vector<double> sub_ray_power_w;  ///< received power of every sub-ray or sample (0: miss)
     std::vector<EchoContribution> contributions;  ///< the sub-rays with power > 0
     std::vector<BeamSample> samples;              ///< simulate()'s working space
+    MediumEchoes medium;                          ///< the weather's echoes (working space)
+    std::vector<BeamShare> shares;                ///< working space
 };
 
 /// The physics of a configuration, with the beam pattern and constants precomputed.
@@ -199,6 +209,15 @@ class PulseSimulator {
     /// echo_sigma_ns of a footprint of per-axis spread `cell_sigma` (beam units).
     [[nodiscard]] double echo_sigma_ns(const SubRayHit& hit, double cell_sigma) const;
     double alpha_per_m_ = 0.0;
+    std::optional<WeatherMedium> medium_;  ///< with weather in the air
+
+    /// The weather's echoes of the pulse into out.medium, and the particles' shadows taken off
+    /// the samples' powers (out.sub_ray_power_w) behind them.
+    void add_medium(std::uint64_t seed, std::uint64_t pulse_index,
+                    std::span<const BeamSample> samples, PulseResponse& out) const;
+    /// The weather effect that made the echo at `range_m`, if the medium dominates it.
+    [[nodiscard]] WeatherEffect medium_dominates(const PulseResponse& out, double sample_share,
+                                                 double range_m) const;
 };
 
 /// One-shot convenience: PulseSimulator(config).simulate(...). Prefer the class in loops.

@@ -19,7 +19,6 @@
 #include "beamtrace/io/las_writer.hpp"
 #include "beamtrace/io/point_sink.hpp"
 #include "beamtrace/physics/pulse.hpp"
-#include "beamtrace/physics/weather.hpp"
 #include "beamtrace/sensor/image_pattern.hpp"
 #include "beamtrace/sensor/line_scanner.hpp"
 #include "beamtrace/sensor/rotating_scanner.hpp"
@@ -59,10 +58,10 @@ struct SurveySpec {
     /// LAS extra bytes, in that order (io/point_attributes.hpp); empty (the default): none.
     std::vector<PointAttribute> extra_bytes;
     std::string text;  ///< the file's text (recorded in the LAS VLR)
-    /// The `physics:` block (docs/physics.md); nullopt: ideal single rays, no intensity/noise.
+    /// The `physics:` block (docs/physics.md) with the `weather:` block (docs/weather.md) in
+    /// physics->weather; nullopt: ideal single rays, no intensity/noise (a `weather:` block
+    /// alone gives the physics' defaults).
     std::optional<PhysicsConfig> physics;
-    /// The `weather:` block (docs/weather.md); nullopt: clear air, dry surfaces.
-    std::optional<WeatherConfig> weather;
 
     /// The scan pattern described by the file.
     [[nodiscard]] std::unique_ptr<ScanPattern> make_pattern() const;

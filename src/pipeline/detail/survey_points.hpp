@@ -21,11 +21,15 @@ struct SurveyPoints {
     std::vector<std::array<std::uint16_t, 4>> colours;
     /// Fill BlockPoint::incidence_deg (the LAS extra bytes ask for it).
     bool incidence = false;
+    /// The LAS class of the weather's points (WeatherConfig::medium_class).
+    std::uint8_t medium_class = 7;
 
     /// Appends the block's points to w.points.points, in pulse order. Thread-safe.
     void run(BlockWork& w) const;
 
   private:
+    /// The point of a return the weather's medium made (no part of the scene was hit).
+    void medium_point(BlockPoint& p, const PulseReturn& ret) const;
     /// The incidence angle of pulse k's return r (physics: of the sample that dominated it;
     /// else of the pulse's ray and the hit face's normal), degrees.
     [[nodiscard]] float incidence_deg(const BlockWork& w, std::size_t k, std::size_t r) const;

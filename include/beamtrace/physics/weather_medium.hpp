@@ -1,0 +1,59 @@
+// The weather's share of one pulse's waveform: the fog's echo and the rain or snow particles in
+// the beam (weather.hpp). Built once per survey from the weather and the physics settings; used
+// by PulseSimulator for every pulse, from any thread.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <vector>
+
+#include "beamtrace/physics/beam_divergence.hpp"
+#include "beamtrace/physics/range_equation.hpp"
+#include "beamtrace/physics/waveform.hpp"
+#include "beamtrace/physics/weather.hpp"
+
+namespace beamtrace {
+
+/// The medium's contributions to one pulse's waveform, with what made each.
+struct MediumEchoes {
+    std::vector<EchoContribution> contributions;
+    std::vector<WeatherEffect> effects;  ///< one per contribution
+    /// The particles drawn (their echoes are among the contributions): each takes away its
+    /// blocked fraction of the beam behind it.
+    std::vector<Particle> particles;
+    void clear() {
+        contributions.clear();
+        effects.clear();
+        particles.clear();
+    }
+};
+
+class WeatherMedium {
+  public:
+    /// `extinction_per_m`: alpha of the whole path (air and weather). Throws ConfigError when
+    /// the weather has particles and the beam has no volume (no divergence, no exit diameter).
+    WeatherMedium(const WeatherConfig& weather, const RadiometryConfig& radiometry,
+                  const BeamConfig& beam, const WaveformConfig& waveform, double extinction_per_m);
+
+    [[nodiscard]] const WeatherConfig& config() const { return weather_; }
+    /// Where a share of the beam that meets nothing ends for the medium [m]: beyond it neither
+    /// the fog's echo nor any particle's reaches the detection threshold.
+    [[nodiscard]] double max_range_m() const { return max_range_m_; }
+    /// The medium's echoes of pulse `pulse_index` whose beam shares end at `shares` (sub-ray
+    /// weights and hit ranges, misses at max_range_m()), into `out` (cleared first).
+    void echoes(std::uint64_t seed, std::uint64_t pulse_index, std::span<const BeamShare> shares,
+                MediumEchoes& out) const;
+
+  private:
+    WeatherConfig weather_;
+    SoftTarget fog_;
+    SoftTargetSampling fog_sampling_;
+    double emitted_power_w_ = 0.0;
+    double receiver_gain_m2_ = 0.0;
+    double max_range_m_ = 0.0;
+    std::optional<ParticleSampler> particles_;
+    WeatherEffect particle_effect_ = WeatherEffect::none;
+};
+
+}  // namespace beamtrace
