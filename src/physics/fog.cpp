@@ -101,7 +101,9 @@ void add_soft_target_echo(const SoftTarget& medium, double emitted_power_w, doub
         if (ended == ends.size()) {
             break;
         }
-        const double hi = std::min(lo + d, ends[ended].end_m);
+        const bool ramp = lo < medium.overlap.full_m && sampling.ramp_slab_m > 0.0;
+        const double hi =
+            std::min(lo + (ramp ? std::min(d, sampling.ramp_slab_m) : d), ends[ended].end_m);
         const double width = hi - lo;
         const double r = lo + width / 2.0;
         const double power = scale * travelling * width * overlap_fraction(medium.overlap, r) *

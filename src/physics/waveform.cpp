@@ -38,7 +38,9 @@ struct GaussianFit {
 
     [[nodiscard]] double at(double t_ns) const {
         const double d = (t_ns - centre_ns) / sigma_ns;
-        return amplitude * std::exp(-0.5 * d * d);
+        // exp(-0.5 d^2) is exactly 0 in doubles beyond 38.6 sigma: skip the call.
+        constexpr double kUnderflow = 38.7;
+        return std::abs(d) > kUnderflow ? 0.0 : amplitude * std::exp(-0.5 * d * d);
     }
 };
 

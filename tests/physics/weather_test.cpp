@@ -83,8 +83,10 @@ TEST(WeatherFog, BackscatterWaveformEqualsTheSoftTargetIntegral) {
     const double p_t = 1000.0, gain = 0.8 * std::numbers::pi * 0.025 * 0.025, end_m = 40.0;
     WaveformConfig wf;  // 4 ns FWHM, 0.5 ns bins
     std::vector<EchoContribution> slabs;
-    add_soft_target_echo(medium, p_t, gain, end_m, {0.05, 0.0}, slabs);
-    ASSERT_GT(slabs.size(), 700u);
+    // Slabs of half the pulse's c sigma_p / 2 (0.127 m at 4 ns), a fifth of it on the overlap
+    // ramp, as WeatherMedium uses.
+    add_soft_target_echo(medium, p_t, gain, end_m, {0.127, 0.0254, 0.0}, slabs);
+    ASSERT_GT(slabs.size(), 250u);
     Waveform w;
     build_waveform(wf, slabs, w);
     ASSERT_FALSE(w.samples_w.empty());
@@ -127,7 +129,7 @@ TEST(WeatherFog, CutoffEndsTheSumWhereTheEchoIsNegligible) {
     const SoftTarget medium{0.046 / 50.0, std::log(20.0) / 50.0, {0.5, 2.0}};
     std::vector<EchoContribution> all, cut;
     add_soft_target_echo(medium, 1000.0, 1e-3, 300.0, {0.05, 0.0}, all);
-    add_soft_target_echo(medium, 1000.0, 1e-3, 300.0, {0.05, 1e-12}, cut);
+    add_soft_target_echo(medium, 1000.0, 1e-3, 300.0, {0.05, 0.0, 1e-12}, cut);
     ASSERT_LT(cut.size(), all.size());
     for (std::size_t i = 0; i < cut.size(); ++i) {
         EXPECT_EQ(cut[i].range_m, all[i].range_m);

@@ -67,7 +67,9 @@ struct SoftTarget {
 
 /// How finely the soft target's integral is sampled, and where it stops.
 struct SoftTargetSampling {
-    double slab_m = 0.05;  ///< thickness of one slab [m]; a tenth of c sigma_p / 2 or finer
+    double slab_m = 0.05;  ///< thickness of one slab [m]; half of c sigma_p / 2 or finer
+    /// Thickness within the overlap ramp, where xi / r^2 bends sharply [m]; 0: slab_m.
+    double ramp_slab_m = 0.0;
     /// Slabs whose peak power falls below this [W] beyond full overlap end the sum (the
     /// integrand only falls from there on): a fraction of the detection threshold.
     double cutoff_w = 0.0;
