@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <optional>
+
+#include "beamtrace/sensor/leg_sequence.hpp"
 
 namespace beamtrace::detail {
 
@@ -50,6 +53,14 @@ void SurveyPoints::run(BlockWork& w) const {
     out.reserve(w.pulse_count * max_returns);
     for (std::size_t k = 0; k < w.pulse_count; ++k) {
         const std::size_t n = physics ? w.return_count[k] : (w.hits.hit(k) ? 1 : 0);
+        if (no_echo && n == 0) {
+            w.points.no_echo.push_back(
+                {w.first + k, w.pulses.time_s[k], w.origin[k] + scene->origin_m, w.axis[k]});
+        }
+        const auto source_id =
+            leg_first_pulse.empty()
+                ? std::optional<std::uint16_t>()
+                : static_cast<std::uint16_t>(leg_of_pulse(leg_first_pulse, w.first + k));
         for (std::size_t r = 0; r < n; ++r) {
             const PulseReturn* ret = physics ? &w.returns[k * max_returns + r] : nullptr;
             const std::uint32_t face =
@@ -69,7 +80,7 @@ void SurveyPoints::run(BlockWork& w) const {
             p.number_of_returns = ret ? ret->number_of_returns : 1;
             p.intensity = ret ? ret->intensity : 0;
             p.classification = part.label;
-            p.point_source_id = part.part_id;
+            p.point_source_id = source_id.value_or(part.part_id);
             p.channel = w.pulses.channel[k];
             p.user_data = static_cast<std::uint8_t>(w.pulses.channel[k] & 0xFFu);  // beam / row
             p.pulse = w.first + k;

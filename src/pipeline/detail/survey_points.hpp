@@ -21,6 +21,11 @@ struct SurveyPoints {
     std::vector<std::array<std::uint16_t, 4>> colours;
     /// Fill BlockPoint::incidence_deg (the LAS extra bytes ask for it).
     bool incidence = false;
+    /// output.point_source_id: leg — the first pulse of each leg (LegSequence::first_pulses()),
+    /// each point's point source ID its pulse's leg. Empty: the part's id.
+    std::vector<std::uint64_t> leg_first_pulse{};
+    /// Record each pulse without a point in w.points.no_echo (output.no_echo).
+    bool no_echo = false;
 
     /// Appends the block's points to w.points.points, in pulse order. Thread-safe.
     void run(BlockWork& w) const;
