@@ -205,10 +205,12 @@ void parse_leg_scanners(YamlChecker& c, const YAML::Node& legs, const YAML::Node
             continue;
         }
         c.only_keys(item, key, {"scanner"});
+        const std::size_t errors = c.errors().size();
         if (item.IsMap() && item["scanner"]) {
             parse_leg_scanner(c, item["scanner"], scanner, key + ".scanner", leg, s);
         }
-        if (leg.active && !times.empty()) {
+        // The timing of settings already found wrong would repeat their errors.
+        if (leg.active && !times.empty() && c.errors().size() == errors) {
             check_leg_timing(c, item, key, leg, s, times[l], times[l + 1]);
         }
     }
