@@ -133,8 +133,9 @@ void parse_platform(YamlChecker& c, const YAML::Node& n, SurveySpec& s) {
 
 /// One leg's `scanner:` overrides: `active` and the survey scanner type's own keys (not
 /// duration_s: the leg's flight time sets it). The survey's keys the leg does not override are
-/// added to the leg's map (the values keep their lines for the type's errors) and the type's
-/// parse reads the whole.
+/// added to the leg's map (the values keep their lines for the type's errors; adding them again
+/// to a map shared through a YAML alias changes nothing) and the type's parse reads the whole
+/// (it reads its own keys only, so `active` stays).
 void parse_leg_scanner(YamlChecker& c, YAML::Node n, const YAML::Node& scanner,
                        const std::string& key, LegScanner& leg, const SurveySpec& s) {
     const ScanPatternEntry* entry = find_scan_pattern(s.scanner.type());
@@ -146,11 +147,11 @@ void parse_leg_scanner(YamlChecker& c, YAML::Node n, const YAML::Node& scanner,
     std::copy_if(entry->keys.begin(), entry->keys.end(), std::back_inserter(known),
                  [](std::string_view k) { return k != "duration_s"; });
     c.only_keys_of(n, key, known, "a leg of a " + s.scanner.type() + " scanner");
-    if (n["active"]) {
+    const bool has_active = static_cast<bool>(n["active"]);
+    if (has_active) {
         c.boolean(n["active"], key + ".active", leg.active);
-        n.remove("active");
     }
-    if (!leg.active || n.size() == 0) {
+    if (!leg.active || n.size() == (has_active ? 1u : 0u)) {
         return;
     }
     for (const auto& kv : scanner) {

@@ -269,6 +269,17 @@ TEST(SurveyLegs, LegErrorsNameTheFileLineAndKey) {
     const auto pattern = spec.make_pattern();
     EXPECT_EQ(pattern->pulse_count(), 2u * 3000u) << "100 m at 50 m/s, 3 kHz";
     EXPECT_DOUBLE_EQ(pattern->end_time_s(), 2.0);
+    // A leg shared through a YAML alias is read the same each time.
+    EXPECT_EQ(load_error(dir, head.substr(0, head.find("  waypoints_m")) +
+                                  "  waypoints_m: [[0, 0, 100], [100, 0, 100], [100, 50, 100], "
+                                  "[0, 50, 100]]\n  legs: [&off {scanner: {active: false, "
+                                  "pulse_rate_hz: 5}}, {}, *off]\n"),
+              "");
+    const SurveySpec aliased = load_survey_spec(dir / "bad.yaml");
+    ASSERT_EQ(aliased.leg_scanners.size(), 3u);
+    EXPECT_FALSE(aliased.leg_scanners[0].active);
+    EXPECT_TRUE(aliased.leg_scanners[1].active);
+    EXPECT_FALSE(aliased.leg_scanners[2].active);
 }
 
 }  // namespace
