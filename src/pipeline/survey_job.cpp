@@ -9,6 +9,7 @@
 #include "beamtrace/core/cancel.hpp"
 #include "beamtrace/core/error.hpp"
 #include "beamtrace/pipeline/survey.hpp"
+#include "beamtrace/sensor/leg_sequence.hpp"
 #include "core/created_dirs.hpp"
 #include "pipeline/detail/ordered_blocks.hpp"
 #include "pipeline/detail/survey_block.hpp"
@@ -89,7 +90,32 @@ std::uint64_t stream_blocks(const detail::SurveySession& session, detail::SinkSe
 }  // namespace
 
 std::unique_ptr<ScanPattern> SurveySpec::make_pattern() const {
-    return scanner.make_pattern();
+    if (leg_scanners.empty()) {
+        return scanner.make_pattern();
+    }
+    const LinearLegs path(legs);
+    const std::vector<double>& t = path.waypoint_times_s();
+    if (leg_scanners.size() + 1 != t.size()) {
+        throw ConfigError("platform.legs: " + std::to_string(leg_scanners.size()) + " legs for " +
+                          std::to_string(t.size()) + " waypoints");
+    }
+    std::vector<SequenceLeg> seq;
+    for (std::size_t l = 0; l < leg_scanners.size(); ++l) {
+        SequenceLeg& leg = seq.emplace_back();
+        leg.start_time_s = t[l];
+        leg.end_time_s = t[l + 1];
+        const LegScanner& ls = leg_scanners[l];
+        if (ls.active) {
+            const ScannerSpec& own = ls.scanner ? *ls.scanner : scanner;
+            const auto timed = own.settings().with_timing(t[l], t[l + 1] - t[l]);
+            if (!timed) {
+                throw ConfigError("platform.legs: a " + own.type() +
+                                  " scanner has no duration_s to fire for a leg's flight time");
+            }
+            leg.pattern = timed->make_pattern();
+        }
+    }
+    return std::make_unique<LegSequence>(std::move(seq));
 }
 
 std::unique_ptr<Trajectory> SurveySpec::make_trajectory() const {

@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <optional>
+
+#include "beamtrace/sensor/leg_sequence.hpp"
 
 namespace beamtrace::detail {
 
@@ -58,6 +61,14 @@ void SurveyPoints::run(BlockWork& w) const {
     out.reserve(w.pulse_count * max_returns);
     for (std::size_t k = 0; k < w.pulse_count; ++k) {
         const std::size_t n = physics ? w.return_count[k] : (w.hits.hit(k) ? 1 : 0);
+        if (no_echo && n == 0) {
+            w.points.no_echo.push_back(
+                {w.first + k, w.pulses.time_s[k], w.origin[k] + scene->origin_m, w.axis[k]});
+        }
+        const auto source_id =
+            leg_first_pulse.empty()
+                ? std::optional<std::uint16_t>()
+                : static_cast<std::uint16_t>(leg_of_pulse(leg_first_pulse, w.first + k));
         for (std::size_t r = 0; r < n; ++r) {
             const PulseReturn* ret = physics ? &w.returns[k * max_returns + r] : nullptr;
             const std::uint32_t face =
@@ -82,12 +93,13 @@ void SurveyPoints::run(BlockWork& w) const {
             }
             if (ret != nullptr && ret->weather != WeatherEffect::none) {
                 medium_point(p, *ret);
+                p.point_source_id = source_id.value_or(0);
                 continue;
             }
             const ScenePart& part = scene->parts[scene->part_of_face(face)];
             p.face = face;
             p.classification = part.label;
-            p.point_source_id = part.part_id;
+            p.point_source_id = source_id.value_or(part.part_id);
             if (incidence) {
                 p.incidence_deg = incidence_deg(w, k, r);
             }

@@ -8,6 +8,7 @@
 #include "beamtrace/core/error.hpp"
 #include "beamtrace/scene/demo_scene.hpp"
 #include "beamtrace/scene/scene_builder.hpp"
+#include "beamtrace/sensor/leg_sequence.hpp"
 #include "pipeline/detail/survey_diagnosis.hpp"
 #include "pipeline/detail/survey_materials.hpp"
 #include "pipeline/detail/survey_outputs.hpp"
@@ -103,6 +104,12 @@ SurveySession::SurveySession(const SurveySpec& spec, const SurveyRunConfig& run,
     }
     points_.incidence = std::find(spec.extra_bytes.begin(), spec.extra_bytes.end(),
                                   PointAttribute::incidence_angle) != spec.extra_bytes.end();
+    if (const auto* legs = dynamic_cast<const LegSequence*>(pattern_.get());
+        legs != nullptr && spec.point_source_id == PointSourceId::leg) {
+        points_.leg_first_pulse = legs->first_pulses();
+    }
+    points_.no_echo = run.write_files && std::find(spec.outputs.begin(), spec.outputs.end(),
+                                                   "no_echo") != spec.outputs.end();
 }
 
 std::size_t SurveySession::blocks() const {

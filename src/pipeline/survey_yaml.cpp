@@ -1,6 +1,7 @@
 // Survey files in YAML (docs/survey.md): every problem is collected and reported at once.
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <numbers>
 
 #include "beamtrace/io/point_sink_registry.hpp"
@@ -72,9 +73,9 @@ void parse_platform(YamlChecker& c, const YAML::Node& n, SurveySpec& s) {
         c.error(n ? n : YAML::Node(), "platform", "expected a map with at least 'type'");
         return;
     }
-    c.only_keys(
-        n, "platform",
-        {"type", "position_m", "rotate_deg", "waypoints_m", "attitudes_deg", "speed_mps", "file"});
+    c.only_keys(n, "platform",
+                {"type", "position_m", "rotate_deg", "waypoints_m", "attitudes_deg", "speed_mps",
+                 "file", "legs"});
     const std::string type = n["type"] && n["type"].IsScalar() ? n["type"].Scalar() : "";
     if (type == "static") {
         s.platform = PlatformKind::fixed;
@@ -115,6 +116,9 @@ void parse_platform(YamlChecker& c, const YAML::Node& n, SurveySpec& s) {
             c.error(n, "platform", p);
         }
     } else if (type == "trajectory") {
+        if (n["legs"]) {
+            c.error(n["legs"], "platform.legs", "only with type: legs");
+        }
         s.platform = PlatformKind::trajectory;
         const auto f = n["file"];
         if (!f || !f.IsScalar()) {
@@ -125,6 +129,92 @@ void parse_platform(YamlChecker& c, const YAML::Node& n, SurveySpec& s) {
         }
     } else {
         c.error(n["type"] ? n["type"] : n, "platform.type", "expected static, legs or trajectory");
+    }
+}
+
+/// One leg's `scanner:` overrides: `active` and the survey scanner type's own keys (not
+/// duration_s: the leg's flight time sets it). The survey's keys the leg does not override are
+/// added to the leg's map (the values keep their lines for the type's errors; adding them again
+/// to a map shared through a YAML alias changes nothing) and the type's parse reads the whole
+/// (it reads its own keys only, so `active` stays).
+void parse_leg_scanner(YamlChecker& c, YAML::Node n, const YAML::Node& scanner,
+                       const std::string& key, LegScanner& leg, const SurveySpec& s) {
+    const ScanPatternEntry* entry = find_scan_pattern(s.scanner.type());
+    if (!n.IsMap() || entry == nullptr || entry->parse == nullptr) {
+        c.error(n, key, "expected a map (active and the scanner's own keys)");
+        return;
+    }
+    std::vector<std::string_view> known{"active"};
+    std::copy_if(entry->keys.begin(), entry->keys.end(), std::back_inserter(known),
+                 [](std::string_view k) { return k != "duration_s"; });
+    c.only_keys_of(n, key, known, "a leg of a " + s.scanner.type() + " scanner");
+    const bool has_active = static_cast<bool>(n["active"]);
+    if (has_active) {
+        c.boolean(n["active"], key + ".active", leg.active);
+    }
+    if (!leg.active || n.size() == (has_active ? 1u : 0u)) {
+        return;
+    }
+    for (const auto& kv : scanner) {
+        const std::string k = kv.first.IsScalar() ? kv.first.Scalar() : "";
+        if (!n[k] && k != "range_min_m" && k != "range_max_m" && k != "duration_s") {
+            n[k] = kv.second;
+        }
+    }
+    leg.scanner = ScannerSpec(s.scanner.type(), entry->parse(c, n));
+}
+
+/// The leg's scanner as it fires for the leg's flight time: every problem of its timing (a
+/// leg too short for one pulse) at the leg.
+void check_leg_timing(YamlChecker& c, const YAML::Node& n, const std::string& key,
+                      const LegScanner& leg, const SurveySpec& s, double start_s, double end_s) {
+    const ScannerSpec& own = leg.scanner ? *leg.scanner : s.scanner;
+    const auto timed = own.settings().with_timing(start_s, end_s - start_s);
+    if (!timed) {
+        c.error(n, key, "a " + own.type() + " scanner cannot fire for a leg's flight time");
+        return;
+    }
+    for (const std::string& p : timed->validate()) {
+        c.error(n, key, p);
+    }
+}
+
+/// `platform.legs`: one entry per leg (waypoint k to k + 1), each `{}` or `{scanner: {...}}`.
+void parse_leg_scanners(YamlChecker& c, const YAML::Node& legs, const YAML::Node& scanner,
+                        SurveySpec& s) {
+    const std::size_t count = s.legs.waypoints_m.size() - 1;
+    if (!legs.IsSequence() || legs.size() != count) {
+        c.error(legs, "platform.legs",
+                "expected a list of " + std::to_string(count) +
+                    " legs (one per pair of consecutive waypoints), each {} or {scanner: {...}}");
+        return;
+    }
+    if (scanner && scanner.IsMap() && scanner["duration_s"]) {
+        c.error(scanner["duration_s"], "scanner.duration_s",
+                "not with platform.legs: each leg's scanner fires for the leg's flight time");
+    }
+    const std::vector<std::string> path_problems = s.legs.validate();
+    std::vector<double> times;
+    if (path_problems.empty()) {
+        times = LinearLegs(s.legs).waypoint_times_s();
+    }
+    for (std::size_t l = 0; l < count; ++l) {
+        const std::string key = "platform.legs[" + std::to_string(l) + "]";
+        const YAML::Node item = legs[l];
+        LegScanner& leg = s.leg_scanners.emplace_back();
+        if (!item.IsNull() && !item.IsMap()) {
+            c.error(item, key, "expected a map ({} or {scanner: {...}})");
+            continue;
+        }
+        c.only_keys(item, key, {"scanner"});
+        const std::size_t errors = c.errors().size();
+        if (item.IsMap() && item["scanner"]) {
+            parse_leg_scanner(c, item["scanner"], scanner, key + ".scanner", leg, s);
+        }
+        // The timing of settings already found wrong would repeat their errors.
+        if (leg.active && !times.empty() && c.errors().size() == errors) {
+            check_leg_timing(c, item, key, leg, s, times[l], times[l + 1]);
+        }
     }
 }
 
@@ -185,7 +275,7 @@ void parse_output(YamlChecker& c, const YAML::Node& o, SurveySpec& s) {
         return;
     }
     std::vector<std::string> known{"point_format", "trajectory_rate_hz", "wave_packets",
-                                   "extra_bytes"};
+                                   "extra_bytes", "point_source_id"};
     for (const SinkEntry& e : point_sinks()) {
         if (!e.key.empty()) {
             known.emplace_back(e.key);
@@ -223,6 +313,14 @@ void parse_output(YamlChecker& c, const YAML::Node& o, SurveySpec& s) {
     }
     if (const auto x = o["extra_bytes"]) {
         parse_extra_bytes(c, x, s);
+    }
+    if (const auto id = o["point_source_id"]) {
+        const std::string v = id.IsScalar() ? id.Scalar() : "";
+        if (v == "part" || v == "leg") {
+            s.point_source_id = v == "part" ? PointSourceId::part : PointSourceId::leg;
+        } else {
+            c.error(id, "output.point_source_id", "expected part or leg");
+        }
     }
     if (o["trajectory_rate_hz"] &&
         c.number(o["trajectory_rate_hz"], "output.trajectory_rate_hz", s.trajectory_rate_hz) &&
@@ -293,6 +391,10 @@ SurveySpec parse_survey_spec(const std::string& yaml_text, const std::filesystem
     }
     parse_scanner(c, root["scanner"], s);
     parse_platform(c, root["platform"], s);
+    if (s.platform == PlatformKind::legs && root["platform"]["legs"] &&
+        s.legs.waypoints_m.size() >= 2) {
+        parse_leg_scanners(c, root["platform"]["legs"], root["scanner"], s);
+    }
     if (const auto m = root["mount"]) {
         parse_mount(c, m, s);
     }
@@ -312,6 +414,10 @@ SurveySpec parse_survey_spec(const std::string& yaml_text, const std::filesystem
         detail::parse_weather_block(c, w, *s.physics->weather);
     }
     resolve_point_format(c, root, s);
+    if (s.point_source_id == PointSourceId::leg && s.leg_scanners.empty()) {
+        c.error(root["output"]["point_source_id"], "output.point_source_id",
+                "leg needs platform.legs (a platform of type legs with a list of legs)");
+    }
     check_laz(c, root, s);
     c.throw_if_any("survey file");
     return s;

@@ -84,8 +84,8 @@ TEST(SurveySinks, OutputKeysComeFromTheRegistry) {
         const std::string what = e.what();
         EXPECT_NE(what.find("output.pcd: expected true or false"), std::string::npos) << what;
         EXPECT_NE(what.find("output.lazz: unknown key (expected one of: point_format, "
-                            "trajectory_rate_hz, wave_packets, extra_bytes, las, laz, csv, ply, "
-                            "pcd, preview)"),
+                            "trajectory_rate_hz, wave_packets, extra_bytes, point_source_id, "
+                            "las, laz, csv, ply, pcd, preview, no_echo)"),
                   std::string::npos)
             << what;
     }

@@ -52,16 +52,26 @@ struct PulseWaveform {
     std::uint32_t count = 0;
 };
 
+/// A pulse that gave no point (output.no_echo): for gap studies.
+struct NoEchoPulse {
+    std::uint64_t pulse = 0;
+    double time_s = 0.0;  ///< GPS time of emission
+    Vec3d origin_m;       ///< beam origin, world (as the points are placed)
+    Vec3d axis;           ///< beam axis (unit), world
+};
+
 /// A block of consecutive pulses' points, in pulse order (a pulse's returns side by side).
 struct PointBlock {
     std::vector<BlockPoint> points;
     std::vector<PulseWaveform> waveforms;  ///< empty unless waveforms are kept
     std::vector<float> samples;            ///< the waveforms' samples, watts
+    std::vector<NoEchoPulse> no_echo;      ///< empty unless output.no_echo is on; pulse order
     /// Empties the block (keeps its memory).
     void clear() {
         points.clear();
         waveforms.clear();
         samples.clear();
+        no_echo.clear();
     }
 };
 

@@ -29,6 +29,21 @@ namespace beamtrace {
 
 enum class PlatformKind : std::uint8_t { fixed, legs, trajectory };
 
+/// One leg's scanner (`platform.legs[i].scanner`, docs/survey.md "Legs"): on or off, and the
+/// survey's `scanner:` settings with the leg's overrides.
+struct LegScanner {
+    bool active = true;  ///< false: no pulse on this leg (e.g. a turn)
+    /// The leg's settings (the survey's type and keys, the leg's keys replacing them); nullopt:
+    /// the survey's `scanner:` as it is.
+    std::optional<ScannerSpec> scanner;
+};
+
+/// What a point's LAS point source ID holds (output.point_source_id).
+enum class PointSourceId : std::uint8_t {
+    part,  ///< the scene part's id (the default)
+    leg,   ///< the index of the platform leg that fired the pulse (needs platform.legs)
+};
+
 /// Everything a survey file says. Parsed by load_survey_spec (see docs/survey.md).
 struct SurveySpec {
     std::filesystem::path source;      ///< the survey file
@@ -39,8 +54,12 @@ struct SurveySpec {
     double range_min_m = 0.0;  ///< closer hits are not recorded
     double range_max_m = std::numeric_limits<double>::infinity();
     PlatformKind platform = PlatformKind::fixed;
-    Pose fixed_pose;                        ///< platform pose for `fixed`
-    LinearLegsConfig legs;                  ///< for `legs`
+    Pose fixed_pose;        ///< platform pose for `fixed`
+    LinearLegsConfig legs;  ///< for `legs`
+    /// For `legs` with `platform.legs`: one per leg (waypoint k to k + 1), each with its own
+    /// scanner settings; the pattern is then a LegSequence (each leg's scanner firing for the
+    /// leg's flight time). Empty: one scanner for the whole survey, firing for its duration_s.
+    std::vector<LegScanner> leg_scanners;
     std::filesystem::path trajectory_file;  ///< for `trajectory`
     Mount mount;                            ///< lever arm and boresight
     /// LAS point format: 6, 7 or 8; with physics.waveform.keep 9 (from 6) or 10 (from 7, 8).
@@ -57,13 +76,16 @@ struct SurveySpec {
     /// output.extra_bytes: the attributes every point of points.las / points.laz carries as
     /// LAS extra bytes, in that order (io/point_attributes.hpp); empty (the default): none.
     std::vector<PointAttribute> extra_bytes;
+    /// output.point_source_id: the LAS point source ID of every point (default: the part's id).
+    PointSourceId point_source_id = PointSourceId::part;
     std::string text;  ///< the file's text (recorded in the LAS VLR)
     /// The `physics:` block (docs/physics.md) with the `weather:` block (docs/weather.md) in
     /// physics->weather; nullopt: ideal single rays, no intensity/noise (a `weather:` block
     /// alone gives the physics' defaults).
     std::optional<PhysicsConfig> physics;
 
-    /// The scan pattern described by the file.
+    /// The scan pattern described by the file: the scanner's, or with leg_scanners a
+    /// LegSequence (sensor/leg_sequence.hpp) of the legs' scanners over the legs' flight times.
     [[nodiscard]] std::unique_ptr<ScanPattern> make_pattern() const;
     /// The platform's trajectory.
     [[nodiscard]] std::unique_ptr<Trajectory> make_trajectory() const;

@@ -19,7 +19,7 @@ namespace beamtrace {
 
 /// A batch of pulses, structure of arrays (every array has size()).
 struct PulseBatch {
-    std::vector<double> time_s;          ///< emission time (start_time_s + i / pulse_rate_hz)
+    std::vector<double> time_s;          ///< emission time (ScanPattern::pulse_time_s)
     std::vector<Vec3d> direction;        ///< unit length, sensor frame
     std::vector<std::uint16_t> channel;  ///< beam / laser / image row that fired the pulse
     /// Horizontal angle of the beam from the sensor's x axis, positive towards +y (left), in
@@ -61,17 +61,22 @@ class ScanPattern {
 
     /// Total pulses of the survey.
     [[nodiscard]] virtual std::uint64_t pulse_count() const = 0;
-    /// Pulses per second (all channels together).
+    /// Pulses per second (all channels together); for a non-uniform pattern (LegSequence) the
+    /// mean rate over [start_time_s(), end_time_s()].
     [[nodiscard]] virtual double pulse_rate_hz() const = 0;
     /// Emission time of pulse 0 (GPS time or any other time base shared with the trajectory).
     [[nodiscard]] virtual double start_time_s() const = 0;
 
-    /// Emission time of pulse i: start_time_s() + i / pulse_rate_hz().
-    [[nodiscard]] double pulse_time_s(std::uint64_t i) const {
+    /// Emission time of pulse i. Uniform patterns (every type of the registry): start_time_s()
+    /// + i / pulse_rate_hz(). A pattern whose times are not uniform (LegSequence: legs with
+    /// their own rates and gaps) overrides it; the times of generate() always agree with it.
+    /// Users take times from generate()'s PulseBatch::time_s, never from start + i / rate.
+    [[nodiscard]] virtual double pulse_time_s(std::uint64_t i) const {
         return start_time_s() + static_cast<double>(i) / pulse_rate_hz();
     }
-    /// The end of the survey: start_time_s() + pulse_count() / pulse_rate_hz().
-    [[nodiscard]] double end_time_s() const { return pulse_time_s(pulse_count()); }
+    /// The end of the survey: the time the last pulse's slot ends (uniform patterns:
+    /// start_time_s() + pulse_count() / pulse_rate_hz(), i.e. pulse_time_s(pulse_count())).
+    [[nodiscard]] virtual double end_time_s() const { return pulse_time_s(pulse_count()); }
 
     /// The image grid of the pulses when they form one image (an image pattern firing a single
     /// frame): the survey then writes range and label images. nullopt for every other pattern.

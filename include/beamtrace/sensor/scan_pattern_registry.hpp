@@ -64,6 +64,14 @@ class ScannerSettings {
     [[nodiscard]] virtual std::optional<std::pair<double, double>> preset_range_m() const {
         return std::nullopt;
     }
+    /// These settings firing from `start_time_s` for `duration_s` (a survey leg, LegSequence);
+    /// nullptr for a type without a duration (an image pattern counts frames).
+    [[nodiscard]] virtual std::unique_ptr<ScannerSettings> with_timing(double start_time_s,
+                                                                       double duration_s) const {
+        static_cast<void>(start_time_s);
+        static_cast<void>(duration_s);
+        return nullptr;
+    }
 };
 
 /// The settings of a `Pattern` type: its `Pattern::Config`, from which it is constructed.
@@ -86,6 +94,22 @@ class SettingsOf final : public ScannerSettings {
             return config.preset_range_m();
         } else {
             return std::nullopt;
+        }
+    }
+    [[nodiscard]] std::unique_ptr<ScannerSettings> with_timing(double start_time_s,
+                                                               double duration_s) const override {
+        if constexpr (requires(Config & c) {
+                          c.start_time_s = 0.0;
+                          c.duration_s = 0.0;
+                      }) {
+            Config c = config;
+            c.start_time_s = start_time_s;
+            c.duration_s = duration_s;
+            return std::make_unique<SettingsOf>(std::move(c));
+        } else {
+            static_cast<void>(start_time_s);
+            static_cast<void>(duration_s);
+            return nullptr;
         }
     }
 

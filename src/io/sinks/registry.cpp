@@ -16,6 +16,7 @@ std::unique_ptr<PointSink> make_ply_sink(const SinkFacts& facts);
 std::unique_ptr<PointSink> make_trajectory_sink(const SinkFacts& facts);
 std::unique_ptr<PointSink> make_pcd_sink(const SinkFacts& facts);
 std::unique_ptr<PointSink> make_preview_sink(const SinkFacts& facts);
+std::unique_ptr<PointSink> make_no_echo_sink(const SinkFacts& facts);
 
 namespace {
 
@@ -54,6 +55,9 @@ std::span<const SinkEntry> point_sinks() {
          "a top-down quick look: heights in colour, hill-shaded, with a scale bar (on unless "
          "output.preview: false)",
          always, make_preview_sink},
+        {"no_echo", "no_echo.csv", "no_echo",
+         "every pulse that gave no point: pulse, GPS time, beam origin and direction", always,
+         make_no_echo_sink},
     };
     return kSinks;
 }

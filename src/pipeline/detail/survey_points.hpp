@@ -23,6 +23,11 @@ struct SurveyPoints {
     bool incidence = false;
     /// The LAS class of the weather's points (WeatherConfig::medium_class).
     std::uint8_t medium_class = 7;
+    /// output.point_source_id: leg — the first pulse of each leg (LegSequence::first_pulses()),
+    /// each point's point source ID its pulse's leg. Empty: the part's id.
+    std::vector<std::uint64_t> leg_first_pulse{};
+    /// Record each pulse without a point in w.points.no_echo (output.no_echo).
+    bool no_echo = false;
 
     /// Appends the block's points to w.points.points, in pulse order. Thread-safe.
     void run(BlockWork& w) const;
