@@ -30,8 +30,8 @@ struct HitPointers {
     double* normal;  ///< 3 per ray
 };
 
-/// A thread's buffers for one block of rays: converted rays and their nearest hits, small enough
-/// to stay in the cache between tracing the block and writing it out.
+/// The buffers of one step of rays (rays_per_step): converted rays and their nearest hits, small
+/// enough to stay in the cache between tracing them and writing them out.
 struct BlockScratch {
     RayBatch rays;
     HitBatch hits;
@@ -65,19 +65,31 @@ void describe_hits(const Scene& scene, const BlockScratch& s, std::size_t first,
     }
 }
 
-// Converts, traces and describes rays [begin, end) block by block, each block while it is in the
-// cache: the rays go from the caller's arrays to the results in the returned arrays without a
-// batch of all rays in between (which cost a serial zero fill, 64 bytes a ray written and read
-// back, and a describe pass that read the faces from memory again). Returns the first bad row,
+// Rays traced and then described in one step on a CPU backend: few enough that the faces and
+// vertices their traversals ended on are still in the L1/L2 cache when their normals are looked
+// up. With 4096 (the backends' preferred batch) the normal lookup read them from memory again and
+// trace lost about 5 % of the C++ rate over the 1.48 M-triangle DEM (CPU time,
+// bench/python/trace_rate.py); 256 and 64 did equally well.
+constexpr std::size_t kRaysPerStep = 256;
+
+// An asynchronous backend (a GPU) is fed the batches it asks for.
+std::size_t rays_per_step(const BackendTraits& t) {
+    const std::size_t preferred = std::max<std::size_t>(1, t.preferred_batch_rays);
+    return t.asynchronous ? preferred : std::min(preferred, kRaysPerStep);
+}
+
+// Converts, traces and describes rays [begin, end) step by step, each step's rays while they
+// are in the cache: the rays go from the caller's arrays to the results in the returned arrays
+// without a batch of all rays in between (which cost a serial zero fill, 64 bytes a ray written and
+// read back, and a describe pass that read the faces from memory again). Returns the first bad row,
 // or rows.size().
 std::size_t trace_rows(const Scene& scene, const Backend& b, const RayRows& rows, std::size_t begin,
                        std::size_t end, const HitPointers& out) {
-    // Kept by the thread between calls: no allocation (and no page faults) per block.
-    thread_local BlockScratch s;
-    ThreadPool serial(1);  // no workers: this thread traces the block
-    const std::size_t block = std::max<std::size_t>(1, b.traits().preferred_batch_rays);
-    for (std::size_t first = begin; first < end; first += block) {
-        const std::size_t last = std::min(end, first + block);
+    BlockScratch s;        // a few KB, reused by the steps
+    ThreadPool serial(1);  // no workers: this thread traces the steps
+    const std::size_t step = rays_per_step(b.traits());
+    for (std::size_t first = begin; first < end; first += step) {
+        const std::size_t last = std::min(end, first + step);
         s.rays.resize(last - first);
         if (const std::size_t bad = rows.convert(first, last, s.rays, 0); bad < rows.size()) {
             return bad;  // the rest of this range cannot hold a lower bad row

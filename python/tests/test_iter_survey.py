@@ -132,6 +132,25 @@ def test_errors_of_the_survey_come_from_next(tmp_path):
     assert not threads_left(before)
 
 
+def test_an_error_not_yet_raised_comes_from_close_or_goes_to_unraisablehook(tmp_path,
+                                                                             monkeypatch):
+    scene = tmp_path / "scene.yaml"
+    scene.write_text("parts:\n  - mesh: nothere.obj\n")
+    survey = tripod(90, 30)
+    survey["scene"] = str(scene)
+    blocks = beamtrace.iter_survey(survey, backend="bvh")
+    time.sleep(0.5)  # the run fails meanwhile; no next() saw it
+    with pytest.raises(beamtrace.ConfigError, match="nothere.obj"):
+        blocks.close()
+    blocks.close()  # raised once
+    seen = []
+    monkeypatch.setattr(sys, "unraisablehook", seen.append)
+    blocks = beamtrace.iter_survey(survey, backend="bvh")
+    time.sleep(0.5)
+    del blocks
+    assert len(seen) == 1 and "nothere.obj" in str(seen[0].exc_value)
+
+
 def test_progress_on_the_calling_thread():
     calls = []
     caller = threading.get_ident()
