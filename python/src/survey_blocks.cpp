@@ -7,6 +7,7 @@
 #include <pthread.h>
 #include <pybind11/stl.h>
 
+#include <algorithm>
 #include <chrono>
 #include <condition_variable>
 #include <cstdint>
@@ -31,6 +32,9 @@ namespace {
 /// Blocks the run may have ready beyond the one being filled: the run waits while this many
 /// wait for Python.
 constexpr std::size_t kQueueBlocks = 2;
+
+/// Bytes reserved for a block at once (a larger block grows as its points come).
+constexpr std::size_t kReserveBytes = std::size_t{64} << 20;
 
 /// The name of the run's thread (at most 15 characters).
 constexpr const char* kThreadName = "bt-iter-survey";
@@ -95,7 +99,7 @@ SurveyBlocks::SurveyBlocks(SurveySpec spec, const RunOptions& options, std::size
         return make_callback_sink(
             facts, [this](std::span<const BlockPoint> points) { take_points(points); });
     });
-    current_.reserve(block_bytes_);
+    current_.reserve(std::min(block_bytes_, kReserveBytes));
     thread_ = std::thread([this] { produce(); });
 }
 
@@ -150,7 +154,7 @@ void SurveyBlocks::push_block() {
     changed_.notify_all();
     lock.unlock();
     current_ = std::vector<std::uint8_t>();
-    current_.reserve(block_bytes_);
+    current_.reserve(std::min(block_bytes_, kReserveBytes));
 }
 
 void SurveyBlocks::report(std::size_t done, std::size_t total) {
@@ -237,9 +241,10 @@ void SurveyBlocks::close() {
 
 std::unique_ptr<SurveyBlocks> make_blocks(const SurveySpec& spec, const RunOptions& options,
                                           std::int64_t block_points, py::object progress) {
-    if (block_points <= 0) {
+    constexpr auto kMostPoints = static_cast<std::int64_t>(std::size_t{1} << 40);
+    if (block_points <= 0 || block_points > kMostPoints) {
         throw py::value_error("block_points: " + std::to_string(block_points) +
-                              ", expected a positive number of points");
+                              ", expected a positive number of points (at most 2^40)");
     }
     return std::make_unique<SurveyBlocks>(spec, options, static_cast<std::size_t>(block_points),
                                           std::move(progress));

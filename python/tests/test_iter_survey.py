@@ -129,6 +129,8 @@ def test_errors_of_the_survey_come_from_next(tmp_path):
         beamtrace.iter_survey(tripod(), backend="octree")
     with pytest.raises(ValueError, match="block_points: 0, expected a positive"):
         beamtrace.iter_survey(tripod(), block_points=0)
+    with pytest.raises(ValueError, match="block_points: 1099511627777, expected"):
+        beamtrace.iter_survey(tripod(), block_points=2**40 + 1)
     assert not threads_left(before)
 
 
@@ -185,16 +187,21 @@ def test_an_exception_in_progress_is_raised_by_next_and_stops_the_run():
 
 def test_ctrl_c_stops_the_run():
     before = survey_threads()
-    timer = threading.Timer(0.3, _thread.interrupt_main)
-    timer.start()
-    try:
-        with pytest.raises(KeyboardInterrupt):
-            for _ in beamtrace.iter_survey(long_line(), backend="bvh", block_points=1000):
-                time.sleep(0.01)  # a slow consumer: the run waits for it
-    finally:
-        timer.cancel()
-    assert not threads_left(before)
-
+    for block_points, pause_s in ((1000, 0.01), (10**8, 0)):
+        # a slow consumer (the run waits for it), then one waiting in next() for a block that
+        # would take minutes (10^8 pulses): next() checks for Ctrl-C while it waits
+        timer = threading.Timer(0.3, _thread.interrupt_main)
+        start = time.monotonic()
+        timer.start()
+        try:
+            with pytest.raises(KeyboardInterrupt):
+                for _ in beamtrace.iter_survey(long_line(), backend="bvh",
+                                               block_points=block_points):
+                    time.sleep(pause_s)
+        finally:
+            timer.cancel()
+        assert time.monotonic() - start < 10
+        assert not threads_left(before)
 
 # Run in a fresh interpreter, so that the peak resident set (VmHWM) is this survey's alone and not
 # that of an earlier test. About 8 * 10^6 pulses, 4 * 10^6 points of 69 bytes: 290 MB in all.
