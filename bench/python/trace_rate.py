@@ -93,7 +93,7 @@ def main():
             hits = scene.trace(origins, directions, backend=args.backend, threads=threads)
             py.append(time.perf_counter() - start)
             py_cpu.append(time.process_time() - cpu_start)
-            del hits  # freeing the arrays (64 MB for 10^6 rays) is the caller's, not timed
+            del hits  # freeing the arrays (60 MB for 10^6 rays) is the caller's, not timed
             seconds, _, cpu = scene._intersect_seconds(origins, directions, backend=args.backend,
                                                        threads=threads, repeats=1)
             cpp.append(seconds)
