@@ -5,6 +5,8 @@
     hits = scene.trace(np.zeros((1, 3)) + [0, 0, 1.6], [[1.0, 0.0, 0.0]])
     points, header = beamtrace.read_las("cloud.laz")
     points = beamtrace.run_survey("examples/surveys/tripod_panorama.yaml", seed=1)
+    with beamtrace.iter_survey("examples/surveys/airborne_srtm_1e8.yaml") as blocks:
+        for block in blocks: ...  # structured arrays of 65536 points, bounded memory
     image = beamtrace.render("demo", size=(320, 240))  # (240, 320, 3) uint8
     image = beamtrace.view("cloud.las", size=(640, 360))  # (360, 640, 3) uint8
 """
@@ -21,7 +23,10 @@ from ._beamtrace import (
     InputError,
     OutputError,
     Scene,
+    SurveyBlocks,
     __version__,
+    _iter_survey_file,
+    _iter_survey_text,
     _run_survey_file,
     _run_survey_text,
     read_las,
@@ -37,11 +42,13 @@ __all__ = [
     "InputError",
     "OutputError",
     "Scene",
+    "SurveyBlocks",
     "__version__",
     "read_las",
     "render",
     "view",
     "run_survey",
+    "iter_survey",
 ]
 
 
@@ -67,7 +74,30 @@ def run_survey(survey, seed=1, threads=0, backend=None, max_pulses=0, progress=N
     options = dict(seed=seed, threads=threads, backend=backend, max_pulses=max_pulses,
                    progress=progress, output_dir=output_dir)
     if isinstance(survey, Mapping):
-        # JSON is YAML: the survey file's parser checks the dict, with the same messages.
-        text = json.dumps(survey, indent=1, default=_json_value)
-        return _run_survey_text(text, **options)
+        return _run_survey_text(_survey_text(survey), **options)
     return _run_survey_file(os.fspath(survey), **options)
+
+
+def iter_survey(survey, seed=1, threads=0, backend=None, max_pulses=0, block_points=65536,
+                progress=None):
+    """Runs a survey block by block, for surveys larger than memory: returns an iterator of
+    NumPy structured arrays of `block_points` rows each (the last one fewer), whose
+    concatenation is run_survey's array for the same survey and seed (docs/python.md).
+
+    The arguments are run_survey's (no output_dir). The survey runs on a thread of its own, at
+    most a few blocks ahead of the caller, so memory stays bounded whatever its size. The
+    iterator is a context manager; closing it (close(), the end of a `with` block, or its
+    deletion, e.g. `break` out of a for loop) stops the survey and waits for its thread. An
+    error of the survey, progress's exception and Ctrl-C are raised by the next().
+    """
+    options = dict(seed=seed, threads=threads, backend=backend, max_pulses=max_pulses,
+                   block_points=block_points, progress=progress)
+    if isinstance(survey, Mapping):
+        return _iter_survey_text(_survey_text(survey), **options)
+    return _iter_survey_file(os.fspath(survey), **options)
+
+
+def _survey_text(survey):
+    """A survey dict as the text of a survey file: JSON is YAML, so the survey file's parser
+    checks the dict, with the same messages."""
+    return json.dumps(survey, indent=1, default=_json_value)

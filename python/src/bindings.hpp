@@ -20,5 +20,8 @@ void bind_render(py::module_& m);
 void bind_view(py::module_& m);
 /// beamtrace.run_survey's C++ part (_run_survey_file, _run_survey_text).
 void bind_survey(py::module_& m);
+/// beamtrace.iter_survey's C++ part (SurveyBlocks, _iter_survey_file, _iter_survey_text); called
+/// by bind_survey.
+void bind_survey_blocks(py::module_& m);
 
 }  // namespace beamtrace::python

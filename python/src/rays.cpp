@@ -6,8 +6,6 @@
 #include <cstddef>
 #include <string>
 
-#include "numpy_arrays.hpp"
-
 namespace beamtrace::python {
 namespace {
 
@@ -31,7 +29,47 @@ RowProblem row_problem(const Vec3d& org, const Vec3d& dir, double len) {
     return std::isfinite(len) ? RowProblem::none : RowProblem::too_long;
 }
 
-[[noreturn]] void bad_row(std::size_t row, RowProblem problem) {
+// Rows per block: a batch up to this size is converted on the calling thread (waking the pool
+// costs more than it saves).
+constexpr std::size_t kGrain = 65536;
+
+}  // namespace
+
+RayRows::RayRows(const py::handle& origins, const py::handle& directions, double max_range_m)
+    : o_(vec3_array(origins, "origins")),
+      d_(vec3_array(directions, "directions")),
+      max_range_m_(max_range_m) {
+    if (o_.shape(0) != d_.shape(0)) {
+        throw py::value_error("directions: " + std::to_string(d_.shape(0)) +
+                              " rows, but origins has " + std::to_string(o_.shape(0)));
+    }
+    if (!(max_range_m > 0.0)) {
+        throw py::value_error("max_range_m: " + std::to_string(max_range_m) +
+                              ", expected a positive range (inf: no limit)");
+    }
+    n_ = static_cast<std::size_t>(o_.shape(0));
+    op_ = o_.data();  // C-contiguous (n, 3): o_ and d_ keep them alive
+    dp_ = d_.data();
+}
+
+std::size_t RayRows::convert(std::size_t begin, std::size_t end, RayBatch& out,
+                             std::size_t at) const {
+    for (std::size_t i = begin; i < end; ++i) {
+        const Vec3d org{op_[3 * i], op_[3 * i + 1], op_[3 * i + 2]};
+        const Vec3d dir{dp_[3 * i], dp_[3 * i + 1], dp_[3 * i + 2]};
+        const double len = length(dir);
+        if (row_problem(org, dir, len) != RowProblem::none) [[unlikely]] {
+            return i;
+        }
+        out.set(at + (i - begin), org, dir * (1.0 / len), 0.0, max_range_m_);
+    }
+    return n_;
+}
+
+void RayRows::raise_bad_row(std::size_t row) const {
+    const Vec3d org{op_[3 * row], op_[3 * row + 1], op_[3 * row + 2]};
+    const Vec3d dir{dp_[3 * row], dp_[3 * row + 1], dp_[3 * row + 2]};
+    const RowProblem problem = row_problem(org, dir, length(dir));
     const char* name = problem == RowProblem::origin ? "origins" : "directions";
     const char* what = problem == RowProblem::origin || problem == RowProblem::direction
                            ? "is not finite"
@@ -40,27 +78,10 @@ RowProblem row_problem(const Vec3d& org, const Vec3d& dir, double len) {
     throw py::value_error(std::string(name) + ": row " + std::to_string(row) + " " + what);
 }
 
-// Rows per block: a batch up to this size is converted on the calling thread (waking the pool
-// costs more than it saves).
-constexpr std::size_t kGrain = 65536;
-
-}  // namespace
-
 RayBatch make_rays(const py::handle& origins, const py::handle& directions, double max_range_m,
                    ThreadPool& pool) {
-    const CArray<double> o = vec3_array(origins, "origins");
-    const CArray<double> d = vec3_array(directions, "directions");
-    if (o.shape(0) != d.shape(0)) {
-        throw py::value_error("directions: " + std::to_string(d.shape(0)) +
-                              " rows, but origins has " + std::to_string(o.shape(0)));
-    }
-    if (!(max_range_m > 0.0)) {
-        throw py::value_error("max_range_m: " + std::to_string(max_range_m) +
-                              ", expected a positive range (inf: no limit)");
-    }
-    const auto n = static_cast<std::size_t>(o.shape(0));
-    const double* op = o.data();  // C-contiguous (n, 3): o and d keep them alive
-    const double* dp = d.data();
+    const RayRows rows(origins, directions, max_range_m);
+    const std::size_t n = rows.size();
     RayBatch rays;
     std::atomic<std::size_t> first_bad{n};
     {
@@ -68,28 +89,16 @@ RayBatch make_rays(const py::handle& origins, const py::handle& directions, doub
         py::gil_scoped_release release;
         rays.resize(n);
         pool.parallel_for(n, kGrain, [&](std::size_t begin, std::size_t end) {
-            for (std::size_t i = begin; i < end; ++i) {
-                const Vec3d org{op[3 * i], op[3 * i + 1], op[3 * i + 2]};
-                const Vec3d dir{dp[3 * i], dp[3 * i + 1], dp[3 * i + 2]};
-                const double len = length(dir);
-                const RowProblem p = row_problem(org, dir, len);
-                if (p != RowProblem::none) [[unlikely]] {
-                    // The lowest bad row wins, whichever thread finds it first.
-                    std::size_t seen = first_bad.load();
-                    while (i < seen && !first_bad.compare_exchange_weak(seen, i)) {
-                    }
-                    return;  // the rest of this chunk cannot hold a lower row
-                }
-                rays.set(i, org, dir * (1.0 / len), 0.0, max_range_m);
+            const std::size_t bad = rows.convert(begin, end, rays, begin);
+            // The lowest bad row wins, whichever thread finds it first (the rest of a chunk
+            // cannot hold a lower one).
+            std::size_t seen = first_bad.load();
+            while (bad < seen && !first_bad.compare_exchange_weak(seen, bad)) {
             }
         });
     }
     if (first_bad.load() < n) {
-        // The lowest bad row; its problem, found again.
-        const std::size_t i = first_bad.load();
-        const Vec3d org{op[3 * i], op[3 * i + 1], op[3 * i + 2]};
-        const Vec3d dir{dp[3 * i], dp[3 * i + 1], dp[3 * i + 2]};
-        bad_row(i, row_problem(org, dir, length(dir)));
+        rows.raise_bad_row(first_bad.load());
     }
     return rays;
 }

@@ -20,10 +20,11 @@ def test_trace_rate_script_on_a_small_dem(shared_data, tmp_path):
     assert run.returncode == 0, run.stderr
     hit = re.search(r"20000 rays \((\d+) hit\)", run.stdout)  # the same count on both sides
     assert hit and int(hit.group(1)) > 19000, run.stdout
-    rows = re.findall(r"^\| (\d+)[^|]*\| ([\d.]+) \| ([\d.]+) \| ([\d.]+) \| ([\d.]+) \|$",
-                      run.stdout, re.M)
+    rows = re.findall(r"^\| (\d+)[^|]*\| ([\d.]+) \| ([\d.]+) \| ([\d.]+) \| ([\d.]+) "
+                      r"\| ([\d.]+) \|$", run.stdout, re.M)
     assert [r[0] for r in rows] == ["1", "2"], run.stdout
-    for _, py_rate, cpp_rate, ratio, median in rows:
+    for _, py_rate, cpp_rate, ratio, median, cpu_ratio in rows:
         assert float(py_rate) > 0 and float(cpp_rate) > 0 and float(median) > 0
+        assert float(cpu_ratio) > 0
         assert median == ratio  # one round (--repeats 1): its ratio is the median
         assert abs(float(ratio) - float(py_rate) / float(cpp_rate)) < 0.05 * float(ratio) + 0.01
