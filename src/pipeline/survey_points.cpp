@@ -65,10 +65,9 @@ void SurveyPoints::run(BlockWork& w) const {
             w.points.no_echo.push_back(
                 {w.first + k, w.pulses.time_s[k], w.origin[k] + scene->origin_m, w.axis[k]});
         }
-        const auto source_id =
-            leg_first_pulse.empty()
-                ? std::optional<std::uint16_t>()
-                : static_cast<std::uint16_t>(leg_of_pulse(leg_first_pulse, w.first + k));
+        const bool by_leg = !leg_first_pulse.empty();
+        const auto leg =
+            static_cast<std::uint16_t>(by_leg ? leg_of_pulse(leg_first_pulse, w.first + k) : 0);
         for (std::size_t r = 0; r < n; ++r) {
             const PulseReturn* ret = physics ? &w.returns[k * max_returns + r] : nullptr;
             const std::uint32_t face =
@@ -93,13 +92,13 @@ void SurveyPoints::run(BlockWork& w) const {
             }
             if (ret != nullptr && ret->weather != WeatherEffect::none) {
                 medium_point(p, *ret);
-                p.point_source_id = source_id.value_or(0);
+                p.point_source_id = leg;
                 continue;
             }
             const ScenePart& part = scene->parts[scene->part_of_face(face)];
             p.face = face;
             p.classification = part.label;
-            p.point_source_id = source_id.value_or(part.part_id);
+            p.point_source_id = by_leg ? leg : part.part_id;
             if (incidence) {
                 p.incidence_deg = incidence_deg(w, k, r);
             }
