@@ -121,6 +121,10 @@ int run(const SurveyCommand& o) {
         std::printf("scene: %zu triangles%s; pulses: %llu; points: %llu\n", r.triangles,
                     spheres.c_str(), static_cast<unsigned long long>(r.pulses),
                     static_cast<unsigned long long>(r.points));
+        if (r.weather_points) {
+            std::printf("weather: %llu of the points are the medium's (fog, rain or snow)\n",
+                        static_cast<unsigned long long>(*r.weather_points));
+        }
         if (r.intensity_reference_range_m) {
             std::printf("intensity: reference range %.2f m", *r.intensity_reference_range_m);
             if (r.intensity_reference_auto) {

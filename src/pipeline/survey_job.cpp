@@ -37,19 +37,21 @@ void create_output_dir(const std::filesystem::path& dir) {
 
 /// Runs every block of `session` on the pool, encodes it for `sinks` beside it and writes them
 /// to `sinks` in block order, with at most `window` blocks in flight; returns the number of
-/// points written. Checks `cancel` before each block is taken and written: Interrupted stops
-/// every thread.
-std::uint64_t stream_blocks(const detail::SurveySession& session, detail::SinkSet& sinks,
-                            std::size_t window, ThreadPool& pool, const ProgressFn& progress,
-                            const CancelToken* cancel) {
+/// points written and of the weather's among them. Checks `cancel` before each block is taken and
+/// written: Interrupted stops every thread.
+std::pair<std::uint64_t, std::uint64_t> stream_blocks(const detail::SurveySession& session,
+                                                      detail::SinkSet& sinks, std::size_t window,
+                                                      ThreadPool& pool, const ProgressFn& progress,
+                                                      const CancelToken* cancel) {
     const std::uint64_t pulses = session.pulses();
     const std::size_t blocks = session.blocks();
     const std::size_t progress_every = std::max<std::size_t>(1, window / 4);
-    std::uint64_t points = 0;
+    std::uint64_t points = 0, weather_points = 0;
     detail::OrderedBlocks ordered(blocks, window, [&](std::size_t k, detail::BlockOutput& out) {
         throw_if_cancelled(cancel, "survey");  // on the writer: finish() rethrows it
         sinks.write(out);
         points += out.points;
+        weather_points += out.weather_points;
         if (progress && ((k + 1) % progress_every == 0 || k + 1 == blocks)) {
             progress(static_cast<std::size_t>(
                          std::min<std::uint64_t>((k + 1) * detail::kBlockPulses, pulses)),
@@ -84,7 +86,7 @@ std::uint64_t stream_blocks(const detail::SurveySession& session, detail::SinkSe
         }
     });
     ordered.finish();
-    return points;
+    return {points, weather_points};
 }
 
 }  // namespace
@@ -180,7 +182,12 @@ SurveyResult run_survey(const SurveySpec& spec, const SurveyRunConfig& run,
     const std::size_t window =
         (std::max<std::size_t>(1, run.chunk_pulses) + detail::kBlockPulses - 1) /
         detail::kBlockPulses;
-    result.points = stream_blocks(session, sinks, window, pool, progress, run.cancel);
+    const auto [points, weather_points] =
+        stream_blocks(session, sinks, window, pool, progress, run.cancel);
+    result.points = points;
+    if (spec.physics && spec.physics->weather) {
+        result.weather_points = weather_points;
+    }
     throw_if_cancelled(run.cancel, "survey");
     result.outputs = sinks.commit();
     result.notes = sinks.notes();

@@ -125,6 +125,9 @@ struct SurveyRunConfig {
 struct SurveyResult {
     std::uint64_t pulses = 0;
     std::uint64_t points = 0;
+    /// With a `weather:` block: the points the weather made (fog, rain, snow), among `points`
+    /// (not counted by run_survey_distributed).
+    std::optional<std::uint64_t> weather_points;
     std::size_t triangles = 0;
     std::size_t spheres = 0;  ///< exact spheres
     /// With physics: the LAS intensity reference range R_ref in use [m], whether it was `auto`

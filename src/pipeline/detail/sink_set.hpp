@@ -3,6 +3,8 @@
 // aborts all, so no output is left half-written.
 #pragma once
 
+#include <algorithm>
+
 #include <filesystem>
 #include <memory>
 #include <vector>
@@ -15,11 +17,13 @@ namespace beamtrace::detail {
 struct BlockOutput {
     std::vector<std::unique_ptr<SinkBuffer>> sinks;  ///< one per sink, made on first use
     std::size_t points = 0;                          ///< points in the block
+    std::size_t weather_points = 0;  ///< of which the weather's (BlockPoint::weather)
     void clear() {
         for (auto& s : sinks) {
             s->clear();
         }
         points = 0;
+        weather_points = 0;
     }
 };
 
@@ -48,6 +52,9 @@ class SinkSet {
             sinks_[i]->encode(block, *out.sinks[i]);
         }
         out.points = block.points.size();
+        out.weather_points = static_cast<std::size_t>(
+            std::count_if(block.points.begin(), block.points.end(),
+                          [](const BlockPoint& p) { return p.weather != 0; }));
     }
     /// Writes an encoded block to every sink; one thread, blocks in order.
     void write(const BlockOutput& out) {
