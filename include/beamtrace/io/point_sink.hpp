@@ -36,6 +36,10 @@ struct BlockPoint : LasSimplePoint {
     float incidence_deg = 0.0f;
     /// FWHM of the return's echo (physics only; NaN without: unknown).
     float echo_width_ns = std::numeric_limits<float>::quiet_NaN();
+    /// The hit object (Scene::object_of_face) and its velocity there at the pulse's time (m/s;
+    /// 0 for still parts). Filled when the LAS extra bytes ask for them.
+    std::uint32_t instance_id = 0;
+    Vec3f velocity_mps{0.0f, 0.0f, 0.0f};
 };
 
 /// One pulse's sampled echo (physics.waveform.keep): samples [first_sample, + count) of the block.

@@ -142,7 +142,9 @@ void encode_las_extra_bytes(std::span<const PointAttribute> attributes,
     std::uint8_t* r = records.bytes.data() + (records.count - points.size()) * length + field;
     for (const BlockPoint& p : points) {
         encode_point_attributes(
-            attributes, {p.range_m, p.incidence_deg, p.echo_width_ns, p.channel, p.point_source_id},
+            attributes,
+            {p.range_m, p.incidence_deg, p.echo_width_ns, p.channel, p.point_source_id,
+             p.instance_id, Vec3d(p.velocity_mps)},
             r);
         r += length;
     }

@@ -21,6 +21,9 @@ struct SurveyPoints {
     std::vector<std::array<std::uint16_t, 4>> colours;
     /// Fill BlockPoint::incidence_deg (the LAS extra bytes ask for it).
     bool incidence = false;
+    /// Fill BlockPoint::instance_id and velocity_mps (the LAS extra bytes ask for them).
+    bool instance = false;
+    bool velocity = false;
 
     /// Appends the block's points to w.points.points, in pulse order. Thread-safe.
     void run(BlockWork& w) const;
