@@ -30,7 +30,7 @@ constexpr std::array<Entry, 9> kEntries{{
     {PointAttribute::object_id, "object_id", LasExtraType::u32, "object_id", 1.0,
      "scene part_id of the hit"},
     {PointAttribute::instance_id, "instance_id", LasExtraType::u32, "instance_id", 1.0,
-     "scene object (instance) of the hit"},
+     "scene object (copy) hit"},
     {PointAttribute::velocity_x, "velocity_x", LasExtraType::f32, "velocity_x", 1.0,
      "hit object velocity x, m/s"},
     {PointAttribute::velocity_y, "velocity_y", LasExtraType::f32, "velocity_y", 1.0,
