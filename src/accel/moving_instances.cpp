@@ -1,5 +1,6 @@
 #include "beamtrace/accel/moving_instances.hpp"
 
+#include <algorithm>
 #include <cassert>
 
 #include "detail/queries.hpp"
@@ -9,8 +10,8 @@ namespace beamtrace {
 
 MovingInstances::MovingInstances(const std::vector<TriangleMesh>& meshes,
                                  std::span<const MovingInstance> instances,
-                                 std::span<const RigidMotion> motions,
-                                 const BvhBuildConfig& config, ThreadPool& pool)
+                                 std::span<const RigidMotion> motions, const BvhBuildConfig& config,
+                                 ThreadPool& pool)
     : meshes_(&meshes), instances_(instances), motions_(motions), top_config_(config) {
     top_config_.min_leaf_size = 1;
     top_config_.max_leaf_size = 2;
@@ -26,6 +27,36 @@ MovingInstances::MovingInstances(const std::vector<TriangleMesh>& meshes,
     }
 }
 
+namespace {
+
+/// Refits `bvh`'s node boxes to `boxes` (children follow their parents, so a reverse sweep sees
+/// them first); returns the summed half areas of the nodes.
+double refit(Bvh& bvh, std::span<const Aabb> boxes) {
+    double cost = 0.0;
+    for (std::size_t i = bvh.nodes.size(); i-- > 0;) {
+        BvhNode& n = bvh.nodes[i];
+        Aabb box;
+        if (n.is_leaf()) {
+            for (std::uint32_t k = n.index; k < n.index + n.count; ++k) {
+                box.extend(boxes[bvh.prim_ids[k]]);
+            }
+        } else {
+            for (const std::uint32_t c : {n.index, n.index + 1}) {  // siblings side by side
+                box.extend(Aabb{{bvh.nodes[c].lo[0], bvh.nodes[c].lo[1], bvh.nodes[c].lo[2]},
+                                {bvh.nodes[c].hi[0], bvh.nodes[c].hi[1], bvh.nodes[c].hi[2]}});
+            }
+        }
+        for (std::size_t a = 0; a < 3; ++a) {
+            n.lo[a] = box.lo[a];
+            n.hi[a] = box.hi[a];
+        }
+        cost += box.half_area();
+    }
+    return cost;
+}
+
+}  // namespace
+
 void MovingInstances::prepare(double t0, double t1, MovingFrame& frame, ThreadPool& pool) const {
     frame.t0 = t0;
     frame.t1 = t1;
@@ -34,8 +65,34 @@ void MovingInstances::prepare(double t0, double t1, MovingFrame& frame, ThreadPo
         const MovingInstance& mi = instances_[k];
         frame.boxes[k] = mi.swept_bounds(mesh_bounds_[mi.mesh], motions_[mi.motion], t0, t1);
     }
+    if (!frame.top.nodes.empty() && refit(frame.top, frame.boxes) <= 2.0 * frame.built_cost) {
+        return;
+    }
     frame.top = build_bvh(std::span<const Aabb>(frame.boxes), top_config_, pool);
+    frame.built_cost = refit(frame.top, frame.boxes);
 }
+
+namespace {
+
+/// Whether ray i enters the root box before its hit in `hits` (a cheap test before the
+/// traversal's per-ray set-up).
+bool reaches_root(const RayBatch& rays, std::size_t i, const Bvh& top, const HitBatch& hits) {
+    if (top.nodes.empty()) {
+        return false;
+    }
+    detail::TraceRay r;
+    r.org = Vec3f(static_cast<float>(rays.ox[i]), static_cast<float>(rays.oy[i]),
+                  static_cast<float>(rays.oz[i]));
+    r.inv_dir = Vec3f(1.0f / static_cast<float>(rays.dx[i]), 1.0f / static_cast<float>(rays.dy[i]),
+                      1.0f / static_cast<float>(rays.dz[i]));
+    const float tmax = std::min(static_cast<float>(rays.tmax[i]),
+                                hits.face[i] != kNoFace ? hits.t[i] * 1.0001f : hits.t[i]);
+    float entry = 0.0f;
+    return detail::slab_entry(r, top.nodes[0].lo, top.nodes[0].hi, static_cast<float>(rays.tmin[i]),
+                              tmax, entry);
+}
+
+}  // namespace
 
 void MovingInstances::intersect(const RayBatch& rays, std::size_t begin, std::size_t end,
                                 std::span<const double> ray_time_s, const MovingFrame& frame,
@@ -44,6 +101,9 @@ void MovingInstances::intersect(const RayBatch& rays, std::size_t begin, std::si
     for (std::size_t i = begin; i < end; ++i) {
         const double time = ray_time_s[i - begin];
         assert(time >= frame.t0 && time <= frame.t1);
+        if (!reaches_root(rays, i, frame.top, hits)) {
+            continue;
+        }
         const TraceRay r = detail::make_trace_ray(rays, i);
         detail::NearestVisitor vis(r);
         vis.start_from(hits, i);
@@ -54,8 +114,8 @@ void MovingInstances::intersect(const RayBatch& rays, std::size_t begin, std::si
             // World -> object: the inverse pose at the ray's time, then the inverse local map.
             const Pose pose = motions_[mi.motion].at(time);
             const Quat back = pose.attitude.conjugate();
-            const Vec3d o = pl.local_inverse.apply_point(
-                back.rotate(org - pose.position_m - mi.offset_m));
+            const Vec3d o =
+                pl.local_inverse.apply_point(back.rotate(org - pose.position_m - mi.offset_m));
             const Vec3d d = pl.local_inverse.apply_vector(back.rotate(dir));
             TraceRay local = r;
             local.org = Vec3f(o);

@@ -135,8 +135,8 @@ Aabb MovingInstance::swept_bounds(const Aabb& object_box, const RigidMotion& how
     }
     const Aabb path = how.position_bounds(t0, t1);
     // A margin for the float rounding of the traced rays (1e-6 of the sizes involved).
-    const double pad = 1e-6 * (reach + length(Vec3d(path.hi) - Vec3d(path.lo)) +
-                               length(offset_m) + length(Vec3d(path.lo))) +
+    const double pad = 1e-6 * (reach + length(Vec3d(path.hi) - Vec3d(path.lo)) + length(offset_m) +
+                               length(Vec3d(path.lo))) +
                        1e-6;
     Aabb box;
     add_point(box, Vec3d(path.lo) + lo + offset_m - Vec3d{pad, pad, pad});

@@ -83,8 +83,7 @@ void SurveyPoints::run(BlockWork& w) const {
                 p.instance_id = scene->object_of_face(face);
             }
             if (velocity) {
-                p.velocity_mps =
-                    Vec3f(scene->velocity_at(face, xyz - scene->origin_m, p.gps_time));
+                p.velocity_mps = Vec3f(scene->velocity_at(face, xyz - scene->origin_m, p.gps_time));
             }
             if (!colours.empty()) {
                 const auto& c = colours[scene->part_of_face(face)];

@@ -18,9 +18,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-constexpr double kSpeed = 5.0;        ///< m/s along +x, toward the scanner
-constexpr double kFrontAt0 = -38.0;   ///< x of the box's leading face at time 0
-constexpr double kWallX = -100.0;     ///< the still wall behind it
+constexpr double kSpeed = 5.0;       ///< m/s along +x, toward the scanner
+constexpr double kFrontAt0 = -38.0;  ///< x of the box's leading face at time 0
+constexpr double kWallX = -100.0;    ///< the still wall behind it
 
 /// A 4 m cube (its leading face at x = +2 in its own coordinates) as an OBJ file.
 void write_cube(const fs::path& path) {
@@ -31,25 +31,30 @@ void write_cube(const fs::path& path) {
                      "f 2 3 7\nf 2 7 6\nf 3 4 8\nf 3 8 7\nf 4 1 5\nf 4 5 8\n");
 }
 
-/// The scene (a still wall, then the sliding cube) and a pinhole looking along -x from the
-/// origin, firing 20 frames of 21 x 21 pulses over 4.4 s.
-void write_survey(const test::TempDir& dir) {
+/// The scene (a still wall, then the sliding cube, `rows` copies 5 m apart along y, centred) and
+/// a pinhole looking along -x from the origin, firing `frames` frames of 21 x 21 pulses at 2 kHz.
+void write_survey(const test::TempDir& dir, int frames = 20, int rows = 1) {
     write_cube(dir / "cube.obj");
     test::write_file(dir / "scene.yaml",
                      "parts:\n"
                      "  - {name: box, mesh: cube.obj, transform: {translate_m: [" +
-                         std::to_string(kFrontAt0 - 2.0) + ", 0, 0]},\n" +
+                         std::to_string(kFrontAt0 - 2.0) + ", " +
+                         std::to_string(-2.5 * (rows - 1)) + ", 0]},\n     array: {count: [1, " +
+                         std::to_string(rows) + ", 1], step_m: [0, 5, 0]},\n" +
                          "     motion: {velocity_mps: [" + std::to_string(kSpeed) +
                          ", 0, 0]}}\n"
                          "  - {name: wall, plane: {point_m: [" +
                          std::to_string(kWallX) + ", 0, 0], normal: [1, 0, 0], size_m: 200}}\n");
-    test::write_file(dir / "survey.yaml",
-                     "scene: scene.yaml\n"
-                     "scanner: {type: pinhole, width: 21, height: 21, hfov_deg: 20, vfov_deg: 20,\n"
-                     "          frames: 20, pulse_rate_hz: 2000}\n"
-                     "platform: {type: static, position_m: [0, 0, 0], rotate_deg: [0, 0, 180]}\n"
-                     "output: {trajectory_rate_hz: 0, extra_bytes: [instance_id, velocity_x, "
-                     "velocity_y, velocity_z]}\n");
+    test::write_file(
+        dir / "survey.yaml",
+        "scene: scene.yaml\n"
+        "scanner: {type: pinhole, width: 21, height: 21, hfov_deg: 20, vfov_deg: 20,\n"
+        "          frames: " +
+            std::to_string(frames) +
+            ", pulse_rate_hz: 2000}\n"
+            "platform: {type: static, position_m: [0, 0, 0], rotate_deg: [0, 0, 180]}\n"
+            "output: {trajectory_rate_hz: 0, extra_bytes: [instance_id, velocity_x, "
+            "velocity_y, velocity_z]}\n");
 }
 
 void run(const test::TempDir& dir, const fs::path& out, unsigned threads) {
@@ -103,7 +108,7 @@ TEST(SurveyMotion, ASlidingBoxIsMetWhereItIsAtEachPointsTimeWithItsVelocity) {
 
 TEST(SurveyMotion, OutputsAreByteIdenticalAtOneAndTwoThreads) {
     test::TempDir dir;
-    write_survey(dir);
+    write_survey(dir, 200, 5);  // 88 200 pulses: 87 blocks, the two threads overlap
     run(dir, dir / "t1", 1);
     run(dir, dir / "t2", 2);
     const std::string one = test::read_file(dir / "t1" / "points.las");

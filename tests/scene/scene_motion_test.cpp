@@ -185,11 +185,13 @@ TEST(SceneMotion, RefusesBadMotionsWithFileLineAndKey) {
               "scene.yaml:3: parts[0].motion: expected keyframes, or velocity_mps and/or spin");
     EXPECT_EQ(error_of("parts:\n  - mesh: box.obj\n    motion: {velocity_mps: [1, 0]}\n"),
               "scene.yaml:3: parts[0].motion.velocity_mps: expected three numbers [x, y, z]");
-    EXPECT_EQ(error_of("parts:\n  - sphere: {exact: true}\n    motion: {velocity_mps: [1, 0, 0]}\n"),
-              "scene.yaml:3: parts[0].motion: an exact sphere cannot move (drop exact to move the "
-              "sphere as triangles)");
-    EXPECT_EQ(error_of("parts:\n  - mesh: box.obj\n    motion: {keyframes: [{position_m: [1, 2, 3]}]}\n"),
-              "scene.yaml:3: parts[0].motion.keyframes[0].time_s: missing");
+    EXPECT_EQ(
+        error_of("parts:\n  - sphere: {exact: true}\n    motion: {velocity_mps: [1, 0, 0]}\n"),
+        "scene.yaml:3: parts[0].motion: an exact sphere cannot move (drop exact to move the "
+        "sphere as triangles)");
+    EXPECT_EQ(
+        error_of("parts:\n  - mesh: box.obj\n    motion: {keyframes: [{position_m: [1, 2, 3]}]}\n"),
+        "scene.yaml:3: parts[0].motion.keyframes[0].time_s: missing");
 }
 
 TEST(SceneMotion, MovingPartsComeLastAsInstancesWithTheirObjectsAndFaces) {

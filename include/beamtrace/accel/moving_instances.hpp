@@ -25,6 +25,9 @@ struct MovingFrame {
     double t0 = 0.0, t1 = 0.0;
     std::vector<Aabb> boxes;  ///< per instance
     Bvh top;                  ///< prim_ids index the instances
+    /// The summed half areas of the top's nodes when it was built: prepare() refits the same
+    /// tree to new boxes and builds a new one only when the refitted sum exceeds twice this.
+    double built_cost = 0.0;
 };
 
 class MovingInstances {
@@ -32,14 +35,15 @@ class MovingInstances {
     /// Builds a BVH for each mesh that `instances` place. `meshes`, `instances` and `motions`
     /// must outlive this object.
     MovingInstances(const std::vector<TriangleMesh>& meshes,
-                    std::span<const MovingInstance> instances,
-                    std::span<const RigidMotion> motions, const BvhBuildConfig& config,
-                    ThreadPool& pool);
+                    std::span<const MovingInstance> instances, std::span<const RigidMotion> motions,
+                    const BvhBuildConfig& config, ThreadPool& pool);
 
     [[nodiscard]] bool empty() const { return instances_.empty(); }
     [[nodiscard]] std::size_t size() const { return instances_.size(); }
 
-    /// Makes `frame` the top level for times in [t0, t1] (t0 <= t1), on `pool`.
+    /// Makes `frame` the top level for times in [t0, t1] (t0 <= t1), on `pool`: the frame's tree
+    /// refitted to the instances' new swept boxes, or a new one when the refit has grown loose.
+    /// (Hits never depend on the tree's shape, only its speed does.)
     void prepare(double t0, double t1, MovingFrame& frame, ThreadPool& pool) const;
 
     /// Nearest hits of rays [begin, end) on the moving instances, ray i's instances placed at
@@ -58,8 +62,8 @@ class MovingInstances {
     const std::vector<TriangleMesh>* meshes_;
     std::span<const MovingInstance> instances_;
     std::span<const RigidMotion> motions_;
-    std::vector<Bvh> blas_;           ///< per mesh (empty for meshes no instance moves)
-    std::vector<Aabb> mesh_bounds_;   ///< per mesh, object coordinates
+    std::vector<Bvh> blas_;              ///< per mesh (empty for meshes no instance moves)
+    std::vector<Aabb> mesh_bounds_;      ///< per mesh, object coordinates
     std::vector<Placement> placements_;  ///< per instance
     BvhBuildConfig top_config_;
 };

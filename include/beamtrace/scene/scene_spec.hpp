@@ -56,8 +56,8 @@ struct PartMotion {
     /// `keyframes:` (time_s, position_m, rotate_deg), strictly increasing in time; the key's pose
     /// places the part's transformed mesh. Empty: the constant motion below.
     std::vector<MotionKey> keys;
-    Vec3d velocity_mps{0, 0, 0};  ///< `velocity_mps`
-    Vec3d spin_axis{0, 0, 1};     ///< `spin.axis` (unit once parsed)
+    Vec3d velocity_mps{0, 0, 0};   ///< `velocity_mps`
+    Vec3d spin_axis{0, 0, 1};      ///< `spin.axis` (unit once parsed)
     double spin_rate_rad_s = 0.0;  ///< `spin.rate_rad_s` (right-handed about the axis)
     /// `spin.pivot_m`: the point the part spins about at time 0; none: its transform's
     /// translate_m (the part's origin).
@@ -80,7 +80,7 @@ struct PartSpec {
     Vec3d normal{0, 0, 1};   ///< plane: its normal (need not be unit)
     double size_m = 100.0;   ///< plane: side of the square patch
     PartTransform transform;
-    PartArray array;  ///< more than one copy makes the part instanced
+    PartArray array;                   ///< more than one copy makes the part instanced
     std::optional<PartMotion> motion;  ///< none: the part stays still
     std::string material = "default";
     std::uint8_t label = 1;     ///< LAS classification written for hits on this part
