@@ -109,6 +109,12 @@ void MovingInstances::intersect(const RayBatch& rays, std::size_t begin, std::si
         vis.start_from(hits, i);
         const Vec3d org = rays.origin(i), dir = rays.direction(i);
         detail::walk_bvh(frame.top, r, vis, [&](std::uint32_t k) {
+            const Aabb& b = frame.boxes[k];  // a leaf's box may hold two instances
+            const float lo[3] = {b.lo.x, b.lo.y, b.lo.z}, hi[3] = {b.hi.x, b.hi.y, b.hi.z};
+            float entry = 0.0f;
+            if (!detail::slab_entry(r, lo, hi, r.tmin, vis.limit(), entry)) {
+                return false;
+            }
             const MovingInstance& mi = instances_[k];
             const Placement& pl = placements_[k];
             // World -> object: the inverse pose at the ray's time, then the inverse local map.

@@ -95,6 +95,11 @@ SurveySession::SurveySession(const SurveySpec& spec, const SurveyRunConfig& run,
     facts_ = survey_sink_facts(spec, run, scene_, *pattern_, *trajectory_, sim_ ? &*sim_ : nullptr,
                                result_.pulses);
     facts_.provenance.insert(facts_.provenance.find('\n') + 1, provenance_line);
+    if (!scene_.moving.empty()) {  // the LAS bounds and offset hold the moving parts' paths too
+        const Aabb m = scene_.moving_bounds(pattern_->start_time_s(), pattern_->end_time_s());
+        facts_.lo_m = min(facts_.lo_m, Vec3d(m.lo) + scene_.origin_m);
+        facts_.hi_m = max(facts_.hi_m, Vec3d(m.hi) + scene_.origin_m);
+    }
     // The footprint frames preview.png: no pilot without file outputs.
     if (const auto box = run.write_files
                              ? pilot_hit_bounds(spec, *pattern_, *trajectory_, *backend_, pool)

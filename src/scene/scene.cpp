@@ -101,6 +101,14 @@ void Scene::detach_moving() {
     }
 }
 
+Aabb Scene::moving_bounds(double t0, double t1) const {
+    Aabb box;
+    for (const MovingInstance& mi : moving) {
+        box.extend(mi.swept_bounds(geometry.meshes[mi.mesh].bounds(), motions[mi.motion], t0, t1));
+    }
+    return box;
+}
+
 const MovingInstance* Scene::moving_of_face(std::uint32_t face) const {
     if (moving.empty() || face < moving.front().first_face) {
         return nullptr;

@@ -116,6 +116,28 @@ TEST(SurveyMotion, OutputsAreByteIdenticalAtOneAndTwoThreads) {
     EXPECT_TRUE(one == test::read_file(dir / "t2" / "points.las"));
 }
 
+TEST(SurveyMotion, ASceneOfMovingPartsOnlyGivesItsPointsInTheLasBounds) {
+    test::TempDir dir;
+    write_survey(dir);
+    write_cube(dir / "cube.obj");
+    test::write_file(dir / "scene.yaml",
+                     "parts: [{mesh: cube.obj, transform: {translate_m: [-40, 0, 0]},\n"
+                     "         motion: {velocity_mps: [5, 0, 0]}}]\n");
+    run(dir, dir / "out", 2);
+    const fs::path las = dir / "out" / "points.las";
+    const LasHeader h = LasReader(las).header();
+    const auto points = read_las_points(las);
+    ASSERT_GT(points.size(), 1000u);
+    for (const LasPoint& p : points) {
+        ASSERT_NEAR(p.x, kFrontAt0 + kSpeed * p.gps_time, 1e-3);
+        ASSERT_GE(p.x, h.min.x);
+        ASSERT_LE(p.x, h.max.x);
+    }
+    // The offset is near the box's path (the bounds hold the moving part over the survey).
+    EXPECT_GT(h.offset.x, -60.0);
+    EXPECT_LT(h.offset.x, 0.0);
+}
+
 /// The examples with moving parts, run small (max_pulses) from their own folder.
 TEST(SurveyMotion, TheMovingExamplesRun) {
     for (const char* name : {"moving_cars_vlp16.yaml", "wind_turbine_als.yaml"}) {

@@ -97,6 +97,8 @@ struct Scene {
     /// tracer that places them at each ray's time (accel/moving_instances.hpp). The face
     /// queries below still answer for their faces.
     void detach_moving();
+    /// Bounds of every moving instance over the times [t0, t1] (empty when none moves).
+    [[nodiscard]] Aabb moving_bounds(double t0, double t1) const;
     /// The moving instance holding `face`, or nullptr when the face stays still.
     [[nodiscard]] const MovingInstance* moving_of_face(std::uint32_t face) const;
     /// Unit normal of face `face` at `point` (scene coordinates) at time `time_s`.
