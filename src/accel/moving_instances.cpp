@@ -92,6 +92,20 @@ bool reaches_root(const RayBatch& rays, std::size_t i, const Bvh& top, const Hit
                               tmax, entry);
 }
 
+/// Ray i for the top level's box tests: no watertight set-up (triangles are met in object
+/// coordinates, with a ray of their own).
+detail::TraceRay world_ray(const RayBatch& rays, std::size_t i) {
+    detail::TraceRay r;
+    r.org = Vec3f(static_cast<float>(rays.ox[i]), static_cast<float>(rays.oy[i]),
+                  static_cast<float>(rays.oz[i]));
+    r.dir = Vec3f(static_cast<float>(rays.dx[i]), static_cast<float>(rays.dy[i]),
+                  static_cast<float>(rays.dz[i]));
+    r.inv_dir = Vec3f(1.0f / r.dir.x, 1.0f / r.dir.y, 1.0f / r.dir.z);
+    r.tmin = static_cast<float>(rays.tmin[i]);
+    r.tmax = static_cast<float>(rays.tmax[i]);
+    return r;
+}
+
 }  // namespace
 
 void MovingInstances::intersect(const RayBatch& rays, std::size_t begin, std::size_t end,
@@ -104,7 +118,7 @@ void MovingInstances::intersect(const RayBatch& rays, std::size_t begin, std::si
         if (!reaches_root(rays, i, frame.top, hits)) {
             continue;
         }
-        const TraceRay r = detail::make_trace_ray(rays, i);
+        const TraceRay r = world_ray(rays, i);
         detail::NearestVisitor vis(r);
         vis.start_from(hits, i);
         const Vec3d org = rays.origin(i), dir = rays.direction(i);
@@ -119,18 +133,26 @@ void MovingInstances::intersect(const RayBatch& rays, std::size_t begin, std::si
             const Placement& pl = placements_[k];
             // World -> object: the inverse pose at the ray's time, then the inverse local map.
             const Pose pose = motions_[mi.motion].at(time);
-            const Quat back = pose.attitude.conjugate();
-            const Vec3d o =
-                pl.local_inverse.apply_point(back.rotate(org - pose.position_m - mi.offset_m));
-            const Vec3d d = pl.local_inverse.apply_vector(back.rotate(dir));
+            Vec3d o = org - pose.position_m - mi.offset_m, d = dir;
+            if (pose.attitude.w != 1.0) {  // a turned part (w = 1 exactly: no rotation)
+                const Quat back = pose.attitude.conjugate();
+                o = back.rotate(o);
+                d = back.rotate(d);
+            }
             TraceRay local = r;
-            local.org = Vec3f(o);
-            local.dir = Vec3f(d);
+            local.org = Vec3f(pl.local_inverse.apply_point(o));
+            local.dir = Vec3f(pl.local_inverse.apply_vector(d));
             local.inv_dir = Vec3f(1.0f / local.dir.x, 1.0f / local.dir.y, 1.0f / local.dir.z);
-            local.wt = make_watertight_ray(local.org, local.dir);
             vis.enter((*meshes_)[mi.mesh], local, mi.first_face, pl.mirrored);
-            return detail::walk_bvh(blas_[mi.mesh], local, vis,
-                                    [&](std::uint32_t face) { return vis.visit(face); });
+            // The watertight set-up only once a leaf of the mesh is reached.
+            bool ready = false;
+            return detail::walk_bvh(blas_[mi.mesh], local, vis, [&](std::uint32_t face) {
+                if (!ready) {
+                    local.wt = make_watertight_ray(local.org, local.dir);
+                    ready = true;
+                }
+                return vis.visit(face);
+            });
         });
         vis.store(hits, i);
     }
