@@ -19,7 +19,7 @@ struct Entry {
     const char* description;
 };
 
-constexpr std::array<Entry, 5> kEntries{{
+constexpr std::array<Entry, 9> kEntries{{
     {PointAttribute::range, "range", LasExtraType::u32, "range_m", 0.001,
      "range from beam origin, m"},
     {PointAttribute::incidence_angle, "incidence_angle", LasExtraType::u16, "incidence_angle_deg",
@@ -29,6 +29,14 @@ constexpr std::array<Entry, 5> kEntries{{
     {PointAttribute::beam, "beam", LasExtraType::u16, "beam", 1.0, "scanner channel (row)"},
     {PointAttribute::object_id, "object_id", LasExtraType::u32, "object_id", 1.0,
      "scene part_id of the hit"},
+    {PointAttribute::instance_id, "instance_id", LasExtraType::u32, "instance_id", 1.0,
+     "scene object (copy) hit"},
+    {PointAttribute::velocity_x, "velocity_x", LasExtraType::f32, "velocity_x", 1.0,
+     "hit object velocity x, m/s"},
+    {PointAttribute::velocity_y, "velocity_y", LasExtraType::f32, "velocity_y", 1.0,
+     "hit object velocity y, m/s"},
+    {PointAttribute::velocity_z, "velocity_z", LasExtraType::f32, "velocity_z", 1.0,
+     "hit object velocity z, m/s"},
 }};
 
 const Entry& entry(PointAttribute a) {
@@ -58,6 +66,14 @@ double value(PointAttribute a, const PointAttributeValues& v) {
             return v.beam;
         case PointAttribute::object_id:
             return v.object_id;
+        case PointAttribute::instance_id:
+            return v.instance_id;
+        case PointAttribute::velocity_x:
+            return v.velocity_mps.x;
+        case PointAttribute::velocity_y:
+            return v.velocity_mps.y;
+        case PointAttribute::velocity_z:
+            return v.velocity_mps.z;
     }
     return 0.0;
 }
@@ -111,7 +127,11 @@ void encode_point_attributes(std::span<const PointAttribute> attributes,
             // The largest value is the no-data value: real widths stop one step below it.
             raw = std::isfinite(raw) ? std::min(raw, kNoEchoWidth - 1.0) : double{kNoEchoWidth};
         }
-        if (e.type == LasExtraType::u16) {
+        if (e.type == LasExtraType::f32) {
+            const auto f = static_cast<float>(value(a, v));
+            std::memcpy(out, &f, sizeof(float));
+            out += sizeof(float);
+        } else if (e.type == LasExtraType::u16) {
             put<std::uint16_t>(out, raw);
         } else {
             put<std::uint32_t>(out, raw);

@@ -8,8 +8,8 @@ SurveyPhysics::SurveyPhysics(const PulseSimulator& sim, const Scene& scene,
                              std::vector<Material> materials, std::uint64_t seed)
     : sim_(&sim), scene_(&scene), materials_(std::move(materials)), seed_(seed) {}
 
-SubRayHit SurveyPhysics::sub_ray_hit(const RayBatch& rays, const HitBatch& hits,
-                                     std::size_t h) const {
+SubRayHit SurveyPhysics::sub_ray_hit(const RayBatch& rays, const HitBatch& hits, std::size_t h,
+                                     double time_s) const {
     if (!hits.hit(h)) {
         return SubRayHit{};
     }
@@ -20,7 +20,7 @@ SubRayHit SurveyPhysics::sub_ray_hit(const RayBatch& rays, const HitBatch& hits,
     // The true ray's origin: w.origin is the measured one (georeferencing errors).
     const Vec3d at = Vec3d{rays.ox[h], rays.oy[h], rays.oz[h]} + d * t;
     return make_sub_ray_hit(materials_[part.material], scene.pattern_frame(part, hits.face[h]), t,
-                            at, scene.geometry.normal_at(hits.face[h], at), d);
+                            at, scene.normal_at(hits.face[h], at, time_s), d);
 }
 
 void SurveyPhysics::find_edges(BlockWork& w) const {
@@ -72,7 +72,7 @@ void SurveyPhysics::simulate(BlockWork& w, std::size_t k) const {
     std::uint32_t e = w.edge_start[k];
     for (std::size_t j = 0; j < sub_rays; ++j) {
         const std::size_t h = k * sub_rays + j;
-        const SubRayHit hit = sub_ray_hit(w.rays, w.hits, h);
+        const SubRayHit hit = sub_ray_hit(w.rays, w.hits, h, w.pulses.time_s[k]);
         w.sample_face.push_back(w.hits.face[h]);
         if (e == w.edge_start[k + 1] || w.edge_cell[e] != j) {
             samples.push_back(sim_->cell_sample(hit, j));
@@ -80,7 +80,8 @@ void SurveyPhysics::simulate(BlockWork& w, std::size_t k) const {
         }
         samples.push_back(sim_->edge_sample(hit, j));
         for (std::size_t p = e * probes; p < (e + 1) * probes; ++p) {
-            samples.push_back(sim_->edge_sample(sub_ray_hit(w.probe_rays, w.probe_hits, p), j));
+            samples.push_back(sim_->edge_sample(
+                sub_ray_hit(w.probe_rays, w.probe_hits, p, w.pulses.time_s[k]), j));
             w.sample_face.push_back(w.probe_hits.face[p]);
         }
         ++e;
@@ -95,6 +96,9 @@ void SurveyPhysics::run(BlockWork& w, const Backend& backend) const {
     if (!w.edge_cell.empty()) {
         w.probe_hits.resize(w.probe_rays.size());
         backend.intersect(w.probe_rays, 0, w.probe_rays.size(), w.probe_hits, w.this_thread);
+        if (moving != nullptr) {
+            trace_moving_probes(w);
+        }
     }
     for (std::size_t k = 0; k < w.pulse_count; ++k) {
         simulate(w, k);
@@ -113,6 +117,17 @@ void SurveyPhysics::run(BlockWork& w, const Backend& backend) const {
         }
         w.return_count[k] = static_cast<std::uint8_t>(n);
     }
+}
+
+void SurveyPhysics::trace_moving_probes(BlockWork& w) const {
+    const std::size_t probes = sim_->probes_per_cell();
+    w.probe_time.resize(w.probe_rays.size());
+    for (std::size_t k = 0; k < w.pulse_count; ++k) {
+        std::fill(w.probe_time.begin() + w.edge_start[k] * probes,
+                  w.probe_time.begin() + w.edge_start[k + 1] * probes, w.pulses.time_s[k]);
+    }
+    moving->intersect(w.probe_rays, 0, w.probe_rays.size(), w.probe_time, w.moving_frame,
+                      w.probe_hits);
 }
 
 void SurveyPhysics::keep_waveform(BlockWork& w, std::size_t k) const {

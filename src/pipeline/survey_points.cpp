@@ -41,7 +41,7 @@ float SurveyPoints::incidence_deg(const BlockWork& w, std::size_t k, std::size_t
         const std::size_t h = k * sub_rays;  // the pulse's central ray
         const Vec3d d{w.rays.dx[h], w.rays.dy[h], w.rays.dz[h]};
         const Vec3d at = Vec3d{w.rays.ox[h], w.rays.oy[h], w.rays.oz[h]} + d * double{w.hits.t[h]};
-        const Vec3d n = scene->geometry.normal_at(w.hits.face[h], at);
+        const Vec3d n = scene->normal_at(w.hits.face[h], at, w.pulses.time_s[k]);
         const double nd = length(n) * length(d);
         c = nd > 0 ? std::abs(dot(n, d)) / nd : 0.0;
     }
@@ -101,6 +101,12 @@ void SurveyPoints::run(BlockWork& w) const {
             p.point_source_id = by_leg ? leg : part.part_id;
             if (incidence) {
                 p.incidence_deg = incidence_deg(w, k, r);
+            }
+            if (instance) {
+                p.instance_id = scene->object_of_face(face);
+            }
+            if (velocity) {
+                p.velocity_mps = Vec3f(scene->velocity_at(face, xyz - scene->origin_m, p.gps_time));
             }
             if (!colours.empty()) {
                 const auto& c = colours[scene->part_of_face(face)];

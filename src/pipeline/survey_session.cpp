@@ -68,7 +68,13 @@ SurveySession::SurveySession(const SurveySpec& spec, const SurveyRunConfig& run,
     result_.pulses = run.max_pulses > 0 ? std::min(pattern_->pulse_count(), run.max_pulses)
                                         : pattern_->pulse_count();
     const auto t0 = Clock::now();
+    // Moving parts leave the backend's geometry: they are traced at each pulse's own time.
+    scene_.detach_moving();
     backend_ = make_backend(run.backend, scene_.geometry, pool);
+    if (!scene_.moving.empty()) {
+        moving_.emplace(scene_.geometry.meshes, scene_.moving, scene_.motions, BvhBuildConfig{},
+                        pool);
+    }
     result_.build_s = std::chrono::duration<double>(Clock::now() - t0).count();
 
     // Physics (optional): each pulse is sub_rays rays; their hits become the pulse's returns.
@@ -90,6 +96,11 @@ SurveySession::SurveySession(const SurveySpec& spec, const SurveyRunConfig& run,
     facts_ = survey_sink_facts(spec, run, scene_, *pattern_, *trajectory_, sim_ ? &*sim_ : nullptr,
                                result_.pulses);
     facts_.provenance.insert(facts_.provenance.find('\n') + 1, provenance_line);
+    if (!scene_.moving.empty()) {  // the LAS bounds and offset hold the moving parts' paths too
+        const Aabb m = scene_.moving_bounds(pattern_->start_time_s(), pattern_->end_time_s());
+        facts_.lo_m = min(facts_.lo_m, Vec3d(m.lo) + scene_.origin_m);
+        facts_.hi_m = max(facts_.hi_m, Vec3d(m.hi) + scene_.origin_m);
+    }
     // The footprint frames preview.png: no pilot without file outputs.
     if (const auto box = run.write_files
                              ? pilot_hit_bounds(spec, *pattern_, *trajectory_, *backend_, pool)
@@ -102,8 +113,17 @@ SurveySession::SurveySession(const SurveySpec& spec, const SurveyRunConfig& run,
     if (spec.physics && spec.physics->weather) {
         points_.medium_class = spec.physics->weather->medium_class;
     }
-    points_.incidence = std::find(spec.extra_bytes.begin(), spec.extra_bytes.end(),
-                                  PointAttribute::incidence_angle) != spec.extra_bytes.end();
+    const auto wants = [&](PointAttribute a) {
+        return std::find(spec.extra_bytes.begin(), spec.extra_bytes.end(), a) !=
+               spec.extra_bytes.end();
+    };
+    points_.incidence = wants(PointAttribute::incidence_angle);
+    points_.instance = wants(PointAttribute::instance_id);
+    points_.velocity = wants(PointAttribute::velocity_x) || wants(PointAttribute::velocity_y) ||
+                       wants(PointAttribute::velocity_z);
+    if (physics_ && moving_) {
+        physics_->moving = &*moving_;
+    }
     if (const auto* legs = dynamic_cast<const LegSequence*>(pattern_.get());
         legs != nullptr && spec.point_source_id == PointSourceId::leg) {
         points_.leg_first_pulse = legs->first_pulses();
@@ -125,10 +145,24 @@ void SurveySession::run_block(std::size_t k, BlockWork& w) const {
     source_.generate(w.pulses, first, w.rays, 0, w.origin.data(), w.axis.data(),
                      w.scan_angle.data(), w.scratch);
     backend_->intersect(w.rays, 0, n * sub_rays_, w.hits, w.this_thread);
+    if (moving_) {
+        trace_moving(w);
+    }
     if (physics_) {
         physics_->run(w, *backend_);
     }
     points_.run(w);
+}
+
+void SurveySession::trace_moving(BlockWork& w) const {
+    const auto& times = w.pulses.time_s;
+    const auto [lo, hi] = std::minmax_element(times.begin(), times.begin() + w.pulse_count);
+    moving_->prepare(*lo, *hi, w.moving_frame, w.this_thread);
+    w.ray_time.resize(w.pulse_count * sub_rays_);
+    for (std::size_t k = 0; k < w.pulse_count; ++k) {
+        std::fill_n(w.ray_time.begin() + k * sub_rays_, sub_rays_, times[k]);
+    }
+    moving_->intersect(w.rays, 0, w.ray_time.size(), w.ray_time, w.moving_frame, w.hits);
 }
 
 std::vector<std::string> SurveySession::diagnose(std::uint64_t points, ThreadPool& pool) const {

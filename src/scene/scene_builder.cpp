@@ -199,6 +199,95 @@ void add_exact_spheres(const PartSpec& p, ScenePart meta, Scene& scene) {
     scene.add_sphere_part(std::move(meta), spheres);
 }
 
+/// The mesh files used by several parts and where they are stored.
+struct MeshStore {
+    std::map<std::filesystem::path, int> uses;
+    std::map<std::filesystem::path, std::uint32_t> stored;  // file -> SceneGeometry mesh index
+
+    /// The index of part p's mesh in the scene's geometry, loading it the first time.
+    std::uint32_t mesh_of(const PartSpec& p, const SceneSpec& spec, Scene& scene) {
+        const bool shared_file = p.kind == PartKind::mesh && uses[p.file] > 1;
+        const auto it = shared_file ? stored.find(p.file) : stored.end();
+        if (it != stored.end()) {
+            return it->second;
+        }
+        const std::uint32_t mesh = scene.geometry.add_mesh(part_mesh(p, spec, scene));
+        if (shared_file) {
+            stored.emplace(p.file, mesh);
+        }
+        return mesh;
+    }
+};
+
+/// The part's table entry: name, label, ID and material.
+ScenePart part_meta(const PartSpec& p, const SceneSpec& spec) {
+    ScenePart meta;
+    meta.name = p.name;
+    meta.label = p.label;
+    meta.part_id = p.part_id;
+    for (std::size_t i = 0; i < spec.materials.size(); ++i) {
+        if (spec.materials[i].name == p.material) {
+            meta.material = static_cast<std::uint32_t>(i);
+        }
+    }
+    return meta;
+}
+
+void add_still_part(const PartSpec& p, const SceneSpec& spec, MeshStore& store, Scene& scene) {
+    check_part_numbers(p, spec);
+    ScenePart meta;
+    add_analytic_copies(p, meta, scene);
+    const ScenePart named = part_meta(p, spec);
+    meta.name = named.name;
+    meta.label = named.label;
+    meta.part_id = named.part_id;
+    meta.material = named.material;
+    if (p.kind == PartKind::sphere && p.exact_sphere) {
+        add_exact_spheres(p, std::move(meta), scene);
+        return;
+    }
+    const bool shared_file = p.kind == PartKind::mesh && store.uses[p.file] > 1;
+    if (!shared_file && p.array.copies() == 1) {
+        TriangleMesh local = part_mesh(p, spec, scene);
+        to_scene(p, spec, local);
+        scene.add_part(std::move(meta), local);
+        return;
+    }
+    const std::uint32_t mesh = store.mesh_of(p, spec, scene);
+    std::vector<Affine3> copies = copy_transforms(p);
+    check_copies(p, spec, scene.geometry.meshes[mesh], copies);
+    scene.add_instanced_part(std::move(meta), mesh, std::move(copies));
+}
+
+/// A part with a motion: one moving instance per array copy (the motion after the part's
+/// transform, the copy's step after the motion).
+void add_moving_part(const PartSpec& p, const SceneSpec& spec, MeshStore& store, Scene& scene) {
+    check_part_numbers(p, spec);
+    const PartMotion& pm = *p.motion;
+    RigidMotion motion;
+    Affine3 local = p.transform.to_affine();
+    if (!pm.keys.empty()) {
+        motion.keys = pm.keys;
+    } else {
+        motion.pivot_m = pm.pivot_m.value_or(p.transform.translate_m);
+        motion.velocity_mps = pm.velocity_mps;
+        motion.spin_axis = pm.spin_axis;
+        motion.spin_rate_rad_s = pm.spin_rate_rad_s;
+        local.translation = local.translation - motion.pivot_m;
+    }
+    std::vector<Vec3d> offsets;
+    for (const Affine3& t : copy_transforms(p)) {
+        offsets.push_back(t.translation - p.transform.translate_m);
+    }
+    const std::uint32_t mesh = store.mesh_of(p, spec, scene);
+    std::vector<Affine3> rest;
+    for (const Vec3d& o : offsets) {
+        rest.push_back(MovingInstance{mesh, 0, 0, local, o}.to_world(motion.at(0.0)));
+    }
+    check_copies(p, spec, scene.geometry.meshes[mesh], rest);
+    scene.add_moving_part(part_meta(p, spec), mesh, motion, local, offsets);
+}
+
 }  // namespace
 
 Scene build_scene(const SceneSpec& spec) {
@@ -207,50 +296,23 @@ Scene build_scene(const SceneSpec& spec) {
     scene.crs = spec.crs;
     scene.materials = spec.materials;  // physics Materials: the one model
     // A mesh file used by several parts, and any part with array copies, is stored once and
-    // instanced; every other part is copied into the scene in scene coordinates.
-    std::map<std::filesystem::path, int> uses;
+    // instanced; every other part is copied into the scene in scene coordinates. Moving parts
+    // come last (their faces take the highest IDs), each a true instance per copy.
+    MeshStore store;
     for (const auto& p : spec.parts) {
         if (p.kind == PartKind::mesh) {
-            ++uses[p.file];
+            ++store.uses[p.file];
         }
     }
-    std::map<std::filesystem::path, std::uint32_t> stored;  // file -> SceneGeometry mesh index
     for (const auto& p : spec.parts) {
-        check_part_numbers(p, spec);
-        ScenePart meta;
-        add_analytic_copies(p, meta, scene);
-        meta.name = p.name;
-        meta.label = p.label;
-        meta.part_id = p.part_id;
-        for (std::size_t i = 0; i < spec.materials.size(); ++i) {
-            if (spec.materials[i].name == p.material) {
-                meta.material = static_cast<std::uint32_t>(i);
-            }
+        if (!p.motion) {
+            add_still_part(p, spec, store, scene);
         }
-        if (p.kind == PartKind::sphere && p.exact_sphere) {
-            add_exact_spheres(p, std::move(meta), scene);
-            continue;
+    }
+    for (const auto& p : spec.parts) {
+        if (p.motion) {
+            add_moving_part(p, spec, store, scene);
         }
-        const bool shared_file = p.kind == PartKind::mesh && uses[p.file] > 1;
-        if (!shared_file && p.array.copies() == 1) {
-            TriangleMesh local = part_mesh(p, spec, scene);
-            to_scene(p, spec, local);
-            scene.add_part(std::move(meta), local);
-            continue;
-        }
-        std::uint32_t mesh = 0;
-        const auto it = shared_file ? stored.find(p.file) : stored.end();
-        if (it != stored.end()) {
-            mesh = it->second;
-        } else {
-            mesh = scene.geometry.add_mesh(part_mesh(p, spec, scene));
-            if (shared_file) {
-                stored.emplace(p.file, mesh);
-            }
-        }
-        std::vector<Affine3> copies = copy_transforms(p);
-        check_copies(p, spec, scene.geometry.meshes[mesh], copies);
-        scene.add_instanced_part(std::move(meta), mesh, std::move(copies));
     }
     return scene;
 }

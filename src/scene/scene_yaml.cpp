@@ -80,6 +80,100 @@ void parse_array(Checker& c, const YAML::Node& n, const std::string& key, PartAr
     }
 }
 
+/// One key of `motion.keyframes`: {time_s, position_m, rotate_deg}.
+void parse_key(Checker& c, const YAML::Node& n, const std::string& key, MotionKey& k) {
+    if (!n.IsMap()) {
+        c.error(n, key, "expected a map with time_s, position_m, rotate_deg");
+        return;
+    }
+    c.only_keys(n, key, {"time_s", "position_m", "rotate_deg"});
+    if (!n["time_s"]) {
+        c.error(n, key + ".time_s", "missing");
+    } else {
+        c.number(n["time_s"], key + ".time_s", k.time_s);
+    }
+    if (n["position_m"]) {
+        c.vec3(n["position_m"], key + ".position_m", k.position_m);
+    }
+    Vec3d r{0, 0, 0};
+    if (n["rotate_deg"] && c.vec3(n["rotate_deg"], key + ".rotate_deg", r)) {
+        const double d = std::numbers::pi / 180.0;
+        k.attitude = Quat::from_rpy({r.x * d, r.y * d, r.z * d});
+    }
+}
+
+void parse_keyframes(Checker& c, const YAML::Node& n, const std::string& key, PartMotion& m) {
+    if (!n.IsSequence() || n.size() == 0 || n.size() > 100000) {
+        c.error(n, key, "expected a list of 1 to 100000 keys {time_s, position_m, rotate_deg}");
+        return;
+    }
+    for (std::size_t i = 0; i < n.size(); ++i) {
+        MotionKey k;
+        parse_key(c, n[i], key + "[" + std::to_string(i) + "]", k);
+        if (!m.keys.empty() && !(k.time_s > m.keys.back().time_s)) {
+            c.error(n[i], key + "[" + std::to_string(i) + "].time_s",
+                    "keys must be in strictly increasing time (" + std::to_string(k.time_s) +
+                        " s after " + std::to_string(m.keys.back().time_s) + " s)");
+        }
+        m.keys.push_back(k);
+    }
+}
+
+void parse_spin(Checker& c, const YAML::Node& n, const std::string& key, PartMotion& m) {
+    if (!n.IsMap()) {
+        c.error(n, key, "expected a map with axis, rate_rad_s, pivot_m");
+        return;
+    }
+    c.only_keys(n, key, {"axis", "rate_rad_s", "pivot_m"});
+    if (n["axis"] && c.vec3(n["axis"], key + ".axis", m.spin_axis)) {
+        if (length(m.spin_axis) == 0.0) {
+            c.error(n["axis"], key + ".axis", "must not be zero");
+        } else {
+            m.spin_axis = normalize(m.spin_axis);
+        }
+    }
+    if (!n["rate_rad_s"]) {
+        c.error(n, key + ".rate_rad_s", "missing");
+    } else {
+        c.number(n["rate_rad_s"], key + ".rate_rad_s", m.spin_rate_rad_s);
+    }
+    if (n["pivot_m"]) {
+        Vec3d pivot;
+        if (c.vec3(n["pivot_m"], key + ".pivot_m", pivot)) {
+            m.pivot_m = pivot;
+        }
+    }
+}
+
+/// `motion: {keyframes: [...]}` or `motion: {velocity_mps: [...], spin: {...}}`.
+void parse_motion(Checker& c, const YAML::Node& n, const std::string& key, PartMotion& m) {
+    if (!n.IsMap()) {
+        c.error(n, key, "expected a map with keyframes, or velocity_mps and/or spin");
+        return;
+    }
+    c.only_keys(n, key, {"keyframes", "velocity_mps", "spin"});
+    if (const auto k = n["keyframes"]) {
+        parse_keyframes(c, k, key + ".keyframes", m);
+        for (const char* other : {"velocity_mps", "spin"}) {
+            if (n[other]) {
+                c.error(n[other], key + "." + other,
+                        "not with keyframes (a part moves by keyframes or by a constant velocity "
+                        "and spin)");
+            }
+        }
+        return;
+    }
+    if (!n["velocity_mps"] && !n["spin"]) {
+        c.error(n, key, "expected keyframes, or velocity_mps and/or spin");
+    }
+    if (n["velocity_mps"]) {
+        c.vec3(n["velocity_mps"], key + ".velocity_mps", m.velocity_mps);
+    }
+    if (const auto s = n["spin"]) {
+        parse_spin(c, s, key + ".spin", m);
+    }
+}
+
 /// The copies of all parts together stay within kMaxArrayCopies (each part's own count is
 /// checked by parse_array).
 void check_total_copies(Checker& c, const YAML::Node& parts, const SceneSpec& spec) {
@@ -105,7 +199,7 @@ void parse_part(Checker& c, const YAML::Node& n, std::size_t index, SceneSpec& s
     }
     c.only_keys(n, key,
                 {"name", "mesh", "raster", "sphere", "plane", "transform", "array", "material",
-                 "label", "part_id", "up_axis"});
+                 "label", "part_id", "up_axis", "motion"});
     PartSpec p;
     p.part_id = static_cast<std::uint16_t>(std::min<std::size_t>(index + 1, 65535));
     int kinds = 0;
@@ -201,6 +295,13 @@ void parse_part(Checker& c, const YAML::Node& n, std::size_t index, SceneSpec& s
             c.error(n["transform"], key + ".transform.scale",
                     "an exact sphere needs the same scale on every axis (it would be an "
                     "ellipsoid); use subdivisions instead of exact");
+        }
+    }
+    if (const auto mo = n["motion"]) {
+        parse_motion(c, mo, key + ".motion", p.motion.emplace());
+        if (p.exact_sphere) {
+            c.error(mo, key + ".motion",
+                    "an exact sphere cannot move (drop exact to move the sphere as triangles)");
         }
     }
     if (const auto m = n["material"]) {

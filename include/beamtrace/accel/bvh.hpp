@@ -14,7 +14,7 @@ namespace beamtrace {
 struct BvhNode {
     float lo[3];  ///< bounds, minimum corner
     std::uint32_t
-        index;    ///< inner: right child (the left child is the next node); leaf: first prim
+        index;    ///< inner: left child (the right child is the next node); leaf: first prim
     float hi[3];  ///< bounds, maximum corner
     std::uint32_t count;  ///< number of faces in a leaf; 0 for an inner node
 

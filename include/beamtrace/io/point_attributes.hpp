@@ -9,6 +9,7 @@
 #include <string>
 #include <string_view>
 
+#include "beamtrace/core/vec3.hpp"
 #include "beamtrace/io/las_extra_bytes.hpp"
 
 namespace beamtrace {
@@ -20,9 +21,14 @@ enum class PointAttribute : std::uint8_t {
     echo_width,       ///< echo_width_ns: the echo's FWHM, uint16 x 0.01 ns (no physics: no-data)
     beam,             ///< beam: the scanner channel (row), uint16
     object_id,        ///< object_id: the hit scene part's part_id, uint32
+    instance_id,      ///< instance_id: the hit object (Scene::object_of_face), uint32
+    velocity_x,       ///< velocity_x: the hit surface point's velocity along x, float32 m/s
+    velocity_y,       ///< velocity_y: the same along y
+    velocity_z,       ///< velocity_z: the same along z
 };
 
-/// The survey name (`range`, `incidence_angle`, `echo_width`, `beam`, `object_id`).
+/// The survey name (`range`, `incidence_angle`, `echo_width`, `beam`, `object_id`,
+/// `instance_id`, `velocity_x`, `velocity_y`, `velocity_z`).
 [[nodiscard]] std::string_view point_attribute_key(PointAttribute a);
 /// The attribute of survey name `key`, or none.
 [[nodiscard]] std::optional<PointAttribute> point_attribute_named(std::string_view key);
@@ -39,10 +45,13 @@ struct PointAttributeValues {
     double echo_width_ns = 0.0;  ///< not finite: unknown (written as the no-data value)
     std::uint32_t beam = 0;
     std::uint32_t object_id = 0;
+    std::uint32_t instance_id = 0;
+    Vec3d velocity_mps{0, 0, 0};
 };
 
 /// Writes `attributes`' fields of `v`, in order, little-endian, at `out` (their descriptors'
-/// sizes summed: las_extra_bytes_size). Values are rounded to the scale and clamped to the type.
+/// sizes summed: las_extra_bytes_size). Integer values are rounded to the scale and clamped to the
+/// type; float32 ones are written as they are.
 void encode_point_attributes(std::span<const PointAttribute> attributes,
                              const PointAttributeValues& v, std::uint8_t* out);
 

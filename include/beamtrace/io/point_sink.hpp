@@ -39,6 +39,10 @@ struct BlockPoint : LasSimplePoint {
     /// What weather made the echo (WeatherEffect: 0 none, 1 fog, 2 rain, 3 snow); its point
     /// has no face (kNoFace), part 0 and the weather's LAS class.
     std::uint8_t weather = 0;
+    /// The hit object (Scene::object_of_face) and its velocity there at the pulse's time (m/s;
+    /// 0 for still parts). Filled when the LAS extra bytes ask for them.
+    std::uint32_t instance_id = 0;
+    Vec3f velocity_mps{0.0f, 0.0f, 0.0f};
 };
 
 /// One pulse's sampled echo (physics.waveform.keep): samples [first_sample, + count) of the block.

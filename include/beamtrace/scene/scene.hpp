@@ -10,6 +10,7 @@
 
 #include "beamtrace/core/crs.hpp"
 #include "beamtrace/core/quat.hpp"
+#include "beamtrace/geometry/rigid_motion.hpp"
 #include "beamtrace/geometry/scene_geometry.hpp"
 #include "beamtrace/physics/material.hpp"
 
@@ -29,6 +30,10 @@ struct ScenePart {
     /// material's pattern is laid on (pattern_frame); build_scene sets them.
     std::int64_t first_sphere = -1;
     std::int64_t plane = -1;
+    /// Object (instance) number of its first copy: the scene's objects are numbered from 0 in
+    /// part order, one per copy (a flat part is one object, an exact sphere one per sphere).
+    std::uint32_t first_object = 0;
+    bool moving = false;  ///< its copies are Scene::moving (placed at time 0 in `geometry`)
 };
 
 /// Exact copy of a sphere part, for renderers that trace spheres analytically: of each copy of an
@@ -63,6 +68,12 @@ struct Scene {
     /// Analytic copies of sphere and plane parts (filled by build_scene; ignored by backends).
     std::vector<SceneSphere> spheres;
     std::vector<ScenePlane> planes;
+    /// Parts with a `motion:`: their motions, and one moving instance per copy (mesh and face
+    /// IDs as in `geometry`). They come after every still part, so their faces have the highest
+    /// IDs. `geometry` holds them placed at time 0 (what render and scan show) until
+    /// detach_moving().
+    std::vector<RigidMotion> motions;
+    std::vector<MovingInstance> moving;
 
     /// Appends a part whose triangles are copied in scene coordinates; its faces get the next
     /// IDs (consecutive flat parts share one mesh).
@@ -78,6 +89,24 @@ struct Scene {
     /// The surface `part`'s pattern is laid on at its face `face` (albedo_pattern.hpp): its
     /// analytic sphere or plane, or a solid for every other part.
     [[nodiscard]] PatternFrame pattern_frame(const ScenePart& part, std::uint32_t face) const;
+    /// Appends a part whose copies move: mesh `mesh` placed by `motion` (of the motion's frame,
+    /// `local`) and moved by each of `offsets`; placed at time 0 in `geometry` too.
+    void add_moving_part(ScenePart meta, std::uint32_t mesh, const RigidMotion& motion,
+                         const Affine3& local, const std::vector<Vec3d>& offsets);
+    /// Takes the moving instances out of `geometry` (which then holds what stays still), for a
+    /// tracer that places them at each ray's time (accel/moving_instances.hpp). The face
+    /// queries below still answer for their faces.
+    void detach_moving();
+    /// Bounds of every moving instance over the times [t0, t1] (empty when none moves).
+    [[nodiscard]] Aabb moving_bounds(double t0, double t1) const;
+    /// The moving instance holding `face`, or nullptr when the face stays still.
+    [[nodiscard]] const MovingInstance* moving_of_face(std::uint32_t face) const;
+    /// Unit normal of face `face` at `point` (scene coordinates) at time `time_s`.
+    [[nodiscard]] Vec3d normal_at(std::uint32_t face, const Vec3d& point, double time_s) const;
+    /// Velocity (m/s) at time `time_s` of the surface point `point` of face `face` (0 when still).
+    [[nodiscard]] Vec3d velocity_at(std::uint32_t face, const Vec3d& point, double time_s) const;
+    /// The object number (ScenePart::first_object) of the copy that holds `face`.
+    [[nodiscard]] std::uint32_t object_of_face(std::uint32_t face) const;
     /// Index of the part that holds `face` (binary search).
     [[nodiscard]] std::size_t part_of_face(std::uint32_t face) const;
     /// Triangles (instances counted as copies; exact spheres are not triangles).

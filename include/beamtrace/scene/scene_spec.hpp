@@ -13,6 +13,7 @@
 #include "beamtrace/core/crs.hpp"
 #include "beamtrace/core/quat.hpp"
 #include "beamtrace/core/vec3.hpp"
+#include "beamtrace/geometry/rigid_motion.hpp"
 #include "beamtrace/physics/material.hpp"
 
 namespace beamtrace {
@@ -49,6 +50,20 @@ struct PartArray {
     }
 };
 
+/// `motion:` of a part (docs/scene-file.md): keyframes, or a constant velocity and spin. The
+/// motion moves the part after its own transform (and each array copy by its step after that).
+struct PartMotion {
+    /// `keyframes:` (time_s, position_m, rotate_deg), strictly increasing in time; the key's pose
+    /// places the part's transformed mesh. Empty: the constant motion below.
+    std::vector<MotionKey> keys;
+    Vec3d velocity_mps{0, 0, 0};   ///< `velocity_mps`
+    Vec3d spin_axis{0, 0, 1};      ///< `spin.axis` (unit once parsed)
+    double spin_rate_rad_s = 0.0;  ///< `spin.rate_rad_s` (right-handed about the axis)
+    /// `spin.pivot_m`: the point the part spins about at time 0; none: its transform's
+    /// translate_m (the part's origin).
+    std::optional<Vec3d> pivot_m;
+};
+
 enum class PartKind : std::uint8_t { mesh, raster, sphere, plane };
 
 struct PartSpec {
@@ -65,7 +80,8 @@ struct PartSpec {
     Vec3d normal{0, 0, 1};   ///< plane: its normal (need not be unit)
     double size_m = 100.0;   ///< plane: side of the square patch
     PartTransform transform;
-    PartArray array;  ///< more than one copy makes the part instanced
+    PartArray array;                   ///< more than one copy makes the part instanced
+    std::optional<PartMotion> motion;  ///< none: the part stays still
     std::string material = "default";
     std::uint8_t label = 1;     ///< LAS classification written for hits on this part
     std::uint16_t part_id = 0;  ///< LAS point source ID; defaults to the part's index + 1

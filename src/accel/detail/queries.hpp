@@ -76,6 +76,13 @@ class NearestVisitor : public VisitorBase {
   public:
     explicit NearestVisitor(const TraceRay& ray) : best_t_(ray.tmax), limit_(ray.tmax * kRoom) {}
     [[nodiscard]] float limit() const { return limit_; }
+    /// Starts from slot i of `hits` (a nearest hit of the same ray found elsewhere, or a miss),
+    /// so that only nearer hits, or hits as near on a lower face ID, replace it.
+    void start_from(const HitBatch& hits, std::size_t i) {
+        if (hits.face[i] != kNoFace && hits.t[i] <= best_t_) {
+            keep(hits.t[i], hits.face[i], hits.u[i], hits.v[i]);
+        }
+    }
     bool visit(std::uint32_t local_face) {
         TriangleHit h;
         const std::uint32_t face = offset_ + local_face;

@@ -6,6 +6,7 @@
 #include <mutex>
 #include <vector>
 
+#include "beamtrace/accel/moving_instances.hpp"
 #include "beamtrace/core/hit_batch.hpp"
 #include "beamtrace/core/ray_batch.hpp"
 #include "beamtrace/core/thread_pool.hpp"
@@ -47,6 +48,10 @@ struct BlockWork {
     std::vector<Vec3d> probe_origins, probe_dirs;
     std::vector<std::uint32_t> sample_face;  ///< the face each of a pulse's samples met
     PointBlock points;
+    /// Moving parts (scene `motion:`): their top level for the block's time span and the time
+    /// of each ray and probe ray (its pulse's).
+    MovingFrame moving_frame;
+    std::vector<double> ray_time, probe_time;
     ThreadPool this_thread{1};  ///< no workers: the backend traces the block on the caller
 
     /// Sizes the arrays for `pulse_count` pulses (contents are overwritten by the stages).

@@ -29,13 +29,17 @@ class SurveyPhysics {
     /// probes of edge cells with `backend` on the caller's thread; appends the waveforms to
     /// w.points when they are kept. Thread-safe (const): blocks run on many threads at once.
     void run(BlockWork& w, const Backend& backend) const;
+    /// The scene's moving instances (nullptr: none), traced with the probes at their pulse's time.
+    const MovingInstances* moving = nullptr;
 
   private:
     /// The edge cells of every pulse of the block and their probe rays (w.edge_*, w.probe_*).
     void find_edges(BlockWork& w) const;
     /// The SubRayHit of ray h of `rays` (hits[h] a hit).
-    [[nodiscard]] SubRayHit sub_ray_hit(const RayBatch& rays, const HitBatch& hits,
-                                        std::size_t h) const;
+    [[nodiscard]] SubRayHit sub_ray_hit(const RayBatch& rays, const HitBatch& hits, std::size_t h,
+                                        double time_s) const;
+    /// Traces the probes on the moving instances too (each at its pulse's time).
+    void trace_moving_probes(BlockWork& w) const;
     /// Pulse k's beam samples (w.response.samples, w.sample_face), simulated into w.response.
     void simulate(BlockWork& w, std::size_t k) const;
     void keep_waveform(BlockWork& w, std::size_t k) const;

@@ -28,6 +28,9 @@ struct SurveyPoints {
     std::vector<std::uint64_t> leg_first_pulse{};
     /// Record each pulse without a point in w.points.no_echo (output.no_echo).
     bool no_echo = false;
+    /// Fill BlockPoint::instance_id and velocity_mps (the LAS extra bytes ask for them).
+    bool instance = false;
+    bool velocity = false;
 
     /// Appends the block's points to w.points.points, in pulse order. Thread-safe.
     void run(BlockWork& w) const;

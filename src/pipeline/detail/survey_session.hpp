@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "beamtrace/accel/backend.hpp"
+#include "beamtrace/accel/moving_instances.hpp"
 #include "beamtrace/io/point_sink.hpp"
 #include "beamtrace/physics/pulse.hpp"
 #include "beamtrace/pipeline/survey.hpp"
@@ -42,11 +43,16 @@ class SurveySession {
     [[nodiscard]] std::vector<std::string> diagnose(std::uint64_t points, ThreadPool& pool) const;
 
   private:
+    /// The moving parts' hits of block w's rays, each at its pulse's time (into w.hits).
+    void trace_moving(BlockWork& w) const;
+
     const SurveySpec* spec_;
     Scene scene_;
     std::unique_ptr<ScanPattern> pattern_;
     std::unique_ptr<Trajectory> trajectory_;
     std::unique_ptr<Backend> backend_;
+    /// The scene's moving parts, traced at each pulse's time (none: a still scene).
+    std::optional<MovingInstances> moving_;
     std::optional<PulseSimulator> sim_;
     std::optional<SurveyPhysics> physics_;
     SurveyRaySource source_;

@@ -1,0 +1,71 @@
+// Moving instances (scene parts with a `motion:`), traced at each ray's own time: a mesh BVH per
+// unique mesh built once, and per block of rays a small top-level BVH over the instances' bounds
+// swept over the block's time span. Each ray that reaches an instance's box is taken into the
+// instance's object coordinates with the instance placed at that ray's time, so every pulse sees
+// the part exactly where it is when the pulse is emitted (no time step). The still part of the
+// scene is traced by any backend; intersect() then keeps whichever hit is nearer.
+#pragma once
+
+#include <cstddef>
+#include <span>
+#include <vector>
+
+#include "beamtrace/accel/bvh.hpp"
+#include "beamtrace/core/hit_batch.hpp"
+#include "beamtrace/core/ray_batch.hpp"
+#include "beamtrace/core/thread_pool.hpp"
+#include "beamtrace/geometry/rigid_motion.hpp"
+#include "beamtrace/geometry/triangle_mesh.hpp"
+
+namespace beamtrace {
+
+/// The top level of the moving instances for rays whose times lie in [t0, t1]: a BVH over each
+/// instance's bounds swept over that span. One per thread (the survey keeps one per block).
+struct MovingFrame {
+    double t0 = 0.0, t1 = 0.0;
+    std::vector<Aabb> boxes;  ///< per instance
+    Bvh top;                  ///< prim_ids index the instances
+    /// The summed half areas of the top's nodes when it was built: prepare() refits the same
+    /// tree to new boxes and builds a new one only when the refitted sum exceeds twice this.
+    double built_cost = 0.0;
+};
+
+class MovingInstances {
+  public:
+    /// Builds a BVH for each mesh that `instances` place. `meshes`, `instances` and `motions`
+    /// must outlive this object.
+    MovingInstances(const std::vector<TriangleMesh>& meshes,
+                    std::span<const MovingInstance> instances, std::span<const RigidMotion> motions,
+                    const BvhBuildConfig& config, ThreadPool& pool);
+
+    [[nodiscard]] bool empty() const { return instances_.empty(); }
+    [[nodiscard]] std::size_t size() const { return instances_.size(); }
+
+    /// Makes `frame` the top level for times in [t0, t1] (t0 <= t1), on `pool`: the frame's tree
+    /// refitted to the instances' new swept boxes, or a new one when the refit has grown loose.
+    /// (Hits never depend on the tree's shape, only its speed does.)
+    void prepare(double t0, double t1, MovingFrame& frame, ThreadPool& pool) const;
+
+    /// Nearest hits of rays [begin, end) on the moving instances, ray i's instances placed at
+    /// time ray_time_s[i - begin] (inside the frame's span), written to `hits` where nearer than
+    /// the hit it holds (ties in range: the lower face ID, as in every backend). Runs on the
+    /// caller's thread; results depend on nothing but the rays and times.
+    void intersect(const RayBatch& rays, std::size_t begin, std::size_t end,
+                   std::span<const double> ray_time_s, const MovingFrame& frame,
+                   HitBatch& hits) const;
+
+  private:
+    struct Placement {
+        Affine3 local_inverse;  ///< the motion's frame -> object coordinates
+        bool mirrored = false;
+    };
+    const std::vector<TriangleMesh>* meshes_;
+    std::span<const MovingInstance> instances_;
+    std::span<const RigidMotion> motions_;
+    std::vector<Bvh> blas_;              ///< per mesh (empty for meshes no instance moves)
+    std::vector<Aabb> mesh_bounds_;      ///< per mesh, object coordinates
+    std::vector<Placement> placements_;  ///< per instance
+    BvhBuildConfig top_config_;
+};
+
+}  // namespace beamtrace
