@@ -19,7 +19,7 @@ struct Entry {
     const char* description;
 };
 
-constexpr std::array<Entry, 9> kEntries{{
+constexpr std::array<Entry, 10> kEntries{{
     {PointAttribute::range, "range", LasExtraType::u32, "range_m", 0.001,
      "range from beam origin, m"},
     {PointAttribute::incidence_angle, "incidence_angle", LasExtraType::u16, "incidence_angle_deg",
@@ -37,6 +37,8 @@ constexpr std::array<Entry, 9> kEntries{{
      "hit object velocity y, m/s"},
     {PointAttribute::velocity_z, "velocity_z", LasExtraType::f32, "velocity_z", 1.0,
      "hit object velocity z, m/s"},
+    {PointAttribute::weather, "weather", LasExtraType::u8, "weather", 1.0,
+     "0 scene 1 fog 2 rain 3 snow"},
 }};
 
 const Entry& entry(PointAttribute a) {
@@ -74,6 +76,8 @@ double value(PointAttribute a, const PointAttributeValues& v) {
             return v.velocity_mps.y;
         case PointAttribute::velocity_z:
             return v.velocity_mps.z;
+        case PointAttribute::weather:
+            return v.weather;
     }
     return 0.0;
 }

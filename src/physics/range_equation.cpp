@@ -68,6 +68,11 @@ double received_power_w(const RadiometryConfig& config, double emitted_power_w, 
            (std::numbers::pi * range_m * range_m) * config.system_efficiency * transmission;
 }
 
+double threshold_for_detection_range_w(const RadiometryConfig& config, double range_m,
+                                       double reflectance, double transmission) {
+    return received_power_w(config, config.peak_power_w, reflectance, 1.0, range_m, transmission);
+}
+
 double intensity_full_scale_w(const RadiometryConfig& config) {
     return received_power_w(config, config.peak_power_w, 1.0, 1.0,
                             intensity_reference_range_m(config), 1.0);

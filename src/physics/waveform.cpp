@@ -265,4 +265,8 @@ void detect_echoes(const WaveformConfig& config, const Waveform& waveform, doubl
     }
 }
 
+double gaussian_pulse_peak_power_w(double energy_j, double fwhm_ns) {
+    return energy_j / (fwhm_ns * 1e-9 * std::sqrt(std::numbers::pi / (4.0 * std::numbers::ln2)));
+}
+
 }  // namespace beamtrace

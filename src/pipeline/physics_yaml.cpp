@@ -3,7 +3,9 @@
 #include <functional>
 #include <numbers>
 #include <string>
+#include <utility>
 
+#include "beamtrace/sensor/mechanism_presets.hpp"
 #include "text/quote.hpp"
 
 namespace beamtrace::detail {
@@ -129,14 +131,93 @@ void parse_beam(YamlChecker& c, const YAML::Node& n, PhysicsConfig& out) {
 /// physics.waveform: pulse_fwhm_ns, bin_ns, min_separation_m, min_dip, keep.
 void parse_waveform(YamlChecker& c, const YAML::Node& n, PhysicsConfig& out) {
     if (const auto w = section(c, n, "waveform")) {
-        c.only_keys(w, "physics.waveform",
-                    {"pulse_fwhm_ns", "bin_ns", "min_separation_m", "min_dip", "keep"});
+        c.only_keys(
+            w, "physics.waveform",
+            {"pulse_fwhm_ns", "pulse_length_ns", "bin_ns", "min_separation_m", "min_dip", "keep"});
         const std::string q = "physics.waveform.";
         number(c, w, q, "pulse_fwhm_ns", out.waveform.pulse_fwhm_ns);
         number(c, w, q, "bin_ns", out.waveform.bin_ns);
         number(c, w, q, "min_separation_m", out.waveform.min_separation_m);
         number(c, w, q, "min_dip", out.waveform.min_dip);
         flag(c, w, q, "keep", out.keep_waveform);
+    }
+}
+
+/// Reads the positive number `n` at `key` into `out`; false (after reporting) otherwise.
+bool positive_number(YamlChecker& c, const YAML::Node& n, const std::string& key, double& out) {
+    if (!c.number(n, key, out)) {
+        return false;
+    }
+    if (!(out > 0)) {
+        c.error(n, key, "must be positive");
+        return false;
+    }
+    return true;
+}
+
+/// waveform.pulse_length_ns: HELIOS++'s pulse length, as the FWHM of its pulse shape.
+void parse_pulse_length(YamlChecker& c, const YAML::Node& n, PhysicsConfig& out) {
+    const YAML::Node w = n["waveform"];
+    if (!w || !w.IsMap() || !w["pulse_length_ns"]) {
+        return;
+    }
+    const std::string key = "physics.waveform.pulse_length_ns";
+    double length = 0;
+    if (w["pulse_fwhm_ns"]) {
+        c.error(w["pulse_length_ns"], key,
+                "give pulse_fwhm_ns or pulse_length_ns (HELIOS++'s pulse length), not both");
+    } else if (positive_number(c, w["pulse_length_ns"], key, length)) {
+        out.waveform.pulse_fwhm_ns = helios_pulse_fwhm_ns(length);
+    }
+}
+
+/// pulse_energy_uj: the peak power of a Gaussian pulse of that energy and the pulse's FWHM.
+void parse_pulse_energy(YamlChecker& c, const YAML::Node& n, PhysicsConfig& out) {
+    const YAML::Node e = n["pulse_energy_uj"];
+    double uj = 0;
+    if (!e) {
+        return;
+    }
+    if (n["peak_power_w"]) {
+        c.error(e, "physics.pulse_energy_uj", "give peak_power_w or pulse_energy_uj, not both");
+    } else if (positive_number(c, e, "physics.pulse_energy_uj", uj) &&
+               out.waveform.pulse_fwhm_ns > 0) {
+        out.radiometry.peak_power_w =
+            gaussian_pulse_peak_power_w(uj * 1e-6, out.waveform.pulse_fwhm_ns);
+    }
+}
+
+/// detection: {range_m, reflectance}: the threshold at which the data sheet's range holds, in
+/// the survey's atmosphere.
+void parse_detection(YamlChecker& c, const YAML::Node& n, PhysicsConfig& out) {
+    const YAML::Node d = section(c, n, "detection");
+    if (!d) {
+        return;
+    }
+    c.only_keys(d, "physics.detection", {"range_m", "reflectance"});
+    if (n["detection_threshold_w"]) {
+        c.error(d, "physics.detection", "give detection_threshold_w or detection, not both");
+        return;
+    }
+    double range = 0, reflectance = 0;
+    bool ok = true;
+    for (const auto& [key, value] :
+         {std::pair{"range_m", &range}, std::pair{"reflectance", &reflectance}}) {
+        if (!d[key]) {
+            c.error(d, "physics.detection", std::string("missing ") + key);
+            ok = false;
+        } else {
+            ok = positive_number(c, d[key], std::string("physics.detection.") + key, *value) && ok;
+        }
+    }
+    if (ok && reflectance > 1.0) {
+        c.error(d["reflectance"], "physics.detection.reflectance", "must be in (0, 1]");
+        ok = false;
+    }
+    if (ok) {
+        const double alpha = extinction_per_m(out.atmosphere, out.radiometry.wavelength_nm);
+        out.radiometry.detection_threshold_w = threshold_for_detection_range_w(
+            out.radiometry, range, reflectance, two_way_transmission(alpha, range));
     }
 }
 
@@ -150,7 +231,7 @@ void parse_physics_block(YamlChecker& c, const YAML::Node& n, PhysicsConfig& out
     c.only_keys(n, "physics",
                 {"wavelength_nm", "peak_power_w", "aperture_diameter_m", "system_efficiency",
                  "detection_threshold_w", "intensity", "brdf", "atmosphere", "beam", "noise",
-                 "waveform", "returns"});
+                 "waveform", "returns", "pulse_energy_uj", "detection"});
     const std::string p = "physics.";
     parse_radiometry(c, n, out);
     if (const auto a = section(c, n, "atmosphere")) {
@@ -171,6 +252,9 @@ void parse_physics_block(YamlChecker& c, const YAML::Node& n, PhysicsConfig& out
         parse_noise(c, z, out.noise);
     }
     parse_waveform(c, n, out);
+    parse_pulse_length(c, n, out);  // data-sheet units, once the block's other keys are read
+    parse_pulse_energy(c, n, out);
+    parse_detection(c, n, out);
     if (const auto t = section(c, n, "returns")) {
         c.only_keys(t, "physics.returns", {"mode", "max"});
         choice(c, t, p + "returns.", "mode", out.return_mode,
@@ -182,6 +266,18 @@ void parse_physics_block(YamlChecker& c, const YAML::Node& n, PhysicsConfig& out
     }
     for (const auto& problem : out.validate()) {
         c.error(n, "physics", problem);
+    }
+}
+
+void apply_data_sheet(const SensorDataSheet* sheet, PhysicsConfig& out) {
+    if (sheet == nullptr) {
+        return;
+    }
+    if (sheet->divergence_mrad > 0.0) {
+        out.beam.divergence_rad = sheet->divergence_mrad * 1e-3;
+    }
+    if (sheet->wavelength_nm > 0.0) {
+        out.radiometry.wavelength_nm = sheet->wavelength_nm;
     }
 }
 

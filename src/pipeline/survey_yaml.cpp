@@ -403,6 +403,7 @@ SurveySpec parse_survey_spec(const std::string& yaml_text, const std::filesystem
     }
     if (const auto ph = root["physics"]) {
         s.physics.emplace();
+        detail::apply_data_sheet(s.scanner.settings().data_sheet(), *s.physics);  // presets
         detail::parse_physics_block(c, ph, *s.physics);
     }
     if (const auto w = root["weather"]) {

@@ -5,6 +5,7 @@
 #include <numbers>
 #include <utility>
 
+#include "sensor/detail/mechanism_preset_yaml.hpp"
 #include "sensor/detail/scan_pattern_types.hpp"
 
 namespace beamtrace {
@@ -58,14 +59,17 @@ namespace {
 
 std::unique_ptr<ScannerSettings> parse_conic(detail::YamlChecker& c, const YAML::Node& n) {
     ConicScannerConfig s;
+    const SensorDataSheet* sheet = detail::parse_mechanism_preset(c, n, conic_presets(), s);
     detail::parse_pulse_timing(c, n, s.pulse_rate_hz, s.duration_s);
     detail::scanner_positive(c, n, "rotation_rate_hz", s.rotation_rate_hz);
     detail::scanner_positive(c, n, "off_axis_deg", s.off_axis_deg);
     detail::scanner_problems(c, n, s.validate());
-    return std::make_unique<SettingsOf<ConicScanner>>(std::move(s));
+    auto settings = std::make_unique<SettingsOf<ConicScanner>>(std::move(s));
+    settings->set_data_sheet(sheet);
+    return settings;
 }
 
-constexpr std::array<std::string_view, 4> kConicKeys{"pulse_rate_hz", "rotation_rate_hz",
+constexpr std::array<std::string_view, 5> kConicKeys{"preset", "pulse_rate_hz", "rotation_rate_hz",
                                                      "off_axis_deg", "duration_s"};
 
 }  // namespace

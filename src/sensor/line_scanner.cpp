@@ -7,6 +7,7 @@
 
 #include "beamtrace/core/error.hpp"
 #include "beamtrace/core/name_table.hpp"
+#include "sensor/detail/mechanism_preset_yaml.hpp"
 #include "sensor/detail/scan_pattern_types.hpp"
 #include "sensor/detail/scanner_yaml.hpp"
 #include "text/quote.hpp"
@@ -146,6 +147,7 @@ std::unique_ptr<ScannerSettings> parse_line(detail::YamlChecker& c, const YAML::
     const bool has_duration =
         n["duration_s"] && c.number(n["duration_s"], "scanner.duration_s", duration);
     LineScannerConfig s;
+    const SensorDataSheet* sheet = detail::parse_mechanism_preset(c, n, line_presets(), s);
     detail::scanner_positive(c, n, "pulse_rate_hz", s.pulse_rate_hz);
     detail::scanner_positive(c, n, "scan_rate_hz", s.scan_rate_hz);
     detail::scanner_positive(c, n, "scan_angle_max_deg", s.scan_angle_max_deg);
@@ -165,12 +167,14 @@ std::unique_ptr<ScannerSettings> parse_line(detail::YamlChecker& c, const YAML::
         s.duration_s = duration;
     }
     detail::scanner_problems(c, n, s.validate());
-    return std::make_unique<SettingsOf<LineScanner>>(std::move(s));
+    auto settings = std::make_unique<SettingsOf<LineScanner>>(std::move(s));
+    settings->set_data_sheet(sheet);
+    return settings;
 }
 
-constexpr std::array<std::string_view, 6> kLineKeys{"pulse_rate_hz",      "scan_rate_hz",
-                                                    "scan_angle_max_deg", "waveform",
-                                                    "turn_duration_s",    "duration_s"};
+constexpr std::array<std::string_view, 7> kLineKeys{
+    "preset",   "pulse_rate_hz",   "scan_rate_hz", "scan_angle_max_deg",
+    "waveform", "turn_duration_s", "duration_s"};
 
 }  // namespace
 

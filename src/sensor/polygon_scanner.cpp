@@ -5,6 +5,7 @@
 #include <numbers>
 #include <utility>
 
+#include "sensor/detail/mechanism_preset_yaml.hpp"
 #include "sensor/detail/scan_pattern_types.hpp"
 
 namespace beamtrace {
@@ -79,6 +80,7 @@ namespace {
 
 std::unique_ptr<ScannerSettings> parse_polygon(detail::YamlChecker& c, const YAML::Node& n) {
     PolygonScannerConfig s;
+    const SensorDataSheet* sheet = detail::parse_mechanism_preset(c, n, polygon_presets(), s);
     detail::parse_pulse_timing(c, n, s.pulse_rate_hz, s.duration_s);
     long facets = 0;
     if (n["facets"] && c.integer(n["facets"], "scanner.facets", 2, 360, facets)) {
@@ -87,11 +89,13 @@ std::unique_ptr<ScannerSettings> parse_polygon(detail::YamlChecker& c, const YAM
     detail::scanner_positive(c, n, "rotation_rate_hz", s.rotation_rate_hz);
     detail::scanner_positive(c, n, "usable_fraction", s.usable_fraction);
     detail::scanner_problems(c, n, s.validate());
-    return std::make_unique<SettingsOf<PolygonScanner>>(std::move(s));
+    auto settings = std::make_unique<SettingsOf<PolygonScanner>>(std::move(s));
+    settings->set_data_sheet(sheet);
+    return settings;
 }
 
-constexpr std::array<std::string_view, 5> kPolygonKeys{
-    "pulse_rate_hz", "facets", "rotation_rate_hz", "usable_fraction", "duration_s"};
+constexpr std::array<std::string_view, 6> kPolygonKeys{
+    "preset", "pulse_rate_hz", "facets", "rotation_rate_hz", "usable_fraction", "duration_s"};
 
 }  // namespace
 

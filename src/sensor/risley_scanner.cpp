@@ -5,6 +5,7 @@
 #include <numbers>
 #include <utility>
 
+#include "sensor/detail/mechanism_preset_yaml.hpp"
 #include "sensor/detail/scan_pattern_types.hpp"
 
 namespace beamtrace {
@@ -88,18 +89,22 @@ void read_rate(detail::YamlChecker& c, const YAML::Node& n, const char* name, do
 
 std::unique_ptr<ScannerSettings> parse_risley(detail::YamlChecker& c, const YAML::Node& n) {
     RisleyScannerConfig s;
+    const SensorDataSheet* sheet = detail::parse_mechanism_preset(c, n, risley_presets(), s);
     detail::parse_pulse_timing(c, n, s.pulse_rate_hz, s.duration_s);
     detail::scanner_positive(c, n, "wedge_deg", s.wedge_deg);
     detail::scanner_positive(c, n, "refractive_index", s.refractive_index);
     read_rate(c, n, "rotation_rate_1_hz", s.rotation_rate_1_hz);
     read_rate(c, n, "rotation_rate_2_hz", s.rotation_rate_2_hz);
     detail::scanner_problems(c, n, s.validate());
-    return std::make_unique<SettingsOf<RisleyScanner>>(std::move(s));
+    auto settings = std::make_unique<SettingsOf<RisleyScanner>>(std::move(s));
+    settings->set_data_sheet(sheet);
+    return settings;
 }
 
-constexpr std::array<std::string_view, 6> kRisleyKeys{"pulse_rate_hz",      "wedge_deg",
-                                                      "refractive_index",   "rotation_rate_1_hz",
-                                                      "rotation_rate_2_hz", "duration_s"};
+constexpr std::array<std::string_view, 7> kRisleyKeys{
+    "preset",           "pulse_rate_hz",      "wedge_deg",
+    "refractive_index", "rotation_rate_1_hz", "rotation_rate_2_hz",
+    "duration_s"};
 
 }  // namespace
 

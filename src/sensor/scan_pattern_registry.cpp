@@ -2,9 +2,11 @@
 #include "beamtrace/sensor/scan_pattern_registry.hpp"
 
 #include <array>
+#include <limits>
 
 #include "beamtrace/core/error.hpp"
 #include "beamtrace/core/name_table.hpp"
+#include "beamtrace/sensor/mechanism_presets.hpp"
 #include "beamtrace/sensor/rotating_scanner.hpp"
 #include "sensor/detail/scan_pattern_types.hpp"
 
@@ -35,6 +37,16 @@ std::vector<std::string_view> names_with(Member member) {
 }
 
 }  // namespace
+
+std::optional<std::pair<double, double>> ScannerSettings::preset_range_m() const {
+    const SensorDataSheet* d = data_sheet_;
+    if (d == nullptr || !(d->range_min_m > 0.0 || d->range_max_m > 0.0)) {
+        return std::nullopt;
+    }
+    return std::pair{d->range_min_m, d->range_max_m > 0.0
+                                         ? d->range_max_m
+                                         : std::numeric_limits<double>::infinity()};
+}
 
 ScannerSpec::ScannerSpec()
     : type_("rotating"), settings_(std::make_unique<SettingsOf<RotatingScanner>>(vlp16())) {}

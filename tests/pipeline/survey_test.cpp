@@ -222,7 +222,10 @@ TEST(Survey, EachScannerTypeAcceptsOnlyItsOwnKeys) {
     const std::pair<const char*, const char*> cases[] = {
         {"{type: rotating, preset: vlp16, scan_rate_hz: 50}",
          "s.yaml:2: scanner.scan_rate_hz: unknown key for a rotating scanner"},
-        {"{type: line, preset: vlp16}", "s.yaml:2: scanner.preset: unknown key for a line scanner"},
+        {"{type: fibre, preset: vlp16}",
+         "s.yaml:2: scanner.preset: unknown key for a fibre scanner"},
+        {"{type: line, preset: vlp16}",  // the line scanner has its own presets
+         "s.yaml:2: scanner.preset: unknown preset (expected leica_als50_ii)"},
         {"{type: pinhole, width: 4, height: 4, duration_s: 2}",
          "s.yaml:2: scanner.duration_s: unknown key for a pinhole scanner"},
         {"{type: scan, width: 4, height: 4, rotation_rate_hz: 10}",

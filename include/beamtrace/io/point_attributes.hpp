@@ -25,10 +25,11 @@ enum class PointAttribute : std::uint8_t {
     velocity_x,       ///< velocity_x: the hit surface point's velocity along x, float32 m/s
     velocity_y,       ///< velocity_y: the same along y
     velocity_z,       ///< velocity_z: the same along z
+    weather,          ///< weather: what made the echo (0 the scene, 1 fog, 2 rain, 3 snow), uint8
 };
 
 /// The survey name (`range`, `incidence_angle`, `echo_width`, `beam`, `object_id`,
-/// `instance_id`, `velocity_x`, `velocity_y`, `velocity_z`).
+/// `instance_id`, `velocity_x`, `velocity_y`, `velocity_z`, `weather`).
 [[nodiscard]] std::string_view point_attribute_key(PointAttribute a);
 /// The attribute of survey name `key`, or none.
 [[nodiscard]] std::optional<PointAttribute> point_attribute_named(std::string_view key);
@@ -47,6 +48,7 @@ struct PointAttributeValues {
     std::uint32_t object_id = 0;
     std::uint32_t instance_id = 0;
     Vec3d velocity_mps{0, 0, 0};
+    std::uint8_t weather = 0;
 };
 
 /// Writes `attributes`' fields of `v`, in order, little-endian, at `out` (their descriptors'

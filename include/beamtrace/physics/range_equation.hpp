@@ -64,6 +64,12 @@ struct RadiometryConfig {
                                       double albedo, double reflectance_factor, double range_m,
                                       double transmission);
 
+/// The detection threshold [W] at which a data sheet's range figure holds ("260 m at 80 %
+/// reflectivity"): P_r of an extended Lambertian target of albedo `reflectance` facing the
+/// sensor (L = 1) at `range_m`, filling the beam, through the two-way `transmission`.
+[[nodiscard]] double threshold_for_detection_range_w(const RadiometryConfig& config, double range_m,
+                                                     double reflectance, double transmission);
+
 /// P_fs: the received power that maps to LAS intensity 65535.
 [[nodiscard]] double intensity_full_scale_w(const RadiometryConfig& config);
 

@@ -96,6 +96,20 @@ struct Echo {
 void build_waveform(const WaveformConfig& config, std::span<const EchoContribution> contributions,
                     Waveform& out);
 
+/// HELIOS++'s pulse of length L (its scanners' `pulseLength_ns`): p(t) = (t/tau)^2 exp(-t/tau),
+/// tau = L / 7, sampled over [0, L). Its FWHM is this factor times L: (x2 - x1) / 7 with
+/// x1 = 0.761240, x2 = 4.155921 the roots of x^2 e^-x = 2 e^-2 (half the peak, at x = 2).
+inline constexpr double kHeliosPulseFwhmPerLength = 0.48495438154950027;
+
+/// The FWHM [ns] of HELIOS++'s pulse of length `pulse_length_ns` (a 10 ns pulse: 4.85 ns).
+[[nodiscard]] inline double helios_pulse_fwhm_ns(double pulse_length_ns) {
+    return kHeliosPulseFwhmPerLength * pulse_length_ns;
+}
+
+/// The peak power [W] of a Gaussian pulse of energy `energy_j` and FWHM `fwhm_ns`:
+/// E / (FWHM sqrt(pi / (4 ln 2))) (its energy is the peak times 1.0645 FWHM).
+[[nodiscard]] double gaussian_pulse_peak_power_w(double energy_j, double fwhm_ns);
+
 /// Appends the echoes of `waveform` with amplitude >= threshold_w to `out` in range order.
 void detect_echoes(const WaveformConfig& config, const Waveform& waveform, double threshold_w,
                    std::vector<Echo>& out);

@@ -43,6 +43,7 @@ namespace beamtrace {
 namespace detail {
 class YamlChecker;
 }
+struct SensorDataSheet;  // sensor/mechanism_presets.hpp
 
 /// One scanner type's settings behind one interface (what a registry entry's parse returns).
 class ScannerSettings {
@@ -61,17 +62,27 @@ class ScannerSettings {
     [[nodiscard]] virtual std::unique_ptr<ScanPattern> make_pattern() const = 0;
     /// The range limits [min, max] in metres that a sensor preset's data sheet gives, the
     /// survey's defaults for range_min_m and range_max_m; nullopt: none.
-    [[nodiscard]] virtual std::optional<std::pair<double, double>> preset_range_m() const {
-        return std::nullopt;
-    }
-    /// These settings firing from `start_time_s` for `duration_s` (a survey leg, LegSequence);
-    /// nullptr for a type without a duration (an image pattern counts frames).
+    /// Default: the data sheet's limits (a maximum of +infinity when it gives none); nullopt
+    /// without a data sheet or limits.
+    [[nodiscard]] virtual std::optional<std::pair<double, double>> preset_range_m() const;
+    /// These settings firing from `start_time_s` for `duration_s` (a survey leg, LegSequence),
+    /// with the same data sheet; nullptr for a type without a duration (an image pattern counts
+    /// frames).
     [[nodiscard]] virtual std::unique_ptr<ScannerSettings> with_timing(double start_time_s,
                                                                        double duration_s) const {
         static_cast<void>(start_time_s);
         static_cast<void>(duration_s);
         return nullptr;
     }
+
+    /// The data sheet of the sensor preset these settings started from (a mechanism's
+    /// `preset`, sensor/mechanism_presets.hpp), or nullptr. Its divergence and wavelength are
+    /// the defaults of a survey's physics block.
+    [[nodiscard]] const SensorDataSheet* data_sheet() const { return data_sheet_; }
+    void set_data_sheet(const SensorDataSheet* sheet) { data_sheet_ = sheet; }
+
+  private:
+    const SensorDataSheet* data_sheet_ = nullptr;  ///< static data, never owned
 };
 
 /// The settings of a `Pattern` type: its `Pattern::Config`, from which it is constructed.
@@ -88,12 +99,12 @@ class SettingsOf final : public ScannerSettings {
     [[nodiscard]] std::unique_ptr<ScanPattern> make_pattern() const override {
         return std::make_unique<Pattern>(config);
     }
-    /// Config::preset_range_m() when the config has one.
+    /// Config::preset_range_m() when the config has one, else the data sheet's.
     [[nodiscard]] std::optional<std::pair<double, double>> preset_range_m() const override {
         if constexpr (requires(const Config& c) { c.preset_range_m(); }) {
             return config.preset_range_m();
         } else {
-            return std::nullopt;
+            return ScannerSettings::preset_range_m();
         }
     }
     [[nodiscard]] std::unique_ptr<ScannerSettings> with_timing(double start_time_s,
@@ -105,7 +116,9 @@ class SettingsOf final : public ScannerSettings {
             Config c = config;
             c.start_time_s = start_time_s;
             c.duration_s = duration_s;
-            return std::make_unique<SettingsOf>(std::move(c));
+            auto timed = std::make_unique<SettingsOf>(std::move(c));
+            timed->set_data_sheet(data_sheet());
+            return timed;
         } else {
             static_cast<void>(start_time_s);
             static_cast<void>(duration_s);

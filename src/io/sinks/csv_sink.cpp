@@ -2,15 +2,19 @@
 // scan_angle_deg and, with physics, intensity,return_number,number_of_returns), streamed.
 // Numbers read like the LAS file's: coordinates and ranges at the LAS scale's decimals, times
 // as the LAS file holds them, scan angles in the LAS format's 0.006 degree steps, trailing zeros
-// dropped, no "-0".
+// dropped, no "-0". output.extra_bytes adds a column per attribute, named as in LAS, except
+// range_m and beam, columns already: incidence_angle_deg and echo_width_ns at the LAS scale's
+// 2 decimals (an unknown echo width is an empty field), object_id (extra_columns.hpp).
 #include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <string>
+#include <vector>
 
 #include "beamtrace/io/las_writer.hpp"
 #include "beamtrace/io/point_sink.hpp"
 #include "io/sinks/byte_file_sink.hpp"
+#include "io/sinks/extra_columns.hpp"
 
 namespace beamtrace {
 
@@ -58,8 +62,34 @@ char* put_fixed(char* c, char* end, double v, int decimals) {
     return c;
 }
 
+/// The attributes of `extra` that are not columns already (range_m and beam are).
+std::vector<PointAttribute> extra_csv_columns(std::span<const PointAttribute> extra) {
+    std::vector<PointAttribute> out;
+    for (const PointAttribute a : extra) {
+        if (a != PointAttribute::range && a != PointAttribute::beam) {
+            out.push_back(a);
+        }
+    }
+    return out;
+}
+
+/// Writes `,value` of each of `extra` at `c` (measurements at 2 decimals, the LAS scale 0.01).
+char* put_extra(char* c, char* end, std::span<const PointAttribute> extra, const BlockPoint& p) {
+    for (const PointAttribute a : extra) {
+        *c++ = ',';
+        const double v = detail::extra_column_value(a, p);
+        if (detail::extra_column_is_integer(a)) {
+            c = std::to_chars(c, end, static_cast<std::uint32_t>(v)).ptr;
+        } else if (std::isfinite(v)) {
+            c = put_fixed(c, end, std::round(v * 100.0) / 100.0, 2);
+        }
+    }
+    return c;
+}
+
 /// Appends one CSV row to `out`.
-void append_csv_row(std::string& out, const BlockPoint& p, bool physics, const CsvDecimals& d) {
+void append_csv_row(std::string& out, const BlockPoint& p, bool physics, const CsvDecimals& d,
+                    std::span<const PointAttribute> extra) {
     char row[kMaxCsvRow];
     char* c = row;
     char* const end = row + kMaxCsvRow;
@@ -96,6 +126,7 @@ void append_csv_row(std::string& out, const BlockPoint& p, bool physics, const C
             c = std::to_chars(c, end, v).ptr;
         }
     }
+    c = put_extra(c, end, extra, p);
     *c++ = '\n';
     out.append(row, static_cast<std::size_t>(c - row));
 }
@@ -103,27 +134,34 @@ void append_csv_row(std::string& out, const BlockPoint& p, bool physics, const C
 class CsvSink final : public detail::ByteFileSink {
   public:
     explicit CsvSink(const SinkFacts& facts)
-        : ByteFileSink(facts.output_dir / "points.csv"), physics_(facts.physics) {
+        : ByteFileSink(facts.output_dir / "points.csv"),
+          physics_(facts.physics),
+          extra_(extra_csv_columns(facts.extra_bytes)) {
         // The LAS sink's scale and offset (0.001 m, or coarser for a huge extent).
         const LasWriterConfig las = las_config_for_extent(facts.lo_m, facts.hi_m, 0.001);
         decimals_.scale = las.scale;
         decimals_.offset = las.offset;
         decimals_.xyz = std::max(
             {decimals_of(las.scale.x), decimals_of(las.scale.y), decimals_of(las.scale.z)});
-        file().write(
+        std::string header =
             std::string(
                 "x,y,z,gps_time,range_m,classification,point_source_id,beam,scan_angle_deg") +
-            (physics_ ? ",intensity,return_number,number_of_returns" : "") + "\n");
+            (physics_ ? ",intensity,return_number,number_of_returns" : "");
+        for (const PointAttribute a : extra_) {
+            header += "," + detail::extra_column_name(a);
+        }
+        file().write(header + "\n");
     }
     void encode(const PointBlock& block, SinkBuffer& out) const override {
         std::string& bytes = static_cast<ByteBuffer&>(out).bytes;
         for (const BlockPoint& p : block.points) {
-            append_csv_row(bytes, p, physics_, decimals_);
+            append_csv_row(bytes, p, physics_, decimals_, extra_);
         }
     }
 
   private:
     bool physics_;
+    std::vector<PointAttribute> extra_;
     CsvDecimals decimals_;
 };
 

@@ -141,10 +141,11 @@ void encode_las_extra_bytes(std::span<const PointAttribute> attributes,
     const std::size_t field = las_point_record_size(writer.header().point_format);
     std::uint8_t* r = records.bytes.data() + (records.count - points.size()) * length + field;
     for (const BlockPoint& p : points) {
-        encode_point_attributes(attributes,
-                                {p.range_m, p.incidence_deg, p.echo_width_ns, p.channel,
-                                 p.point_source_id, p.instance_id, Vec3d(p.velocity_mps)},
-                                r);
+        encode_point_attributes(
+            attributes,
+            {p.range_m, p.incidence_deg, p.echo_width_ns, p.channel, p.point_source_id,
+             p.instance_id, Vec3d(p.velocity_mps), p.weather},
+            r);
         r += length;
     }
 }
