@@ -3,6 +3,8 @@
 // (written from the same points before LAS quantisation, in shortest round-trip decimals).
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <charconv>
 #include <filesystem>
 #include <string>
@@ -68,6 +70,10 @@ std::vector<LasPoint> read_survey_csv(const fs::path& path) {
             }
             c = r.ptr + 1;  // past ',' or '\n'
         }
+        if (c[-1] == ',') {  // output.extra_bytes columns follow: not read here
+            const char* eol = std::find(c, end, '\n');
+            c = eol == end ? end : eol + 1;
+        }
         LasPoint p;
         p.x = v[0], p.y = v[1], p.z = v[2], p.gps_time = v[3];
         p.classification = static_cast<std::uint8_t>(v[5]);
@@ -120,7 +126,7 @@ TEST(SurveyExamples, IndependentReadersDecodeExactlyThePointsOfEveryExample) {
                               "' --quiet --output '" + (dir / "out").string() + "'");
         ASSERT_EQ(r.exit_code, 0) << r.out;
         const std::vector<LasPoint> written = read_survey_csv(dir / "out" / "points.csv");
-        EXPECT_GT(written.size(), 100000u);
+        EXPECT_GT(written.size(), 10000u);
         const auto decoded =
             test::decode_independently(lasval, dir / "out" / "points.las", dir.path());
         ASSERT_TRUE(decoded);
