@@ -30,7 +30,7 @@ constexpr std::size_t kPiece = std::size_t{1} << 30;
 
 class MpiFile final : public SharedFile {
   public:
-    MpiFile(MPI_Comm comm, const std::filesystem::path& path) : comm_(comm), path_(path) {
+    MpiFile(MPI_Comm comm, const std::filesystem::path& path) : path_(path) {
         check(MPI_File_open(comm, path.c_str(), MPI_MODE_CREATE | MPI_MODE_WRONLY, MPI_INFO_NULL,
                             &file_),
               path.string() + ": cannot open for writing");
@@ -57,7 +57,6 @@ class MpiFile final : public SharedFile {
     void close() override { check(MPI_File_close(&file_), path_.string() + ": close failed"); }
 
   private:
-    MPI_Comm comm_;
     std::filesystem::path path_;
     MPI_File file_ = MPI_FILE_NULL;
 };
