@@ -45,13 +45,15 @@ std::vector<std::string> FogConfig::validate() const {
     std::vector<std::string> p;
     if (!positive_finite(mor_m)) {
         p.emplace_back("fog.mor_m: must be a positive number of metres");
+    } else if (mor_m < 1.0) {
+        p.emplace_back("fog.mor_m: below 1 m (the densest fogs measured have a MOR of metres)");
     }
-    if (extinction_per_m && !(*extinction_per_m >= 0.0 && std::isfinite(*extinction_per_m))) {
-        p.emplace_back("fog.extinction_per_m: must be zero or positive");
+    // Bounds far beyond any fog (MOR 1 m: alpha 3 per m, beta 0.046 per m sr).
+    if (extinction_per_m && !(*extinction_per_m >= 0.0 && *extinction_per_m <= 100.0)) {
+        p.emplace_back("fog.extinction_per_m: must be in [0, 100] per metre");
     }
-    if (backscatter_per_m_sr &&
-        !(*backscatter_per_m_sr >= 0.0 && std::isfinite(*backscatter_per_m_sr))) {
-        p.emplace_back("fog.backscatter_per_m_sr: must be zero or positive");
+    if (backscatter_per_m_sr && !(*backscatter_per_m_sr >= 0.0 && *backscatter_per_m_sr <= 10.0)) {
+        p.emplace_back("fog.backscatter_per_m_sr: must be in [0, 10] per metre and steradian");
     }
     return p;
 }

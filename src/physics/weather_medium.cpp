@@ -62,26 +62,39 @@ WeatherMedium::WeatherMedium(const WeatherConfig& weather, const RadiometryConfi
                               ": the beam needs a volume to hold particles: set "
                               "physics.beam.divergence_mrad (and exit_diameter_m)");
         }
-        ParticleBeam b;
-        b.exit_radius_m = beam.exit_diameter_m / 2.0;
-        b.half_angle_rad = beam.divergence_rad / 2.0;
-        b.emitted_power_w = emitted_power_w_;
-        b.receiver_gain_m2 = receiver_gain_m2_;
-        b.extinction_per_m = extinction_per_m;
-        b.floor_w = p->floor_fraction * radiometry.detection_threshold_w;
-        b.start_m = weather.overlap.start_m;
-        b.overlap = weather.overlap;
-        b.max_range_m = max_range_m_;
-        const auto dsd = drop_size_distribution(p->kind, p->rate_mm_h);
-        const double albedo = p->particle_albedo.value_or(default_particle_albedo(p->kind));
-        // The table spans the particles' reach only, in steps of at most 2 cm.
-        const ParticleSampler probe(dsd, albedo, b, {}, 2);
-        b.max_range_m = std::max(particle_reach_m(probe, b.start_m, max_range_m_), b.start_m + 1.0);
-        const auto steps = static_cast<std::size_t>((b.max_range_m - b.start_m) / 0.02);
-        particles_.emplace(dsd, albedo, b, ParticleCell{},
-                           std::clamp<std::size_t>(steps, 1024, std::size_t{1} << 18));
-        particle_effect_ = particle_effect(p->kind);
+        // A medium so dense that nothing comes back from beyond the overlap ramp: no particle
+        // is drawn (they still extinguish the beam).
+        if (max_range_m_ > weather.overlap.full_m + 1.0) {
+            particles_.emplace(particle_sampler(weather, *p, radiometry, beam, extinction_per_m));
+            particle_effect_ = particle_effect(p->kind);
+        }
     }
+}
+
+ParticleSampler WeatherMedium::particle_sampler(const WeatherConfig& weather,
+                                                const PrecipitationConfig& p,
+                                                const RadiometryConfig& radiometry,
+                                                const BeamConfig& beam,
+                                                double extinction_per_m) const {
+    ParticleBeam b;
+    b.exit_radius_m = beam.exit_diameter_m / 2.0;
+    b.half_angle_rad = beam.divergence_rad / 2.0;
+    b.emitted_power_w = emitted_power_w_;
+    b.receiver_gain_m2 = receiver_gain_m2_;
+    b.extinction_per_m = extinction_per_m;
+    b.floor_w = p.floor_fraction * radiometry.detection_threshold_w;
+    b.start_m = weather.overlap.start_m;
+    b.overlap = weather.overlap;
+    b.max_range_m = max_range_m_;
+    const auto dsd = drop_size_distribution(p.kind, p.rate_mm_h);
+    const double albedo = p.particle_albedo.value_or(default_particle_albedo(p.kind));
+    // The table spans the particles' reach only, in steps of at most 2 cm.
+    const ParticleSampler probe(dsd, albedo, b, {}, 2);
+    b.max_range_m = std::max(particle_reach_m(probe, weather.overlap.full_m, max_range_m_),
+                             weather.overlap.full_m + 1.0);
+    const auto steps = static_cast<std::size_t>((b.max_range_m - b.start_m) / 0.02);
+    return {dsd, albedo, b, ParticleCell{},
+            std::clamp<std::size_t>(steps, 1024, std::size_t{1} << 18)};
 }
 
 void WeatherMedium::echoes(std::uint64_t seed, std::uint64_t pulse_index,

@@ -69,6 +69,17 @@ TEST(SurveyWeather, EveryEffectGivesTheSameFileAtAnyThreadCount) {
     EXPECT_GT(rain, 0u);
 }
 
+TEST(SurveyWeather, AMediumTooDenseForParticlesRunsOnFogAlone) {
+    // MOR 1 m: nothing comes back from beyond the overlap ramp, so no snow particle is drawn
+    // (a sampler over an empty range once threw an internal error here).
+    test::TempDir dir;
+    const auto points = run("weather: {fog: {mor_m: 1}, snow: {rate_mm_h: 400}}\n", dir, 2);
+    ASSERT_FALSE(points.empty());
+    for (const LasPoint& p : points) {
+        EXPECT_EQ(p.classification, 7);  // the fog's echo only
+    }
+}
+
 TEST(SurveyWeather, WetSurfacesAreDarker) {
     test::TempDir dry_dir, wet_dir;
     const auto dry = run("", dry_dir, 2);

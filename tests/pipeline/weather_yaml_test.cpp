@@ -87,6 +87,11 @@ TEST(WeatherYaml, ErrorsNameTheLineAndKey) {
     EXPECT_NE(error_of("weather: {snow: {rate_mm_h: x}}\n").find("weather.snow.rate_mm_h"),
               std::string::npos);
     EXPECT_NE(error_of("weather: 3\n").find("weather: expected a map"), std::string::npos);
+    EXPECT_NE(error_of("weather: {fog: {mor_m: 0.5}}\n").find("weather.fog.mor_m: below 1 m"),
+              std::string::npos);
+    EXPECT_NE(error_of("weather: {fog: {mor_m: 9, backscatter_per_m_sr: 1e300}}\n")
+                  .find("weather.fog.backscatter_per_m_sr: must be in [0, 10]"),
+              std::string::npos);
 }
 
 }  // namespace

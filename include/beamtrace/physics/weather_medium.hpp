@@ -46,6 +46,13 @@ class WeatherMedium {
                 MediumEchoes& out) const;
 
   private:
+    /// The particles' sampler of the whole beam, over the particles' reach.
+    [[nodiscard]] ParticleSampler particle_sampler(const WeatherConfig& weather,
+                                                   const PrecipitationConfig& p,
+                                                   const RadiometryConfig& radiometry,
+                                                   const BeamConfig& beam,
+                                                   double extinction_per_m) const;
+
     WeatherConfig weather_;
     SoftTarget fog_;
     SoftTargetSampling fog_sampling_;
