@@ -59,6 +59,16 @@ void SurveyPoints::medium_point(BlockPoint& p, const PulseReturn& ret) const {
 void SurveyPoints::run(BlockWork& w) const {
     std::vector<BlockPoint>& out = w.points.points;
     out.reserve(w.pulse_count * max_returns);
+    // Neighbouring points mostly hit the same part: try the last one before searching.
+    std::size_t last_part = 0;
+    const auto part_of = [&](std::uint32_t face) {
+        const ScenePart& cached = scene->parts[last_part];
+        if (face - cached.first_face < cached.face_count) {
+            return last_part;
+        }
+        last_part = scene->part_of_face(face);
+        return last_part;
+    };
     for (std::size_t k = 0; k < w.pulse_count; ++k) {
         const std::size_t n = physics ? w.return_count[k] : (w.hits.hit(k) ? 1 : 0);
         if (no_echo && n == 0) {
@@ -95,7 +105,8 @@ void SurveyPoints::run(BlockWork& w) const {
                 p.point_source_id = leg;
                 continue;
             }
-            const ScenePart& part = scene->parts[scene->part_of_face(face)];
+            const std::size_t part_index = part_of(face);
+            const ScenePart& part = scene->parts[part_index];
             p.face = face;
             p.classification = part.label;
             p.point_source_id = by_leg ? leg : part.part_id;
@@ -109,7 +120,7 @@ void SurveyPoints::run(BlockWork& w) const {
                 p.velocity_mps = Vec3f(scene->velocity_at(face, xyz - scene->origin_m, p.gps_time));
             }
             if (!colours.empty()) {
-                const auto& c = colours[scene->part_of_face(face)];
+                const auto& c = colours[part_index];
                 p.red = c[0];
                 p.green = c[1];
                 p.blue = c[2];
