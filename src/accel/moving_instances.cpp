@@ -74,36 +74,14 @@ void MovingInstances::prepare(double t0, double t1, MovingFrame& frame, ThreadPo
 
 namespace {
 
-/// Whether ray i enters the root box before its hit in `hits` (a cheap test before the
-/// traversal's per-ray set-up).
-bool reaches_root(const RayBatch& rays, std::size_t i, const Bvh& top, const HitBatch& hits) {
+/// Whether box ray `r` (ray i) enters the root box before its hit in `hits`.
+bool reaches_root(const detail::TraceRay& r, std::size_t i, const Bvh& top, const HitBatch& hits) {
     if (top.nodes.empty()) {
         return false;
     }
-    detail::TraceRay r;
-    r.org = Vec3f(static_cast<float>(rays.ox[i]), static_cast<float>(rays.oy[i]),
-                  static_cast<float>(rays.oz[i]));
-    r.inv_dir = Vec3f(1.0f / static_cast<float>(rays.dx[i]), 1.0f / static_cast<float>(rays.dy[i]),
-                      1.0f / static_cast<float>(rays.dz[i]));
-    const float tmax = std::min(static_cast<float>(rays.tmax[i]),
-                                hits.face[i] != kNoFace ? hits.t[i] * 1.0001f : hits.t[i]);
+    const float tmax = std::min(r.tmax, hits.face[i] != kNoFace ? hits.t[i] * 1.0001f : hits.t[i]);
     float entry = 0.0f;
-    return detail::slab_entry(r, top.nodes[0].lo, top.nodes[0].hi, static_cast<float>(rays.tmin[i]),
-                              tmax, entry);
-}
-
-/// Ray i for the top level's box tests: no watertight set-up (triangles are met in object
-/// coordinates, with a ray of their own).
-detail::TraceRay world_ray(const RayBatch& rays, std::size_t i) {
-    detail::TraceRay r;
-    r.org = Vec3f(static_cast<float>(rays.ox[i]), static_cast<float>(rays.oy[i]),
-                  static_cast<float>(rays.oz[i]));
-    r.dir = Vec3f(static_cast<float>(rays.dx[i]), static_cast<float>(rays.dy[i]),
-                  static_cast<float>(rays.dz[i]));
-    r.inv_dir = Vec3f(1.0f / r.dir.x, 1.0f / r.dir.y, 1.0f / r.dir.z);
-    r.tmin = static_cast<float>(rays.tmin[i]);
-    r.tmax = static_cast<float>(rays.tmax[i]);
-    return r;
+    return detail::slab_entry(r, top.nodes[0].lo, top.nodes[0].hi, r.tmin, tmax, entry);
 }
 
 }  // namespace
@@ -115,10 +93,10 @@ void MovingInstances::intersect(const RayBatch& rays, std::size_t begin, std::si
     for (std::size_t i = begin; i < end; ++i) {
         const double time = ray_time_s[i - begin];
         assert(time >= frame.t0 && time <= frame.t1);
-        if (!reaches_root(rays, i, frame.top, hits)) {
+        const TraceRay r = detail::make_box_ray(rays, i);
+        if (!reaches_root(r, i, frame.top, hits)) {
             continue;
         }
-        const TraceRay r = world_ray(rays, i);
         detail::NearestVisitor vis(r);
         vis.start_from(hits, i);
         const Vec3d org = rays.origin(i), dir = rays.direction(i);

@@ -69,13 +69,13 @@ double fog_backscatter_per_m_sr(const FogConfig& fog) {
 void add_soft_target_echo(const SoftTarget& medium, double emitted_power_w, double receiver_gain_m2,
                           double end_m, const SoftTargetSampling& sampling,
                           std::vector<EchoContribution>& out) {
-    const BeamShare whole{1.0, end_m};
+    BeamShare whole{1.0, end_m};
     add_soft_target_echo(medium, emitted_power_w, receiver_gain_m2, std::span(&whole, 1), sampling,
                          out);
 }
 
 void add_soft_target_echo(const SoftTarget& medium, double emitted_power_w, double receiver_gain_m2,
-                          std::span<const BeamShare> shares, const SoftTargetSampling& sampling,
+                          std::span<BeamShare> shares, const SoftTargetSampling& sampling,
                           std::vector<EchoContribution>& out) {
     if (!(medium.backscatter_per_m_sr > 0.0) || !(sampling.slab_m > 0.0) || shares.empty()) {
         return;
@@ -85,11 +85,10 @@ void add_soft_target_echo(const SoftTarget& medium, double emitted_power_w, doub
             throw std::invalid_argument("add_soft_target_echo: a share's end must be finite");
         }
     }
-    std::vector<BeamShare> ends(shares.begin(), shares.end());
-    std::sort(ends.begin(), ends.end(),
+    std::sort(shares.begin(), shares.end(),
               [](const BeamShare& a, const BeamShare& b) { return a.end_m < b.end_m; });
     double travelling = 0.0;  // the weight of the shares not yet ended
-    for (const BeamShare& s : ends) {
+    for (const BeamShare& s : shares) {
         travelling += s.weight;
     }
     const double d = sampling.slab_m;
@@ -97,15 +96,15 @@ void add_soft_target_echo(const SoftTarget& medium, double emitted_power_w, doub
     std::size_t ended = 0;
     // Slabs of width d, cut where a share ends so that each lies within one total weight.
     for (double lo = std::max(medium.overlap.start_m, 0.0);;) {
-        while (ended < ends.size() && !(ends[ended].end_m > lo)) {
-            travelling -= ends[ended++].weight;
+        while (ended < shares.size() && !(shares[ended].end_m > lo)) {
+            travelling -= shares[ended++].weight;
         }
-        if (ended == ends.size()) {
+        if (ended == shares.size()) {
             break;
         }
         const bool ramp = lo < medium.overlap.full_m && sampling.ramp_slab_m > 0.0;
         const double hi =
-            std::min(lo + (ramp ? std::min(d, sampling.ramp_slab_m) : d), ends[ended].end_m);
+            std::min(lo + (ramp ? std::min(d, sampling.ramp_slab_m) : d), shares[ended].end_m);
         const double width = hi - lo;
         const double r = lo + width / 2.0;
         const double power = scale * travelling * width * overlap_fraction(medium.overlap, r) *

@@ -98,7 +98,7 @@ ParticleSampler WeatherMedium::particle_sampler(const WeatherConfig& weather,
 }
 
 void WeatherMedium::echoes(std::uint64_t seed, std::uint64_t pulse_index,
-                           std::span<const BeamShare> shares, MediumEchoes& out) const {
+                           std::span<BeamShare> shares, MediumEchoes& out) const {
     out.clear();
     if (weather_.clear_air() || shares.empty()) {
         return;

@@ -150,7 +150,7 @@ TEST(WeatherFog, HardTargetsShadowTheFogBehindThem) {
     const SoftTarget medium{0.046 / 30.0, std::log(20.0) / 30.0, {0.5, 2.0}};
     // Half the beam stops at 5 m, the other half at 20 m: the fog's echo is half the echo of
     // a path to 5 m plus half the echo of a path to 20 m.
-    const std::vector<BeamShare> shares{{0.5, 20.0}, {0.5, 5.0}};
+    std::vector<BeamShare> shares{{0.5, 20.0}, {0.5, 5.0}};
     std::vector<EchoContribution> split, near, far;
     add_soft_target_echo(medium, 1000.0, 1e-3, shares, {0.05, 0.0}, split);
     add_soft_target_echo(medium, 500.0, 1e-3, 5.0, {0.05, 0.0}, near);
@@ -169,7 +169,7 @@ TEST(WeatherFog, HardTargetsShadowTheFogBehindThem) {
     for (const EchoContribution& c : split) {
         EXPECT_LT(c.range_m, 20.0);
     }
-    const std::vector<BeamShare> open{{1.0, std::numeric_limits<double>::infinity()}};
+    std::vector<BeamShare> open{{1.0, std::numeric_limits<double>::infinity()}};
     EXPECT_THROW(add_soft_target_echo(medium, 1.0, 1.0, open, {0.05, 0.0}, split),
                  std::invalid_argument);
 }

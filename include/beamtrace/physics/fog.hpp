@@ -93,9 +93,9 @@ struct BeamShare {
 
 /// The same for a beam whose shares end at different ranges: the slab at r is weighted by the
 /// sum of the weights of the shares still travelling at r (the hard targets shadow the fog
-/// behind them). `shares` need not be sorted.
+/// behind them). `shares` is sorted by end in place (no allocation per pulse).
 void add_soft_target_echo(const SoftTarget& medium, double emitted_power_w, double receiver_gain_m2,
-                          std::span<const BeamShare> shares, const SoftTargetSampling& sampling,
+                          std::span<BeamShare> shares, const SoftTargetSampling& sampling,
                           std::vector<EchoContribution>& out);
 
 }  // namespace beamtrace

@@ -41,8 +41,9 @@ class WeatherMedium {
     /// the fog's echo nor any particle's reaches the detection threshold.
     [[nodiscard]] double max_range_m() const { return max_range_m_; }
     /// The medium's echoes of pulse `pulse_index` whose beam shares end at `shares` (sub-ray
-    /// weights and hit ranges, misses at max_range_m()), into `out` (cleared first).
-    void echoes(std::uint64_t seed, std::uint64_t pulse_index, std::span<const BeamShare> shares,
+    /// weights and hit ranges, misses at max_range_m()), into `out` (cleared first). `shares`
+    /// is reordered (sorted by end).
+    void echoes(std::uint64_t seed, std::uint64_t pulse_index, std::span<BeamShare> shares,
                 MediumEchoes& out) const;
 
   private:

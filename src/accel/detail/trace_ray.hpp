@@ -16,7 +16,9 @@ struct TraceRay {
     WatertightRay wt;
 };
 
-[[nodiscard]] inline TraceRay make_trace_ray(const RayBatch& rays, std::size_t i) {
+/// Ray i of `rays` for box tests only (no watertight set-up: its triangles are met with a ray
+/// of their own, e.g. in an instance's frame).
+[[nodiscard]] inline TraceRay make_box_ray(const RayBatch& rays, std::size_t i) {
     TraceRay r;
     r.org = Vec3f(static_cast<float>(rays.ox[i]), static_cast<float>(rays.oy[i]),
                   static_cast<float>(rays.oz[i]));
@@ -26,6 +28,12 @@ struct TraceRay {
     r.inv_dir = Vec3f(1.0f / r.dir.x, 1.0f / r.dir.y, 1.0f / r.dir.z);
     r.tmin = static_cast<float>(rays.tmin[i]);
     r.tmax = static_cast<float>(rays.tmax[i]);
+    return r;
+}
+
+/// Ray i of `rays` with the watertight triangle test's set-up.
+[[nodiscard]] inline TraceRay make_trace_ray(const RayBatch& rays, std::size_t i) {
+    TraceRay r = make_box_ray(rays, i);
     r.wt = make_watertight_ray(r.org, r.dir);
     return r;
 }
