@@ -431,7 +431,7 @@ void LasWriter::encode_record(const LasPoint& p, std::uint64_t index, std::uint8
         (p.edge_of_flight_line ? 0x80 : 0));
     encode_base({p.x, p.y, p.z, p.gps_time, p.scan_angle_deg, p.intensity, p.point_source_id,
                  p.return_number, p.number_of_returns, p.classification, p.user_data, p.red,
-                 p.green, p.blue, p.nir},
+                 p.green, p.blue, p.nir, p.scanner_channel},
                 flags, index, r, q);
     std::size_t pos = 30;
     if (las_format_has_rgb(header_.point_format)) {
@@ -457,7 +457,11 @@ void LasWriter::encode_record(const LasPoint& p, std::uint64_t index, std::uint8
 
 void LasWriter::encode_record(const LasSimplePoint& p, std::uint64_t index, std::uint8_t* r,
                               std::int32_t q[3]) const {
-    encode_base(p, 0, index, r, q);
+    if (p.scanner_channel > 3) {
+        throw OutputError(path_.string() + ": point " + std::to_string(index) +
+                          ": scanner channel " + std::to_string(p.scanner_channel) + " exceeds 3");
+    }
+    encode_base(p, static_cast<std::uint8_t>(p.scanner_channel << 4), index, r, q);
     // Extra bytes (and wave packet fields, written after) are zero: block bytes are reused.
     std::memset(r + 30, 0, header_.point_record_length - 30u);
     if (las_format_has_rgb(header_.point_format)) {

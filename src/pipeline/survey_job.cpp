@@ -10,6 +10,7 @@
 #include "beamtrace/core/error.hpp"
 #include "beamtrace/pipeline/survey.hpp"
 #include "beamtrace/sensor/leg_sequence.hpp"
+#include "beamtrace/sensor/scanner_set.hpp"
 #include "core/created_dirs.hpp"
 #include "pipeline/detail/ordered_blocks.hpp"
 #include "pipeline/detail/survey_block.hpp"
@@ -91,7 +92,13 @@ std::pair<std::uint64_t, std::uint64_t> stream_blocks(const detail::SurveySessio
 
 }  // namespace
 
-std::unique_ptr<ScanPattern> SurveySpec::make_pattern() const {
+namespace {
+
+/// One scanner's pattern: its own, or with `leg_scanners` a LegSequence of its legs' scanners
+/// over the legs' flight times.
+std::unique_ptr<ScanPattern> scanner_pattern(const ScannerSpec& scanner,
+                                             const std::vector<LegScanner>& leg_scanners,
+                                             const LinearLegsConfig& legs) {
     if (leg_scanners.empty()) {
         return scanner.make_pattern();
     }
@@ -118,6 +125,19 @@ std::unique_ptr<ScanPattern> SurveySpec::make_pattern() const {
         }
     }
     return std::make_unique<LegSequence>(std::move(seq));
+}
+
+}  // namespace
+
+std::unique_ptr<ScanPattern> SurveySpec::make_pattern() const {
+    if (scanners.empty()) {
+        return scanner_pattern(scanner, leg_scanners, legs);
+    }
+    std::vector<std::unique_ptr<ScanPattern>> each;
+    for (const SurveyScanner& s : scanners) {
+        each.push_back(scanner_pattern(s.scanner, s.leg_scanners, legs));
+    }
+    return std::make_unique<ScannerSet>(std::move(each));
 }
 
 std::unique_ptr<Trajectory> SurveySpec::make_trajectory() const {

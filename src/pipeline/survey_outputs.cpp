@@ -58,6 +58,7 @@ SinkFacts survey_sink_facts(const SurveySpec& spec, const SurveyRunConfig& run, 
     f.trajectory = survey_trajectory_samples(spec, pattern, trajectory, scene.origin_m, pulses);
     f.trajectory_rate_hz = spec.trajectory_rate_hz;
     f.extra_bytes = spec.extra_bytes;
+    f.scanners = spec.scanners.size();
     return f;
 }
 

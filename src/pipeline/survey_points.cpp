@@ -56,6 +56,38 @@ void SurveyPoints::medium_point(BlockPoint& p, const PulseReturn& ret) const {
     p.incidence_deg = 0.0f;
 }
 
+void SurveyPoints::set_sources(const SurveySpec& spec, const ScanPattern& pattern) {
+    for (const SurveyScanner& s : spec.scanners) {
+        scanner_channels.push_back(s.channel);
+    }
+    by_scanner = spec.point_source_id == PointSourceId::scanner;
+    if (spec.point_source_id != PointSourceId::leg) {
+        return;
+    }
+    if (const auto* legs = dynamic_cast<const LegSequence*>(&pattern)) {
+        leg_first_pulse = legs->first_pulses();
+    } else if (!spec.scanners.empty() && !spec.leg_scanners.empty()) {
+        leg_start_s = LinearLegs(spec.legs).waypoint_times_s();
+        leg_start_s.pop_back();  // the last waypoint ends the last leg
+    }
+}
+
+std::uint16_t SurveyPoints::pulse_source_id(const BlockWork& w, std::size_t k) const {
+    if (by_scanner) {
+        return w.pulses.scanner[k];
+    }
+    if (!leg_first_pulse.empty()) {
+        return static_cast<std::uint16_t>(leg_of_pulse(leg_first_pulse, w.first + k));
+    }
+    if (!leg_start_s.empty()) {
+        const auto it =
+            std::upper_bound(leg_start_s.begin(), leg_start_s.end(), w.pulses.time_s[k]);
+        return static_cast<std::uint16_t>(std::max<std::ptrdiff_t>(it - leg_start_s.begin(), 1) -
+                                          1);
+    }
+    return 0;
+}
+
 void SurveyPoints::run(BlockWork& w) const {
     std::vector<BlockPoint>& out = w.points.points;
     out.reserve(w.pulse_count * max_returns);
@@ -72,12 +104,14 @@ void SurveyPoints::run(BlockWork& w) const {
     for (std::size_t k = 0; k < w.pulse_count; ++k) {
         const std::size_t n = physics ? w.return_count[k] : (w.hits.hit(k) ? 1 : 0);
         if (no_echo && n == 0) {
-            w.points.no_echo.push_back(
-                {w.first + k, w.pulses.time_s[k], w.origin[k] + scene->origin_m, w.axis[k]});
+            w.points.no_echo.push_back({w.first + k, w.pulses.time_s[k],
+                                        w.origin[k] + scene->origin_m, w.axis[k],
+                                        w.pulses.scanner[k]});
         }
-        const bool by_leg = !leg_first_pulse.empty();
-        const auto leg =
-            static_cast<std::uint16_t>(by_leg ? leg_of_pulse(leg_first_pulse, w.first + k) : 0);
+        const bool by_pulse = by_scanner || !leg_first_pulse.empty() || !leg_start_s.empty();
+        const std::uint16_t source = by_pulse ? pulse_source_id(w, k) : 0;
+        const std::uint8_t scanner_channel =
+            scanner_channels.empty() ? 0 : scanner_channels[w.pulses.scanner[k]];
         for (std::size_t r = 0; r < n; ++r) {
             const PulseReturn* ret = physics ? &w.returns[k * max_returns + r] : nullptr;
             const std::uint32_t face =
@@ -97,19 +131,20 @@ void SurveyPoints::run(BlockWork& w) const {
             p.channel = w.pulses.channel[k];
             p.user_data = static_cast<std::uint8_t>(w.pulses.channel[k] & 0xFFu);  // beam / row
             p.pulse = w.first + k;
+            p.scanner_channel = scanner_channel;
             if (ret != nullptr) {
                 p.echo_width_ns = static_cast<float>(ret->echo_width_ns);
             }
             if (ret != nullptr && ret->weather != WeatherEffect::none) {
                 medium_point(p, *ret);
-                p.point_source_id = leg;
+                p.point_source_id = source;
                 continue;
             }
             const std::size_t part_index = part_of(face);
             const ScenePart& part = scene->parts[part_index];
             p.face = face;
             p.classification = part.label;
-            p.point_source_id = by_leg ? leg : part.part_id;
+            p.point_source_id = by_pulse ? source : part.part_id;
             if (incidence) {
                 p.incidence_deg = incidence_deg(w, k, r);
             }

@@ -1,6 +1,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <vector>
 
 #include "pipeline/detail/survey_rays.hpp"
 
@@ -74,6 +75,32 @@ struct AttitudeFrame {
     }
 };
 
+/// One scanner's mount (true and as measured), range gate and attitude cache: one per entry of
+/// `scanners:`, or the survey's one scanner.
+struct ScannerFrame {
+    Pose mount, mount_measured;
+    double range_min_m = 0.0, range_max_m = 0.0;
+    AttitudeFrame frame;
+};
+
+std::vector<ScannerFrame> scanner_frames(const SurveySpec& spec, const GeoreferencingConfig* geo) {
+    std::vector<ScannerFrame> out;
+    const auto add = [&](const Mount& m, double lo, double hi) {
+        ScannerFrame& f = out.emplace_back();
+        f.mount = m.sensor_to_platform;
+        f.mount_measured = geo != nullptr ? measured_mount(*geo, f.mount) : f.mount;
+        f.range_min_m = lo;
+        f.range_max_m = hi;
+    };
+    if (spec.scanners.empty()) {
+        add(spec.mount, spec.range_min_m, spec.range_max_m);
+    }
+    for (const SurveyScanner& s : spec.scanners) {
+        add(s.mount, s.range_min_m, s.range_max_m);
+    }
+    return out;
+}
+
 /// The pulse's origin, beam axis and LAS scan angle (about `right`) into its slots.
 void store_beam(const Vec3d& o, const Vec3d& d, const Vec3d& right, Vec3d& origin, Vec3d& axis,
                 float& scan_angle) {
@@ -100,6 +127,10 @@ void SurveyRaySource::generate(const PulseBatch& pulses, std::uint64_t first, Ra
     trajectory->poses_at(pulses.time_s, scratch.platform);
     if (sim) {
         generate_physics(pulses, first, rays, ray_offset, origin, axis, scan_angle, scratch);
+        return;
+    }
+    if (!spec->scanners.empty()) {
+        generate_scanners(pulses, rays, ray_offset, origin, axis, scan_angle, scratch);
         return;
     }
     const Pose& mount = spec->mount.sensor_to_platform;
@@ -132,41 +163,56 @@ void SurveyRaySource::generate(const PulseBatch& pulses, std::uint64_t first, Ra
     }
 }
 
+void SurveyRaySource::generate_scanners(const PulseBatch& pulses, RayBatch& rays,
+                                        std::size_t ray_offset, Vec3d* origin, Vec3d* axis,
+                                        float* scan_angle, Scratch& scratch) const {
+    std::vector<ScannerFrame> frames = scanner_frames(*spec, nullptr);
+    for (std::size_t i = 0; i < pulses.time_s.size(); ++i) {
+        const Pose& platform = scratch.platform[i];
+        ScannerFrame& f = frames[pulses.scanner[i]];
+        f.frame.update(platform.attitude, f.mount);
+        const Vec3d o = platform.position_m + f.frame.lever_world;
+        const Vec3d d = f.frame.sensor_rotation * pulses.direction[i];
+        store_beam(o, d, f.frame.right, origin[i], axis[i], scan_angle[i]);
+        rays.set(ray_offset + i, o, d, f.range_min_m, f.range_max_m);
+    }
+}
+
 void SurveyRaySource::generate_physics(const PulseBatch& pulses, std::uint64_t first,
                                        RayBatch& rays, std::size_t ray_offset, Vec3d* origin,
                                        Vec3d* axis, float* scan_angle, Scratch& scratch) const {
     const std::size_t n_sub = sub_rays();
     std::vector<Vec3d>& dirs = scratch.dirs;
     dirs.resize(n_sub);
-    const Pose& mount = spec->mount.sensor_to_platform;
     // The rays leave the TRUE pose; the point is placed with the MEASURED one (georeferencing).
     const GeoreferencingConfig& geo = sim->config().noise.georeferencing;
     const bool measured_differs = !geo.none();
-    const Pose mount_measured = measured_mount(geo, mount);
+    std::vector<ScannerFrame> frames = scanner_frames(*spec, &geo);
+    const bool several = !spec->scanners.empty();
     if (measured_differs) {
         scratch.errors.resize(pulses.time_s.size());
         platform_errors(geo, seed, first, pulses.time_s, scratch.errors, scratch.georeferencing);
     }
-    AttitudeFrame frame;
     for (std::size_t i = 0; i < pulses.time_s.size(); ++i) {
         const Pose& platform = scratch.platform[i];
-        frame.update(platform.attitude, mount);
-        const Vec3d o = platform.position_m + frame.lever_world;
-        const Vec3d d = frame.sensor_rotation * pulses.direction[i];
+        ScannerFrame& f = frames[several ? pulses.scanner[i] : 0];
+        f.frame.update(platform.attitude, f.mount);
+        const Vec3d o = platform.position_m + f.frame.lever_world;
+        const Vec3d d = f.frame.sensor_rotation * pulses.direction[i];
         if (measured_differs) {
             const Pose measured = measured_platform_pose(platform, scratch.errors[i]);
-            const Pose sensor = measured * mount_measured;
+            const Pose sensor = measured * f.mount_measured;
             store_beam(sensor.position_m, sensor.attitude.to_matrix() * pulses.direction[i],
                        right_of(measured.attitude.rotate({1, 0, 0})), origin[i], axis[i],
                        scan_angle[i]);
         } else {
-            store_beam(o, d, frame.right, origin[i], axis[i], scan_angle[i]);
+            store_beam(o, d, f.frame.right, origin[i], axis[i], scan_angle[i]);
         }
         scratch.origins.resize(n_sub);
         sim->sub_rays(seed, first + i, o, d, scratch.origins, dirs);
         for (std::size_t j = 0; j < n_sub; ++j) {
-            rays.set(ray_offset + i * n_sub + j, scratch.origins[j], dirs[j], spec->range_min_m,
-                     spec->range_max_m);
+            rays.set(ray_offset + i * n_sub + j, scratch.origins[j], dirs[j], f.range_min_m,
+                     f.range_max_m);
         }
     }
 }

@@ -24,6 +24,7 @@ RayBatch pilot_rays(const SurveySpec& spec, const ScanPattern& pattern,
         pulses.direction[k] = one.direction[0];
         pulses.channel[k] = one.channel[0];
         pulses.scan_angle_deg[k] = one.scan_angle_deg[0];
+        pulses.scanner[k] = one.scanner[0];
     }
     // No simulator: ideal single rays along the beam axes, no noise.
     const SurveyRaySource source{&spec, &trajectory, nullptr, 1};

@@ -124,10 +124,7 @@ SurveySession::SurveySession(const SurveySpec& spec, const SurveyRunConfig& run,
     if (physics_ && moving_) {
         physics_->moving = &*moving_;
     }
-    if (const auto* legs = dynamic_cast<const LegSequence*>(pattern_.get());
-        legs != nullptr && spec.point_source_id == PointSourceId::leg) {
-        points_.leg_first_pulse = legs->first_pulses();
-    }
+    points_.set_sources(spec, *pattern_);  // point source IDs by leg or scanner, channels
     points_.no_echo = run.write_files && std::find(spec.outputs.begin(), spec.outputs.end(),
                                                    "no_echo") != spec.outputs.end();
 }

@@ -1,6 +1,8 @@
 // Survey files in YAML (docs/survey.md): every problem is collected and reported at once.
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <span>
 #include <iterator>
 #include <numbers>
 
@@ -28,44 +30,56 @@ void positive(YamlChecker& c, const YAML::Node& n, const std::string& key, doubl
 }
 
 /// Each scanner type accepts its own keys only (a rotating scanner's scan_rate_hz is an error,
-/// not silently ignored), plus the survey's type and range limits.
-void check_scanner_keys(YamlChecker& c, const YAML::Node& n, const ScanPatternEntry& type) {
+/// not silently ignored), plus the survey's type and range limits (and `more`: an entry of
+/// `scanners:` has its mount and channel).
+void check_scanner_keys(YamlChecker& c, const YAML::Node& n, const std::string& key,
+                        const ScanPatternEntry& type, std::span<const std::string_view> more) {
     std::vector<std::string_view> known{"type"};
     known.insert(known.end(), type.keys.begin(), type.keys.end());
     known.insert(known.end(), {"range_min_m", "range_max_m"});
-    c.only_keys_of(n, "scanner", known, "a " + std::string(type.name) + " scanner");
+    known.insert(known.end(), more.begin(), more.end());
+    c.only_keys_of(n, key, known, "a " + std::string(type.name) + " scanner");
 }
 
 /// The type's own keys, through its registry entry (scan_pattern_registry.hpp).
-void parse_scanner_type(YamlChecker& c, const YAML::Node& n, SurveySpec& s) {
+void parse_scanner_type(YamlChecker& c, const YAML::Node& n, const std::string& key,
+                        std::span<const std::string_view> more, ScannerSpec& out) {
     const std::string type = n["type"] && n["type"].IsScalar() ? n["type"].Scalar() : "";
     const ScanPatternEntry* entry = find_scan_pattern(type);
     if (entry == nullptr || entry->parse == nullptr) {
-        c.error(n["type"] ? n["type"] : n, "scanner.type", "expected " + survey_scanner_types());
+        c.error(n["type"] ? n["type"] : n, key + ".type", "expected " + survey_scanner_types());
         return;
     }
-    check_scanner_keys(c, n, *entry);
-    s.scanner = ScannerSpec(type, entry->parse(c, n));
+    check_scanner_keys(c, n, key, *entry, more);
+    out = ScannerSpec(type, entry->parse(c, n));
+}
+
+/// A scanner block named `key` (`scanner:`, or an entry of `scanners:` with the `more` keys):
+/// its type's settings and its range gate (a data-sheet preset's limits by default).
+void parse_scanner_block(YamlChecker& c, const YAML::Node& n, const std::string& key,
+                         std::span<const std::string_view> more, ScannerSpec& scanner,
+                         double& range_min_m, double& range_max_m) {
+    if (!n || !n.IsMap()) {
+        c.error(n ? n : YAML::Node(), key, "expected a map with at least 'type'");
+        return;
+    }
+    parse_scanner_type(c, n, key, more, scanner);
+    if (const auto range = scanner.settings().preset_range_m()) {  // a data-sheet preset's
+        range_min_m = range->first;
+        range_max_m = range->second;
+    }
+    if (n["range_min_m"] && c.number(n["range_min_m"], key + ".range_min_m", range_min_m) &&
+        range_min_m < 0) {
+        c.error(n["range_min_m"], key + ".range_min_m", "must not be negative");
+    }
+    positive(c, n["range_max_m"], key + ".range_max_m", range_max_m);
+    if (range_max_m <= range_min_m) {
+        c.error(n, key, "range_max_m must exceed range_min_m");
+    }
 }
 
 void parse_scanner(YamlChecker& c, const YAML::Node& n, SurveySpec& s) {
-    if (!n || !n.IsMap()) {
-        c.error(n ? n : YAML::Node(), "scanner", "expected a map with at least 'type'");
-        return;
-    }
-    parse_scanner_type(c, n, s);
-    if (const auto range = s.scanner.settings().preset_range_m()) {  // a data-sheet preset's
-        s.range_min_m = range->first;
-        s.range_max_m = range->second;
-    }
-    if (n["range_min_m"] && c.number(n["range_min_m"], "scanner.range_min_m", s.range_min_m) &&
-        s.range_min_m < 0) {
-        c.error(n["range_min_m"], "scanner.range_min_m", "must not be negative");
-    }
-    positive(c, n["range_max_m"], "scanner.range_max_m", s.range_max_m);
-    if (s.range_max_m <= s.range_min_m) {
-        c.error(n, "scanner", "range_max_m must exceed range_min_m");
-    }
+    parse_scanner_block(c, n, "scanner", {}, s.scanner, s.range_min_m, s.range_max_m);
 }
 
 void parse_platform(YamlChecker& c, const YAML::Node& n, SurveySpec& s) {
@@ -138,8 +152,8 @@ void parse_platform(YamlChecker& c, const YAML::Node& n, SurveySpec& s) {
 /// to a map shared through a YAML alias changes nothing) and the type's parse reads the whole
 /// (it reads its own keys only, so `active` stays).
 void parse_leg_scanner(YamlChecker& c, YAML::Node n, const YAML::Node& scanner,
-                       const std::string& key, LegScanner& leg, const SurveySpec& s) {
-    const ScanPatternEntry* entry = find_scan_pattern(s.scanner.type());
+                       const std::string& key, LegScanner& leg, const ScannerSpec& survey) {
+    const ScanPatternEntry* entry = find_scan_pattern(survey.type());
     if (!n.IsMap() || entry == nullptr || entry->parse == nullptr) {
         c.error(n, key, "expected a map (active and the scanner's own keys)");
         return;
@@ -147,7 +161,7 @@ void parse_leg_scanner(YamlChecker& c, YAML::Node n, const YAML::Node& scanner,
     std::vector<std::string_view> known{"active"};
     std::copy_if(entry->keys.begin(), entry->keys.end(), std::back_inserter(known),
                  [](std::string_view k) { return k != "duration_s"; });
-    c.only_keys_of(n, key, known, "a leg of a " + s.scanner.type() + " scanner");
+    c.only_keys_of(n, key, known, "a leg of a " + survey.type() + " scanner");
     const bool has_active = static_cast<bool>(n["active"]);
     if (has_active) {
         c.boolean(n["active"], key + ".active", leg.active);
@@ -155,20 +169,27 @@ void parse_leg_scanner(YamlChecker& c, YAML::Node n, const YAML::Node& scanner,
     if (!leg.active || n.size() == (has_active ? 1u : 0u)) {
         return;
     }
+    std::vector<std::string> added;
     for (const auto& kv : scanner) {
         const std::string k = kv.first.IsScalar() ? kv.first.Scalar() : "";
-        if (!n[k] && k != "range_min_m" && k != "range_max_m" && k != "duration_s") {
+        if (!n[k] && k != "range_min_m" && k != "range_max_m" && k != "duration_s" &&
+            k != "mount" && k != "channel") {
             n[k] = kv.second;
+            added.push_back(k);
         }
     }
-    leg.scanner = ScannerSpec(s.scanner.type(), entry->parse(c, n));
+    leg.scanner = ScannerSpec(survey.type(), entry->parse(c, n));
+    for (const std::string& k : added) {  // the next scanner of `scanners:` adds its own
+        n.remove(k);
+    }
 }
 
 /// The leg's scanner as it fires for the leg's flight time: every problem of its timing (a
 /// leg too short for one pulse) at the leg.
 void check_leg_timing(YamlChecker& c, const YAML::Node& n, const std::string& key,
-                      const LegScanner& leg, const SurveySpec& s, double start_s, double end_s) {
-    const ScannerSpec& own = leg.scanner ? *leg.scanner : s.scanner;
+                      const LegScanner& leg, const ScannerSpec& survey, double start_s,
+                      double end_s) {
+    const ScannerSpec& own = leg.scanner ? *leg.scanner : survey;
     const auto timed = own.settings().with_timing(start_s, end_s - start_s);
     if (!timed) {
         c.error(n, key, "a " + own.type() + " scanner cannot fire for a leg's flight time");
@@ -179,9 +200,11 @@ void check_leg_timing(YamlChecker& c, const YAML::Node& n, const std::string& ke
     }
 }
 
-/// `platform.legs`: one entry per leg (waypoint k to k + 1), each `{}` or `{scanner: {...}}`.
+/// `platform.legs`: one entry per leg (waypoint k to k + 1), each `{}` or `{scanner: {...}}`,
+/// for the survey's scanner `survey` (its block `scanner`, named `scanner_key`) into `out`.
 void parse_leg_scanners(YamlChecker& c, const YAML::Node& legs, const YAML::Node& scanner,
-                        SurveySpec& s) {
+                        const std::string& scanner_key, const ScannerSpec& survey,
+                        std::vector<LegScanner>& out, const SurveySpec& s) {
     const std::size_t count = s.legs.waypoints_m.size() - 1;
     if (!legs.IsSequence() || legs.size() != count) {
         c.error(legs, "platform.legs",
@@ -190,7 +213,7 @@ void parse_leg_scanners(YamlChecker& c, const YAML::Node& legs, const YAML::Node
         return;
     }
     if (scanner && scanner.IsMap() && scanner["duration_s"]) {
-        c.error(scanner["duration_s"], "scanner.duration_s",
+        c.error(scanner["duration_s"], scanner_key + ".duration_s",
                 "not with platform.legs: each leg's scanner fires for the leg's flight time");
     }
     const std::vector<std::string> path_problems = s.legs.validate();
@@ -201,7 +224,7 @@ void parse_leg_scanners(YamlChecker& c, const YAML::Node& legs, const YAML::Node
     for (std::size_t l = 0; l < count; ++l) {
         const std::string key = "platform.legs[" + std::to_string(l) + "]";
         const YAML::Node item = legs[l];
-        LegScanner& leg = s.leg_scanners.emplace_back();
+        LegScanner& leg = out.emplace_back();
         if (!item.IsNull() && !item.IsMap()) {
             c.error(item, key, "expected a map ({} or {scanner: {...}})");
             continue;
@@ -209,34 +232,120 @@ void parse_leg_scanners(YamlChecker& c, const YAML::Node& legs, const YAML::Node
         c.only_keys(item, key, {"scanner"});
         const std::size_t errors = c.errors().size();
         if (item.IsMap() && item["scanner"]) {
-            parse_leg_scanner(c, item["scanner"], scanner, key + ".scanner", leg, s);
+            parse_leg_scanner(c, item["scanner"], scanner, key + ".scanner", leg, survey);
         }
         // The timing of settings already found wrong would repeat their errors.
         if (leg.active && !times.empty() && c.errors().size() == errors) {
-            check_leg_timing(c, item, key, leg, s, times[l], times[l + 1]);
+            check_leg_timing(c, item, key, leg, survey, times[l], times[l + 1]);
         }
     }
 }
 
 /// The `mount:` block: the scanner's lever arm and boresight on the platform (an empty block,
 /// null in YAML, keeps the defaults).
-void parse_mount(YamlChecker& c, const YAML::Node& m, SurveySpec& s) {
+void parse_mount(YamlChecker& c, const YAML::Node& m, const std::string& key, Mount& out) {
     if (m.IsNull()) {
         return;
     }
     if (!m.IsMap()) {
-        c.error(m, "mount", "expected a map with lever_arm_m, boresight_deg");
+        c.error(m, key, "expected a map with lever_arm_m, boresight_deg");
         return;
     }
-    c.only_keys(m, "mount", {"lever_arm_m", "boresight_deg"});
+    c.only_keys(m, key, {"lever_arm_m", "boresight_deg"});
     Vec3d arm, bore;
     if (m["lever_arm_m"]) {
-        c.vec3(m["lever_arm_m"], "mount.lever_arm_m", arm);
+        c.vec3(m["lever_arm_m"], key + ".lever_arm_m", arm);
     }
     if (m["boresight_deg"]) {
-        c.vec3(m["boresight_deg"], "mount.boresight_deg", bore);
+        c.vec3(m["boresight_deg"], key + ".boresight_deg", bore);
     }
-    s.mount = Mount::from_lever_arm(arm, rpy_deg(bore));
+    out = Mount::from_lever_arm(arm, rpy_deg(bore));
+}
+
+/// An entry of `scanners:`: a scanner block with its own `mount:` and `channel:`.
+void parse_scanner_entry(YamlChecker& c, const YAML::Node& n, std::size_t i, SurveyScanner& out) {
+    static constexpr std::string_view kMore[] = {"mount", "channel"};
+    const std::string key = "scanners[" + std::to_string(i) + "]";
+    parse_scanner_block(c, n, key, kMore, out.scanner, out.range_min_m, out.range_max_m);
+    if (!n || !n.IsMap()) {
+        return;
+    }
+    if (n["mount"]) {
+        parse_mount(c, n["mount"], key + ".mount", out.mount);
+    }
+    long channel = static_cast<long>(i);
+    if (n["channel"]) {
+        c.integer(n["channel"], key + ".channel", 0, 3, channel);
+    }
+    out.channel = static_cast<std::uint8_t>(channel);
+}
+
+/// `scanners:`: 1 to 4 scanners, each on its own LAS scanner channel. The first one's settings
+/// also fill the survey's single-scanner fields (SurveySpec::scanners).
+void parse_scanners(YamlChecker& c, const YAML::Node& list, SurveySpec& s) {
+    if (!list.IsSequence() || list.size() == 0 || list.size() > kMaxSurveyScanners) {
+        c.error(list, "scanners",
+                "expected a list of 1 to 4 scanners (LAS scanner channels 0-3), each a scanner "
+                "block with its own mount: and channel:");
+        return;
+    }
+    std::array<bool, kMaxSurveyScanners> used{};
+    for (std::size_t i = 0; i < list.size(); ++i) {
+        SurveyScanner& sc = s.scanners.emplace_back();
+        parse_scanner_entry(c, list[i], i, sc);
+        if (used[sc.channel]) {
+            const YAML::Node at = list[i].IsMap() && list[i]["channel"] ? list[i]["channel"] : list[i];
+            c.error(at, "scanners[" + std::to_string(i) + "].channel",
+                    "channel " + std::to_string(sc.channel) +
+                        " is already another scanner's (each scanner needs its own, 0-3)");
+        }
+        used[sc.channel] = true;
+    }
+    s.scanner = s.scanners.front().scanner;
+    s.mount = s.scanners.front().mount;
+    s.range_min_m = s.scanners.front().range_min_m;
+    s.range_max_m = s.scanners.front().range_max_m;
+}
+
+/// The scanner(s): `scanner:` with `mount:`, or `scanners:` (each with its mount), not both.
+void parse_scanner_blocks(YamlChecker& c, const YAML::Node& root, SurveySpec& s) {
+    if (const auto list = root["scanners"]) {
+        if (root["scanner"]) {
+            c.error(list, "scanners",
+                    "not with scanner: (one scanner: with mount:, or a scanners: list whose "
+                    "entries each have their mount:)");
+        }
+        if (root["mount"]) {
+            c.error(root["mount"], "mount",
+                    "not with scanners: (each entry of scanners: has its own mount:)");
+        }
+        parse_scanners(c, list, s);
+        return;
+    }
+    parse_scanner(c, root["scanner"], s);
+    if (const auto m = root["mount"]) {
+        parse_mount(c, m, "mount", s.mount);
+    }
+}
+
+/// `platform.legs` for the scanner, or for each of `scanners:` (a leg's overrides apply to
+/// every scanner).
+void parse_legs_of_scanners(YamlChecker& c, const YAML::Node& root, SurveySpec& s) {
+    const YAML::Node legs = root["platform"]["legs"];
+    if (s.scanners.empty()) {
+        parse_leg_scanners(c, legs, root["scanner"], "scanner", s.scanner, s.leg_scanners, s);
+        return;
+    }
+    for (std::size_t i = 0; i < s.scanners.size(); ++i) {
+        SurveyScanner& sc = s.scanners[i];
+        const std::size_t errors = c.errors().size();
+        parse_leg_scanners(c, legs, root["scanners"][i], "scanners[" + std::to_string(i) + "]",
+                           sc.scanner, sc.leg_scanners, s);
+        if (sc.leg_scanners.empty() && c.errors().size() > errors) {
+            break;  // the list itself is wrong: once is enough
+        }
+    }
+    s.leg_scanners = s.scanners.front().leg_scanners;
 }
 
 /// output.extra_bytes: a list of point attribute names (io/point_attributes.hpp), each at most
@@ -316,10 +425,12 @@ void parse_output(YamlChecker& c, const YAML::Node& o, SurveySpec& s) {
     }
     if (const auto id = o["point_source_id"]) {
         const std::string v = id.IsScalar() ? id.Scalar() : "";
-        if (v == "part" || v == "leg") {
-            s.point_source_id = v == "part" ? PointSourceId::part : PointSourceId::leg;
+        if (v == "part" || v == "leg" || v == "scanner") {
+            s.point_source_id = v == "part"  ? PointSourceId::part
+                                : v == "leg" ? PointSourceId::leg
+                                             : PointSourceId::scanner;
         } else {
-            c.error(id, "output.point_source_id", "expected part or leg");
+            c.error(id, "output.point_source_id", "expected part, leg or scanner");
         }
     }
     if (o["trajectory_rate_hz"] &&
@@ -378,7 +489,8 @@ SurveySpec parse_survey_spec(const std::string& yaml_text, const std::filesystem
     s.source = source;
     s.text = yaml_text;
     c.only_keys(root, "",
-                {"scene", "scanner", "platform", "mount", "output", "physics", "weather"});
+                {"scene", "scanner", "scanners", "platform", "mount", "output", "physics",
+                 "weather"});
     if (const auto sc = root["scene"]) {
         if (!sc.IsScalar()) {
             c.error(sc, "scene", "expected a scene file name or 'demo'");
@@ -389,14 +501,11 @@ SurveySpec parse_survey_spec(const std::string& yaml_text, const std::filesystem
     } else {
         c.error(root, "scene", "missing (a scene file name, or 'demo')");
     }
-    parse_scanner(c, root["scanner"], s);
+    parse_scanner_blocks(c, root, s);
     parse_platform(c, root["platform"], s);
     if (s.platform == PlatformKind::legs && root["platform"]["legs"] &&
         s.legs.waypoints_m.size() >= 2) {
-        parse_leg_scanners(c, root["platform"]["legs"], root["scanner"], s);
-    }
-    if (const auto m = root["mount"]) {
-        parse_mount(c, m, s);
+        parse_legs_of_scanners(c, root, s);
     }
     if (const auto o = root["output"]) {
         parse_output(c, o, s);

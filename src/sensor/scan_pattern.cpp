@@ -1,5 +1,6 @@
 #include "beamtrace/sensor/scan_pattern.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -16,6 +17,7 @@ void ScanPattern::generate(std::uint64_t first, std::size_t count, PulseBatch& o
                                 ") requested, but the pattern has " + std::to_string(total));
     }
     out.resize(count);
+    std::fill(out.scanner.begin(), out.scanner.end(), std::uint8_t{0});  // ScannerSet sets it
     if (count > 0) {
         generate_pulses(first, count, out);
     }

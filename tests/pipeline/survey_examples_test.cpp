@@ -51,6 +51,11 @@ std::vector<LasPoint> read_survey_csv(const fs::path& path) {
     const std::string header = text.substr(0, first_newline);
     const bool physics =
         header.find(",intensity,return_number,number_of_returns") != std::string::npos;
+    // Surveys with `scanners:`: the LAS scanner channel, the last column.
+    const std::string channel_column = ",scanner_channel";
+    const bool channel = header.size() >= channel_column.size() &&
+                         header.compare(header.size() - channel_column.size(),
+                                        channel_column.size(), channel_column) == 0;
     EXPECT_EQ(header.rfind("x,y,z,gps_time,range_m,classification,point_source_id,beam,"
                            "scan_angle_deg",
                            0),
@@ -70,8 +75,16 @@ std::vector<LasPoint> read_survey_csv(const fs::path& path) {
             }
             c = r.ptr + 1;  // past ',' or '\n'
         }
+        unsigned scanner_channel = 0;
         if (c[-1] == ',') {  // output.extra_bytes columns follow: not read here
             const char* eol = std::find(c, end, '\n');
+            if (channel) {  // but the last, the scanner channel, is
+                const char* last = eol;
+                while (last[-1] != ',') {
+                    --last;
+                }
+                (void)std::from_chars(last, eol, scanner_channel);
+            }
             c = eol == end ? end : eol + 1;
         }
         LasPoint p;
@@ -83,6 +96,7 @@ std::vector<LasPoint> read_survey_csv(const fs::path& path) {
         p.intensity = physics ? static_cast<std::uint16_t>(v[9]) : 0;
         p.return_number = physics ? static_cast<std::uint8_t>(v[10]) : 1;
         p.number_of_returns = physics ? static_cast<std::uint8_t>(v[11]) : 1;
+        p.scanner_channel = static_cast<std::uint8_t>(scanner_channel);
         points.push_back(p);
     }
     return points;

@@ -36,6 +36,7 @@ struct LasSimplePoint {
     std::uint8_t user_data = 0;
     std::uint16_t red = 0, green = 0, blue = 0;  ///< formats 7, 8, 10
     std::uint16_t nir = 0;                       ///< formats 8, 10
+    std::uint8_t scanner_channel = 0;            ///< 0-3 (the LAS 1.4 formats 6-10 all have it)
 };
 
 /// Where the wave packets of formats 9 and 10 are (global encoding bit 1 or 2).

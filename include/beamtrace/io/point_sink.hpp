@@ -62,6 +62,7 @@ struct NoEchoPulse {
     double time_s = 0.0;  ///< GPS time of emission
     Vec3d origin_m;       ///< beam origin, world (as the points are placed)
     Vec3d axis;           ///< beam axis (unit), world
+    std::uint8_t scanner = 0;  ///< the index of the scanner that fired it (`scanners:`)
 };
 
 /// A block of consecutive pulses' points, in pulse order (a pulse's returns side by side).
@@ -114,6 +115,9 @@ struct SinkFacts {
     /// The attributes points.las and points.laz carry as LAS extra bytes, in record order
     /// (output.extra_bytes); empty: none (the records are the bare point format).
     std::vector<PointAttribute> extra_bytes;
+    /// The entries of the survey's `scanners:` (0: one `scanner:`); with any, no_echo.csv has a
+    /// `scanner` column.
+    std::size_t scanners = 0;
 };
 
 /// What a sink encodes from one block, on a pool thread, for its write(). Reused block to block.

@@ -2,6 +2,7 @@
 // traced and the points are streamed to the output sinks (LAS 1.4, and as asked CSV, PLY, PCD...).
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <filesystem>
 #include <functional>
@@ -40,8 +41,25 @@ struct LegScanner {
 
 /// What a point's LAS point source ID holds (output.point_source_id).
 enum class PointSourceId : std::uint8_t {
-    part,  ///< the scene part's id (the default)
-    leg,   ///< the index of the platform leg that fired the pulse (needs platform.legs)
+    part,     ///< the scene part's id (the default)
+    leg,      ///< the index of the platform leg that fired the pulse (needs platform.legs)
+    scanner,  ///< the index in `scanners:` of the scanner that fired it (0 with one scanner)
+};
+
+/// The most scanners on one platform: one per LAS scanner channel (0-3).
+inline constexpr std::size_t kMaxSurveyScanners = 4;
+
+/// One scanner of a survey's `scanners:` list (docs/survey.md "Several scanners"): its settings,
+/// its place on the platform, its range gate and the LAS scanner channel of its points.
+struct SurveyScanner {
+    ScannerSpec scanner;  ///< a type of the scan pattern registry and its settings
+    Mount mount;          ///< lever arm and boresight on the platform
+    double range_min_m = 0.0;  ///< this scanner's range gate
+    double range_max_m = std::numeric_limits<double>::infinity();
+    std::uint8_t channel = 0;  ///< LAS scanner channel, 0-3 (default: the index in the list)
+    /// With platform.legs: one per leg, the leg's settings for this scanner (the leg's
+    /// `scanner:` overrides applied to every scanner). Empty: firing for its duration_s.
+    std::vector<LegScanner> leg_scanners;
 };
 
 /// Everything a survey file says. Parsed by load_survey_spec (see docs/survey.md).
@@ -62,6 +80,11 @@ struct SurveySpec {
     std::vector<LegScanner> leg_scanners;
     std::filesystem::path trajectory_file;  ///< for `trajectory`
     Mount mount;                            ///< lever arm and boresight
+    /// `scanners:` (several scanners on the platform, each with its mount, range gate and LAS
+    /// scanner channel); empty: the one `scanner:` with `mount:`. When not empty, scanner,
+    /// mount, range_min_m, range_max_m and leg_scanners hold its first entry's (what reads one
+    /// scanner: the physics' data-sheet defaults, the few-points diagnosis).
+    std::vector<SurveyScanner> scanners;
     /// LAS point format: 6, 7 or 8; with physics.waveform.keep 9 (from 6) or 10 (from 7, 8).
     int point_format = 6;
     /// Where format 9/10 wave packets go (output.wave_packets): points.wdp or an EVLR.
@@ -85,7 +108,8 @@ struct SurveySpec {
     std::optional<PhysicsConfig> physics;
 
     /// The scan pattern described by the file: the scanner's, or with leg_scanners a
-    /// LegSequence (sensor/leg_sequence.hpp) of the legs' scanners over the legs' flight times.
+    /// LegSequence (sensor/leg_sequence.hpp) of the legs' scanners over the legs' flight times;
+    /// with `scanners:` a ScannerSet (sensor/scanner_set.hpp) of each scanner's pattern.
     [[nodiscard]] std::unique_ptr<ScanPattern> make_pattern() const;
     /// The platform's trajectory.
     [[nodiscard]] std::unique_ptr<Trajectory> make_trajectory() const;

@@ -29,6 +29,9 @@ struct PulseBatch {
     /// included); a LAS writer for a nadir line scanner negates this value (and adds the roll
     /// for the 1.4 meaning).
     std::vector<float> scan_angle_deg;
+    /// The index of the scanner that fired the pulse when several scanners share a platform
+    /// (ScannerSet, sensor/scanner_set.hpp); 0 for every other pattern.
+    std::vector<std::uint8_t> scanner;
 
     [[nodiscard]] std::size_t size() const { return time_s.size(); }
     [[nodiscard]] bool empty() const { return time_s.empty(); }
@@ -37,6 +40,7 @@ struct PulseBatch {
         direction.resize(n);
         channel.resize(n);
         scan_angle_deg.resize(n);
+        scanner.resize(n);
     }
     void clear() { resize(0); }
 };

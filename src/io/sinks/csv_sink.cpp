@@ -4,7 +4,8 @@
 // as the LAS file holds them, scan angles in the LAS format's 0.006 degree steps, trailing zeros
 // dropped, no "-0". output.extra_bytes adds a column per attribute, named as in LAS, except
 // range_m and beam, columns already: incidence_angle_deg and echo_width_ns at the LAS scale's
-// 2 decimals (an unknown echo width is an empty field), object_id (extra_columns.hpp).
+// 2 decimals (an unknown echo width is an empty field), object_id (extra_columns.hpp). A survey
+// with `scanners:` adds a last column, scanner_channel (the LAS scanner channel, 0-3).
 #include <algorithm>
 #include <charconv>
 #include <cmath>
@@ -89,7 +90,7 @@ char* put_extra(char* c, char* end, std::span<const PointAttribute> extra, const
 
 /// Appends one CSV row to `out`.
 void append_csv_row(std::string& out, const BlockPoint& p, bool physics, const CsvDecimals& d,
-                    std::span<const PointAttribute> extra) {
+                    std::span<const PointAttribute> extra, bool channel) {
     char row[kMaxCsvRow];
     char* c = row;
     char* const end = row + kMaxCsvRow;
@@ -127,6 +128,10 @@ void append_csv_row(std::string& out, const BlockPoint& p, bool physics, const C
         }
     }
     c = put_extra(c, end, extra, p);
+    if (channel) {
+        *c++ = ',';
+        c = std::to_chars(c, end, unsigned{p.scanner_channel}).ptr;
+    }
     *c++ = '\n';
     out.append(row, static_cast<std::size_t>(c - row));
 }
@@ -136,7 +141,8 @@ class CsvSink final : public detail::ByteFileSink {
     explicit CsvSink(const SinkFacts& facts)
         : ByteFileSink(facts.output_dir / "points.csv"),
           physics_(facts.physics),
-          extra_(extra_csv_columns(facts.extra_bytes)) {
+          extra_(extra_csv_columns(facts.extra_bytes)),
+          channel_(facts.scanners > 0) {
         // The LAS sink's scale and offset (0.001 m, or coarser for a huge extent).
         const LasWriterConfig las = las_config_for_extent(facts.lo_m, facts.hi_m, 0.001);
         decimals_.scale = las.scale;
@@ -150,18 +156,19 @@ class CsvSink final : public detail::ByteFileSink {
         for (const PointAttribute a : extra_) {
             header += "," + detail::extra_column_name(a);
         }
-        file().write(header + "\n");
+        file().write(header + (channel_ ? ",scanner_channel\n" : "\n"));
     }
     void encode(const PointBlock& block, SinkBuffer& out) const override {
         std::string& bytes = static_cast<ByteBuffer&>(out).bytes;
         for (const BlockPoint& p : block.points) {
-            append_csv_row(bytes, p, physics_, decimals_, extra_);
+            append_csv_row(bytes, p, physics_, decimals_, extra_, channel_);
         }
     }
 
   private:
     bool physics_;
     std::vector<PointAttribute> extra_;
+    bool channel_;  ///< the scanner_channel column (a survey with `scanners:`)
     CsvDecimals decimals_;
 };
 

@@ -26,16 +26,30 @@ struct SurveyPoints {
     /// output.point_source_id: leg — the first pulse of each leg (LegSequence::first_pulses()),
     /// each point's point source ID its pulse's leg. Empty: the part's id.
     std::vector<std::uint64_t> leg_first_pulse{};
+    /// output.point_source_id: leg with `scanners:` (a ScannerSet of LegSequences) — the legs'
+    /// start times: a pulse's leg is the last one starting at or before its time.
+    std::vector<double> leg_start_s{};
+    /// output.point_source_id: scanner — the index of the pulse's scanner (PulseBatch::scanner).
+    bool by_scanner = false;
+    /// `scanners:` — each scanner's LAS scanner channel, by scanner index; empty: channel 0.
+    std::vector<std::uint8_t> scanner_channels{};
     /// Record each pulse without a point in w.points.no_echo (output.no_echo).
     bool no_echo = false;
     /// Fill BlockPoint::instance_id and velocity_mps (the LAS extra bytes ask for them).
     bool instance = false;
     bool velocity = false;
 
+    /// Sets leg_first_pulse, leg_start_s, by_scanner and scanner_channels for the survey's
+    /// output.point_source_id and `scanners:` (its pattern: `spec.make_pattern()`).
+    void set_sources(const SurveySpec& spec, const ScanPattern& pattern);
+
     /// Appends the block's points to w.points.points, in pulse order. Thread-safe.
     void run(BlockWork& w) const;
 
   private:
+    /// The point source ID of pulse k's points when it is the pulse's (leg or scanner; 0 when
+    /// it is the part's).
+    [[nodiscard]] std::uint16_t pulse_source_id(const BlockWork& w, std::size_t k) const;
     /// The point of a return the weather's medium made (no part of the scene was hit).
     void medium_point(BlockPoint& p, const PulseReturn& ret) const;
     /// The incidence angle of pulse k's return r (physics: of the sample that dominated it;

@@ -47,6 +47,9 @@ struct SurveyRaySource {
                   Scratch& scratch) const;
 
   private:
+    /// generate() without physics for `scanners:`: each pulse's scanner's mount and range gate.
+    void generate_scanners(const PulseBatch& pulses, RayBatch& rays, std::size_t ray_offset,
+                           Vec3d* origin, Vec3d* axis, float* scan_angle, Scratch& scratch) const;
     /// generate() with physics: sub-rays, jitter and the measured beam.
     void generate_physics(const PulseBatch& pulses, std::uint64_t first, RayBatch& rays,
                           std::size_t ray_offset, Vec3d* origin, Vec3d* axis, float* scan_angle,
