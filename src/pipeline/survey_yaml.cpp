@@ -2,9 +2,9 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <span>
 #include <iterator>
 #include <numbers>
+#include <span>
 
 #include "beamtrace/io/point_sink_registry.hpp"
 #include "beamtrace/pipeline/survey.hpp"
@@ -294,7 +294,8 @@ void parse_scanners(YamlChecker& c, const YAML::Node& list, SurveySpec& s) {
         SurveyScanner& sc = s.scanners.emplace_back();
         parse_scanner_entry(c, list[i], i, sc);
         if (used[sc.channel]) {
-            const YAML::Node at = list[i].IsMap() && list[i]["channel"] ? list[i]["channel"] : list[i];
+            const YAML::Node at =
+                list[i].IsMap() && list[i]["channel"] ? list[i]["channel"] : list[i];
             c.error(at, "scanners[" + std::to_string(i) + "].channel",
                     "channel " + std::to_string(sc.channel) +
                         " is already another scanner's (each scanner needs its own, 0-3)");
@@ -488,9 +489,9 @@ SurveySpec parse_survey_spec(const std::string& yaml_text, const std::filesystem
     SurveySpec s;
     s.source = source;
     s.text = yaml_text;
-    c.only_keys(root, "",
-                {"scene", "scanner", "scanners", "platform", "mount", "output", "physics",
-                 "weather"});
+    c.only_keys(
+        root, "",
+        {"scene", "scanner", "scanners", "platform", "mount", "output", "physics", "weather"});
     if (const auto sc = root["scene"]) {
         if (!sc.IsScalar()) {
             c.error(sc, "scene", "expected a scene file name or 'demo'");

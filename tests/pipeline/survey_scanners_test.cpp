@@ -195,8 +195,7 @@ output: {point_source_id: leg}
         // Each scanner's nadir line is offset by its lever arm: +/-2 m to the left of travel.
         const double left = p.point_source_id == 0 ? p.y : 50.0 - p.y;
         const double arm = p.scanner_channel == 0 ? 2.0 : -2.0;
-        ASSERT_NEAR(std::abs(left - arm), 100.0 * std::tan(std::abs(p.scan_angle_deg) * kDeg),
-                    0.02)
+        ASSERT_NEAR(std::abs(left - arm), 100.0 * std::tan(std::abs(p.scan_angle_deg) * kDeg), 0.02)
             << p.gps_time;
     }
     EXPECT_EQ(count, (std::map<std::pair<int, int>, std::size_t>{
@@ -250,10 +249,10 @@ TEST(SurveyScanners, BadListsAreErrorsWithFileLineAndKey) {
     EXPECT_NE(error_of("scene: demo\nscanners:\n  - " + line + ", channel: 4}\n" + platform)
                   .find("survey.yaml:3: scanners[0].channel: expected an integer in [0, 3]"),
               std::string::npos);
-    EXPECT_NE(error_of("scene: demo\nscanner: " + line + "}\nscanners:\n  - " + line + "}\n" +
-                       platform)
-                  .find("survey.yaml:4: scanners: not with scanner:"),
-              std::string::npos);
+    EXPECT_NE(
+        error_of("scene: demo\nscanner: " + line + "}\nscanners:\n  - " + line + "}\n" + platform)
+            .find("survey.yaml:4: scanners: not with scanner:"),
+        std::string::npos);
     EXPECT_NE(error_of("scene: demo\nmount: {}\nscanners:\n  - " + line + "}\n" + platform)
                   .find("survey.yaml:2: mount: not with scanners:"),
               std::string::npos);
@@ -263,13 +262,13 @@ TEST(SurveyScanners, BadListsAreErrorsWithFileLineAndKey) {
     }
     EXPECT_NE(error_of(five + platform).find("survey.yaml:3: scanners: expected a list of 1 to 4"),
               std::string::npos);
-    EXPECT_NE(error_of("scene: demo\nscanners:\n  - " + line + ", spin_clockwise: true}\n" +
+    EXPECT_NE(
+        error_of("scene: demo\nscanners:\n  - " + line + ", spin_clockwise: true}\n" + platform)
+            .find("survey.yaml:3: scanners[0].spin_clockwise: unknown key for a line "
+                  "scanner"),
+        std::string::npos);
+    EXPECT_NE(error_of("scene: demo\nscanners:\n  - " + line + ", mount: {lever_arm_m: [1, 2]}}\n" +
                        platform)
-                  .find("survey.yaml:3: scanners[0].spin_clockwise: unknown key for a line "
-                        "scanner"),
-              std::string::npos);
-    EXPECT_NE(error_of("scene: demo\nscanners:\n  - " + line +
-                       ", mount: {lever_arm_m: [1, 2]}}\n" + platform)
                   .find("survey.yaml:3: scanners[0].mount.lever_arm_m:"),
               std::string::npos);
     // Without channels: the index in the list.

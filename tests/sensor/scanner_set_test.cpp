@@ -78,7 +78,8 @@ void expect_merged_like_brute_force(const ScannerSet& set) {
     // Chunks by hand for the scanner index too.
     PulseBatch part;
     for (std::uint64_t first = 0; first < set.pulse_count(); first += 37) {
-        const auto n = static_cast<std::size_t>(std::min<std::uint64_t>(37, set.pulse_count() - first));
+        const auto n =
+            static_cast<std::size_t>(std::min<std::uint64_t>(37, set.pulse_count() - first));
         set.generate(first, n, part);
         for (std::size_t j = 0; j < n; ++j) {
             ASSERT_EQ(part.scanner[j], all.scanner[first + j]) << first + j;

@@ -59,9 +59,9 @@ struct PulseWaveform {
 /// A pulse that gave no point (output.no_echo): for gap studies.
 struct NoEchoPulse {
     std::uint64_t pulse = 0;
-    double time_s = 0.0;  ///< GPS time of emission
-    Vec3d origin_m;       ///< beam origin, world (as the points are placed)
-    Vec3d axis;           ///< beam axis (unit), world
+    double time_s = 0.0;       ///< GPS time of emission
+    Vec3d origin_m;            ///< beam origin, world (as the points are placed)
+    Vec3d axis;                ///< beam axis (unit), world
     std::uint8_t scanner = 0;  ///< the index of the scanner that fired it (`scanners:`)
 };
 

@@ -52,8 +52,8 @@ inline constexpr std::size_t kMaxSurveyScanners = 4;
 /// One scanner of a survey's `scanners:` list (docs/survey.md "Several scanners"): its settings,
 /// its place on the platform, its range gate and the LAS scanner channel of its points.
 struct SurveyScanner {
-    ScannerSpec scanner;  ///< a type of the scan pattern registry and its settings
-    Mount mount;          ///< lever arm and boresight on the platform
+    ScannerSpec scanner;       ///< a type of the scan pattern registry and its settings
+    Mount mount;               ///< lever arm and boresight on the platform
     double range_min_m = 0.0;  ///< this scanner's range gate
     double range_max_m = std::numeric_limits<double>::infinity();
     std::uint8_t channel = 0;  ///< LAS scanner channel, 0-3 (default: the index in the list)
