@@ -210,9 +210,17 @@ RotatingScanner::RotatingScanner(RotatingScannerConfig config) : config_(std::mo
     }
 }
 
+double RotatingScanner::pulse_time_s(std::uint64_t i) const {
+    if (config_.beam_time_offsets_s.empty() || i >= pulse_count_) {
+        return ScanPattern::pulse_time_s(i);
+    }
+    const std::uint64_t beams = beam_count();
+    return beam_time_s(i, i / beams, static_cast<std::size_t>(i % beams));
+}
+
 double RotatingScanner::beam_time_s(std::uint64_t i, std::uint64_t firing, std::size_t b) const {
     if (config_.beam_time_offsets_s.empty()) {
-        return pulse_time_s(i);
+        return ScanPattern::pulse_time_s(i);
     }
     return config_.start_time_s + static_cast<double>(firing) * period_s_ +
            config_.beam_time_offsets_s[b];

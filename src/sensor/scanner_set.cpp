@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <limits>
+#include <stdexcept>
 #include <string>
 #include <utility>
 
@@ -113,8 +114,13 @@ double ScannerSet::pulse_time_s(std::uint64_t i) const {
 void ScannerSet::generate_pulses(std::uint64_t first, std::size_t count, PulseBatch& out) const {
     const std::vector<std::uint64_t> a = split(first), b = split(first + count);
     std::vector<PulseBatch> parts(scanners_.size());
+    std::uint64_t total = 0;
     for (std::size_t s = 0; s < scanners_.size(); ++s) {
         scanners_[s]->generate(a[s], static_cast<std::size_t>(b[s] - a[s]), parts[s]);
+        total += b[s] - a[s];
+    }
+    if (total != count) {  // only when a pattern's pulse_time_s() decreases somewhere
+        throw std::logic_error("ScannerSet: a scanner's pulse times are not in order");
     }
     // Merge by (time, scanner index): each part is in its scanner's order already.
     std::vector<std::size_t> head(scanners_.size(), 0);

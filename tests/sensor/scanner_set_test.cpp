@@ -13,6 +13,8 @@
 #include "beamtrace/core/error.hpp"
 #include "beamtrace/sensor/leg_sequence.hpp"
 #include "beamtrace/sensor/line_scanner.hpp"
+#include "beamtrace/sensor/rotating_presets.hpp"
+#include "beamtrace/sensor/rotating_scanner.hpp"
 #include "scan_pattern_test_support.hpp"
 
 namespace beamtrace {
@@ -130,6 +132,25 @@ TEST(ScannerSet, EqualScannersInterleaveAndOffsetStartsAndLegsMerge) {
         EXPECT_NEAR(set.end_time_s(), 0.27, 1e-12);
         expect_merged_like_brute_force(set);
     }
+}
+
+TEST(ScannerSet, RotatingHeadsWithTimingTablesMergeByTheirTrueFiringTimes) {
+    // The VLP-16's lasers fire 2.304 us apart within each 55.296 us firing: not at
+    // start + i / rate. Two heads, the second starting 1 us later, and a line scanner.
+    RotatingScannerConfig a = velodyne_vlp16();
+    a.duration_s = 0.002;
+    RotatingScannerConfig b = a;
+    b.start_time_s = 1e-6;
+    const ScannerSet set(patterns(std::make_unique<RotatingScanner>(a),
+                                  std::make_unique<RotatingScanner>(b),
+                                  line(100000, 0.0, 0.002, 20)));
+    const PulseBatch own = test::all_pulses(set.scanner(0));
+    ASSERT_GT(own.size(), 32u);
+    EXPECT_NEAR(own.time_s[1] - own.time_s[0], 2.304e-6, 1e-15);
+    for (std::size_t i = 0; i < own.size(); ++i) {
+        ASSERT_EQ(set.scanner(0).pulse_time_s(i), own.time_s[i]) << i;
+    }
+    expect_merged_like_brute_force(set);
 }
 
 TEST(ScannerSet, RefusesNoScannerOrANullOne) {

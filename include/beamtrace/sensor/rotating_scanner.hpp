@@ -106,6 +106,10 @@ class RotatingScanner final : public ScanPattern {
     [[nodiscard]] std::uint64_t pulse_count() const override { return pulse_count_; }
     [[nodiscard]] double pulse_rate_hz() const override { return pulse_rate_hz_; }
     [[nodiscard]] double start_time_s() const override { return config_.start_time_s; }
+    /// Pulse i's emission time as generate() gives it: with a timing table (beam time offsets)
+    /// its firing's start plus its row's offset; else (and for i >= pulse_count()) the uniform
+    /// start + i / rate.
+    [[nodiscard]] double pulse_time_s(std::uint64_t i) const override;
     [[nodiscard]] const RotatingScannerConfig& config() const { return config_; }
     [[nodiscard]] std::size_t beam_count() const { return config_.beam_elevations_deg.size(); }
 
