@@ -248,7 +248,7 @@ TEST(SurveyLegs, LegErrorsNameTheFileLineAndKey) {
          "output: {point_source_id: leg}\n",
          {"bad.yaml:4: output.point_source_id: leg needs platform.legs"}},
         {head + "output: {point_source_id: flight}\n",
-         {"bad.yaml:6: output.point_source_id: expected part or leg"}},
+         {"bad.yaml:6: output.point_source_id: expected part, leg or scanner"}},
         {"scene: plane.yaml\nscanner: {type: pinhole}\n"
          "platform: {type: legs, waypoints_m: [[0, 0, 100], [100, 0, 100]], legs: [{}]}\n",
          {"bad.yaml:3: platform.legs[0]: a pinhole scanner cannot fire for a leg"}},
