@@ -117,7 +117,7 @@ TEST(SurveyScanners, EachPulsesRayLeavesItsScannersMountWithItsRangeGate) {
     EXPECT_EQ(of_scanner[1], 500u);
 }
 
-TEST(SurveyScanners, SameBytesForOneAndTwoThreadsWithPhysics) {
+TEST(SurveyScanners, WithPhysicsEachScannersMountAndTheSameBytesForOneAndTwoThreads) {
     test::TempDir a, b;
     const std::string yaml = std::string(kTwo) +
                              "physics: {beam: {divergence_mrad: 3, rings: 1}, noise: "
@@ -133,6 +133,10 @@ TEST(SurveyScanners, SameBytesForOneAndTwoThreadsWithPhysics) {
     std::map<int, std::size_t> per_channel;
     for (const auto& p : one) {
         ++per_channel[p.scanner_channel];
+        if (p.scanner_channel == 0) {  // from scanner 1's mount, straight down: x = 1
+            ASSERT_NEAR(p.x, 1.0, 2e-3) << p.gps_time;
+            ASSERT_NEAR(p.z, -5.0, 0.1) << p.gps_time;
+        }
     }
     EXPECT_EQ(per_channel, (std::map<int, std::size_t>{{0, 500}, {2, 1080}}));
 }
