@@ -148,9 +148,9 @@ void parse_platform(YamlChecker& c, const YAML::Node& n, SurveySpec& s) {
 
 /// One leg's `scanner:` overrides: `active` and the survey scanner type's own keys (not
 /// duration_s: the leg's flight time sets it). The survey's keys the leg does not override are
-/// added to the leg's map (the values keep their lines for the type's errors; adding them again
-/// to a map shared through a YAML alias changes nothing) and the type's parse reads the whole
-/// (it reads its own keys only, so `active` stays).
+/// added to the leg's map (the values keep their lines for the type's errors), the type's parse
+/// reads the whole (it reads its own keys only, so `active` stays), and they are removed again:
+/// with `scanners:` the same leg map is read once per scanner, each adding its own.
 void parse_leg_scanner(YamlChecker& c, YAML::Node n, const YAML::Node& scanner,
                        const std::string& key, LegScanner& leg, const ScannerSpec& survey) {
     const ScanPatternEntry* entry = find_scan_pattern(survey.type());
