@@ -65,6 +65,7 @@ RotatingScannerConfig velodyne_hdl32e() {
          -16.00, 5.33,   -14.67, 6.67,   -13.33, 8.00,   -12.00, 9.33,   -10.67, 10.67});
     c.firing_period_s = 46.08 * kUs;
     c.beam_time_offsets_s = every(32, 1.152 * kUs);
+    c.preset_range_min_m = 0.05;  // the manual's valid data range, 5 cm to 100 m
     c.preset_range_max_m = 100.0;
     return c;
 }

@@ -90,6 +90,7 @@ TEST(RotatingPresets, BeamTablesEqualTheDocumentedValues) {
         EXPECT_EQ(find_rotating_preset(p.name), &p);
     }
     EXPECT_EQ(vlp.preset_range_max_m, 100.0);
+    EXPECT_EQ(h32.preset_range_m(), (std::pair{0.05, 100.0}));
     EXPECT_EQ(h64.preset_range_max_m, 120.0);
     EXPECT_EQ(vlp16().preset_range_m(), std::nullopt) << "the simplified presets give none";
     EXPECT_EQ(find_rotating_preset("velodyne_vlp16")->facts.wavelength_m, 903e-9);
