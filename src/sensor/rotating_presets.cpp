@@ -43,6 +43,10 @@ constexpr std::array<double, 4> kOs1_64AzimuthDeg{3.164, 1.055, -1.055, -3.164};
 
 constexpr double kUs = 1e-6;
 
+// OS1 data sheet (Gen1): 0.8 m - 120 m at 80 % reflectivity, for the 16, 64 and 128 beam units.
+constexpr double kOs1RangeMinM = 0.8;
+constexpr double kOs1RangeMaxM = 120.0;
+
 }  // namespace
 
 RotatingScannerConfig velodyne_vlp16() {
@@ -61,13 +65,15 @@ RotatingScannerConfig velodyne_hdl32e() {
          -16.00, 5.33,   -14.67, 6.67,   -13.33, 8.00,   -12.00, 9.33,   -10.67, 10.67});
     c.firing_period_s = 46.08 * kUs;
     c.beam_time_offsets_s = every(32, 1.152 * kUs);
+    c.preset_range_min_m = 0.05;  // the manual's valid data range, 5 cm to 100 m
     c.preset_range_max_m = 100.0;
     return c;
 }
 
 RotatingScannerConfig velodyne_hdl64e() {
     // Rows in firing order: upper laser u (channel u) and lower laser u (channel 32 + u) fire
-    // together, 1/32 of the 50 us cycle apart (20 kHz firings, 1.28 M points/s at 0.18 deg).
+    // together (the S2 manual's transmit timing table); the 50 us cycle, 1/32 of it between
+    // pairs (20 kHz firings, 1.28 M points/s at 0.18 deg), is a modelling choice.
     RotatingScannerConfig c = table_preset({});
     constexpr double kPeriodS = 50.0 * kUs;
     for (std::uint16_t u = 0; u < 32; ++u) {
@@ -92,7 +98,8 @@ RotatingScannerConfig ouster_os1_64() {
     }
     c.azimuth_resolution_deg = 360.0 / 1024.0;
     c.beam_time_offsets_s.assign(64, 0.0);
-    c.preset_range_max_m = 120.0;
+    c.preset_range_min_m = kOs1RangeMinM;
+    c.preset_range_max_m = kOs1RangeMaxM;
     return c;
 }
 
@@ -104,6 +111,8 @@ RotatingScannerConfig ouster_os1_128() {
     RotatingScannerConfig c = table_preset(std::move(e));
     c.azimuth_resolution_deg = 360.0 / 1024.0;
     c.beam_time_offsets_s.assign(128, 0.0);
+    c.preset_range_min_m = kOs1RangeMinM;
+    c.preset_range_max_m = kOs1RangeMaxM;
     return c;
 }
 
@@ -112,9 +121,10 @@ namespace {
 constexpr std::string_view kVlp16Manual = "VLP-16 User Manual, 63-9243 Rev D";
 constexpr std::string_view kHdl32Manual = "HDL-32E User's Manual (Velodyne LiDAR)";
 constexpr std::string_view kHdl64Manual =
-    "HDL-64E S3 User's Manual and Programming Guide, 63-HDL64ES3 Rev K; nominal layout";
+    "HDL-64E S2 manual Appendix G (paired firing), S3 manual 63-HDL64ES3 Rev K; nominal layout";
 constexpr std::string_view kOusterSdk =
-    "Ouster SDK ouster_client gen1 design values; OS1 data sheet";
+    "Ouster SDK ouster_client gen1 design values; OS1 (Gen1) data sheet";
+constexpr std::string_view kOs1Sheet = "OS1 (Gen1) data sheet: 45 deg vertical field of view";
 
 const std::array<RotatingPreset, 9> kPresets{{
     {"vlp16", vlp16, {"VLP-16 like (simplified)", "beamtrace", 0, 0}},
@@ -122,10 +132,10 @@ const std::array<RotatingPreset, 9> kPresets{{
     {"hdl64", hdl64, {"HDL-64E like (simplified)", "beamtrace", 0, 0}},
     {"os128", os128, {"OS-128 like (simplified)", "beamtrace", 0, 0}},
     {"velodyne_vlp16", velodyne_vlp16, {"Velodyne VLP-16", kVlp16Manual, 903e-9, 300e3}},
-    {"velodyne_hdl32e", velodyne_hdl32e, {"Velodyne HDL-32E", kHdl32Manual, 903e-9, 695e3}},
+    {"velodyne_hdl32e", velodyne_hdl32e, {"Velodyne HDL-32E", kHdl32Manual, 903e-9, 700e3}},
     {"velodyne_hdl64e", velodyne_hdl64e, {"Velodyne HDL-64E S2/S3", kHdl64Manual, 905e-9, 1.3e6}},
-    {"ouster_os1_64", ouster_os1_64, {"Ouster OS1-64", kOusterSdk, 0, 655360}},
-    {"ouster_os1_128", ouster_os1_128, {"Ouster OS1-128", kOusterSdk, 0, 1310720}},
+    {"ouster_os1_64", ouster_os1_64, {"Ouster OS1-64", kOusterSdk, 850e-9, 1310720}},
+    {"ouster_os1_128", ouster_os1_128, {"Ouster OS1-128", kOs1Sheet, 850e-9, 2621440}},
 }};
 
 }  // namespace

@@ -65,7 +65,7 @@ platform: {type: static}
 )");
     const SurveySpec spec = load_survey_spec(dir / "survey.yaml");
     EXPECT_EQ(spec.range_max_m, 120.0) << "the OS1 data sheet's range";
-    EXPECT_EQ(spec.range_min_m, 0.0);
+    EXPECT_EQ(spec.range_min_m, 0.8);
     const auto* c = spec.scanner.config<RotatingScanner>();
     ASSERT_NE(c, nullptr);
     const RotatingScannerConfig want = ouster_os1_64();

@@ -1,7 +1,7 @@
-// Presets of the single-beam mechanisms (Livox Mid-40 / Avia, RIEGL VUX-1UAV / VQ-880-G, Leica
-// ALS50-II): their parameters equal the values docs/sensors.md documents, the pattern properties
-// the data sheets state hold for the generated directions, and a survey's own keys override a
-// preset's (scanner, range limits and physics defaults).
+// Presets of the single-beam mechanisms (Livox Mid-40 / Avia, RIEGL VUX-1UAV / VQ-880-G /
+// VQ-840-G, Leica ALS50-II): their parameters equal the values docs/sensors.md documents, the
+// pattern properties the data sheets state hold for the generated directions, and a survey's own
+// keys override a preset's (scanner, range limits and physics defaults).
 #include "beamtrace/sensor/mechanism_presets.hpp"
 
 #include <gtest/gtest.h>
@@ -53,9 +53,13 @@ TEST(MechanismPresets, ParametersEqualTheDocumentedValues) {
     EXPECT_NEAR(vux.usable_fraction * 360.0, 330.0, 1e-12);
 
     const ConicScannerConfig vq = riegl_vq880g();
-    EXPECT_EQ(vq.pulse_rate_hz, 900000.0);
-    EXPECT_EQ(vq.rotation_rate_hz, 200.0);
+    EXPECT_EQ(vq.pulse_rate_hz, 700000.0);
+    EXPECT_EQ(vq.rotation_rate_hz, 80.0);
     EXPECT_EQ(vq.off_axis_deg, 20.0);
+    const ConicScannerConfig vq840 = riegl_vq840g();
+    EXPECT_EQ(vq840.pulse_rate_hz, 200000.0);
+    EXPECT_EQ(vq840.rotation_rate_hz, 100.0);
+    EXPECT_EQ(vq840.off_axis_deg, 20.0);
 
     const LineScannerConfig als = leica_als50_ii();
     EXPECT_EQ(als.pulse_rate_hz, 150000.0);
@@ -85,14 +89,20 @@ TEST(MechanismPresets, ParametersEqualTheDocumentedValues) {
     const SensorDataSheet q = sheet(conic_presets(), "riegl_vq880g");
     EXPECT_EQ(q.range_min_m, 10.0);
     EXPECT_EQ(q.range_max_m, 0.0);
-    EXPECT_EQ(q.divergence_mrad, 0.3);
-    EXPECT_EQ(q.wavelength_nm, 1064.0);
+    EXPECT_EQ(q.divergence_mrad, 0.7);
+    EXPECT_EQ(q.wavelength_nm, 532.0);
+    const SensorDataSheet g = sheet(conic_presets(), "riegl_vq840g");
+    EXPECT_EQ(g.range_min_m, 20.0);
+    EXPECT_EQ(g.range_max_m, 0.0);
+    EXPECT_EQ(g.divergence_mrad, 1.0);  // the narrowest of its selectable 1-6 mrad
+    EXPECT_EQ(g.wavelength_nm, 532.0);
     const SensorDataSheet l = sheet(line_presets(), "leica_als50_ii");
     EXPECT_EQ(l.range_min_m, 200.0);
     EXPECT_EQ(l.range_max_m, 6000.0);
     EXPECT_EQ(l.divergence_mrad, 0.22);
     EXPECT_EQ(l.wavelength_nm, 1064.0);
     EXPECT_EQ(mechanism_preset_names(risley_presets()), "livox_mid40 or livox_avia");
+    EXPECT_EQ(mechanism_preset_names(conic_presets()), "riegl_vq880g or riegl_vq840g");
 }
 
 TEST(MechanismPresets, LivoxFieldsOfViewAreTheDataSheetCircles) {
@@ -139,9 +149,32 @@ TEST(MechanismPresets, Vq880gConeIsTwentyDegreesOffAxis) {
     for (std::size_t i = 0; i < p.size(); ++i) {
         ASSERT_NEAR(std::acos(p.direction[i].x), 20.0 / kRadToDeg, 1e-9) << i;
     }
-    // 200 revolutions/s: pulse 4500 (5 ms) is back at azimuth 0 after exactly one revolution.
-    EXPECT_NEAR(s.azimuth_turns(4500), 0.0, 1e-9);
-    EXPECT_NEAR(s.azimuth_turns(2250), 0.5, 1e-9);
+    // 80 revolutions/s at 700 kHz: pulse 8750 (12.5 ms) is back at azimuth 0 after exactly one
+    // revolution.
+    EXPECT_NEAR(s.azimuth_turns(8750), 0.0, 1e-9);
+    EXPECT_NEAR(s.azimuth_turns(4375), 0.5, 1e-9);
+}
+
+/// The VQ-840-G's data sheet scans +/-20 deg off nadir across the flight direction: every
+/// direction of the preset's cone is 20 deg off the optical axis (1e-9 rad), so that looking down
+/// from 75 m (the data sheet's UAV example) the scan reaches 75 tan 20 deg = 27.30 m to each side;
+/// 100 lines/s are 100 mirror revolutions/s.
+TEST(MechanismPresets, Vq840gConeIsTheDataSheetsTwentyDegreesOffNadir) {
+    ConicScannerConfig c = riegl_vq840g();
+    c.duration_s = 0.02;
+    const ConicScanner s(c);
+    const PulseBatch p = test::all_pulses(s);
+    ASSERT_EQ(p.size(), 4000u);  // 200 kHz x 20 ms
+    double across_m = 0.0;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+        const Vec3d& d = p.direction[i];
+        ASSERT_NEAR(std::acos(std::clamp(d.x, -1.0, 1.0)), 20.0 / kRadToDeg, 1e-9) << i;
+        // Sensor x looks down 75 m onto flat ground: the ray meets it at 75 / d.x along x.
+        across_m = std::max(across_m, std::abs(75.0 * d.y / d.x));
+    }
+    EXPECT_NEAR(across_m, 75.0 * std::tan(20.0 / kRadToDeg), 1e-6);
+    EXPECT_NEAR(s.azimuth_turns(2000), 0.0, 1e-9);  // 10 ms: one revolution
+    EXPECT_NEAR(s.azimuth_turns(500), 0.25, 1e-9);
 }
 
 TEST(MechanismPresets, Als50LinesAndSwath) {
@@ -182,11 +215,17 @@ TEST(MechanismPresets, SurveyKeysOverrideThePreset) {
     EXPECT_EQ(l.physics->radiometry.wavelength_nm, 1064.0);
 
     const SurveySpec o = parse("{type: conic, preset: riegl_vq880g}",
-                               "physics: {wavelength_nm: 532, beam: {divergence_mrad: 0.7}}\n");
+                               "physics: {wavelength_nm: 1064, beam: {divergence_mrad: 0.3}}\n");
     EXPECT_EQ(o.range_min_m, 10.0);
     EXPECT_TRUE(std::isinf(o.range_max_m));
-    EXPECT_NEAR(o.physics->beam.divergence_rad, 0.7e-3, 1e-15);
-    EXPECT_EQ(o.physics->radiometry.wavelength_nm, 532.0);
+    EXPECT_NEAR(o.physics->beam.divergence_rad, 0.3e-3, 1e-15);  // the survey's, not 0.7
+    EXPECT_EQ(o.physics->radiometry.wavelength_nm, 1064.0);
+
+    const SurveySpec b = parse("{type: conic, preset: riegl_vq840g}", "physics: {}\n");
+    EXPECT_EQ(b.range_min_m, 20.0);
+    EXPECT_NEAR(b.physics->beam.divergence_rad, 1.0e-3, 1e-15);  // the data sheet's
+    EXPECT_EQ(b.physics->radiometry.wavelength_nm, 532.0);
+    EXPECT_EQ(b.scanner.config<ConicScanner>()->rotation_rate_hz, 100.0);
 
     const SurveySpec v = parse("{type: polygon, preset: riegl_vux1uav}", "physics: {}\n");
     EXPECT_EQ(v.physics->radiometry.wavelength_nm, PhysicsConfig{}.radiometry.wavelength_nm);

@@ -41,6 +41,10 @@ TEST(RotatingPresets, BeamTablesEqualTheDocumentedValues) {
     ASSERT_EQ(h32.beam_elevations_deg.size(), 32u);
     EXPECT_EQ(h32.beam_elevations_deg[0], -30.67);
     EXPECT_EQ(h32.beam_elevations_deg[1], -9.33);
+    // DSR 5 and 6: the manual's table prints -6.66 and -26.66; the 4/3 deg grid (and ROS's
+    // standard 32db.yaml) give -6.67 and -26.67, which the preset keeps (docs/sensors.md).
+    EXPECT_EQ(h32.beam_elevations_deg[5], -6.67);
+    EXPECT_EQ(h32.beam_elevations_deg[6], -26.67);
     EXPECT_EQ(h32.beam_elevations_deg[15], 0.0);
     EXPECT_EQ(h32.beam_elevations_deg[30], -10.67);
     EXPECT_EQ(h32.beam_elevations_deg[31], 10.67);
@@ -86,10 +90,26 @@ TEST(RotatingPresets, BeamTablesEqualTheDocumentedValues) {
         EXPECT_EQ(find_rotating_preset(p.name), &p);
     }
     EXPECT_EQ(vlp.preset_range_max_m, 100.0);
+    EXPECT_EQ(h32.preset_range_m(), (std::pair{0.05, 100.0}));
     EXPECT_EQ(h64.preset_range_max_m, 120.0);
     EXPECT_EQ(vlp16().preset_range_m(), std::nullopt) << "the simplified presets give none";
     EXPECT_EQ(find_rotating_preset("velodyne_vlp16")->facts.wavelength_m, 903e-9);
     EXPECT_EQ(find_rotating_preset("nope"), nullptr);
+}
+
+/// The facts of the OS1 data sheet (Gen1): 0.8-120 m for every beam count, 850 nm, and its
+/// highest point rates (2048 x 10 or 1024 x 20), twice what the presets' 1024 x 10 fire.
+TEST(RotatingPresets, OusterFactsAreTheOs1DataSheets) {
+    for (const auto& [name, points] :
+         {std::pair{"ouster_os1_64", 1310720.0}, std::pair{"ouster_os1_128", 2621440.0}}) {
+        const RotatingPreset* p = find_rotating_preset(name);
+        ASSERT_NE(p, nullptr);
+        EXPECT_EQ(p->make().preset_range_m(), (std::pair{0.8, 120.0})) << name;
+        EXPECT_EQ(p->facts.wavelength_m, 850e-9) << name;
+        EXPECT_EQ(p->facts.nominal_points_per_s, points) << name;
+        EXPECT_DOUBLE_EQ(p->make().pulse_rate_hz(), points / 2.0) << name;
+    }
+    EXPECT_EQ(find_rotating_preset("velodyne_hdl32e")->facts.nominal_points_per_s, 700e3);
 }
 
 /// Pulse i of a preset fires at start + k * period + offset[b], and (no azimuth offsets, start

@@ -1,6 +1,6 @@
 // Presets of the single-beam scan mechanisms: real airborne and solid-state sensors (Livox
-// Mid-40 and Avia, RIEGL VUX-1UAV and VQ-880-G, Leica ALS50-II) as a mechanism config plus the
-// facts of their data sheets. Every value and its source is listed in docs/sensors.md.
+// Mid-40 and Avia, RIEGL VUX-1UAV, VQ-880-G and VQ-840-G, Leica ALS50-II) as a mechanism config
+// plus the facts of their data sheets. Every value and its source is listed in docs/sensors.md.
 //
 // A survey's `scanner: {type: risley, preset: livox_mid40, ...}` starts from the preset's
 // config; every other key of the block overrides the preset's value. The data sheet's range
@@ -50,9 +50,12 @@ struct MechanismPreset {
 /// RIEGL VUX-1UAV: a 330 deg sweep per mirror revolution, 200 lines/s, 500 000 measurements/s
 /// (one rotating 45 deg mirror, modelled as 2 facets turning at half the line rate).
 [[nodiscard]] PolygonScannerConfig riegl_vux1uav();
-/// RIEGL VQ-880-G (NIR channel, as HELIOS++ ships it): a 40 deg circular conic scan (20 deg off
-/// axis), 200 revolutions/s, 900 kHz.
+/// RIEGL VQ-880-G, green channel (as HELIOS++ ships it): a 40 deg circular conic scan (20 deg off
+/// axis), 80 revolutions/s, 700 kHz, 532 nm.
 [[nodiscard]] ConicScannerConfig riegl_vq880g();
+/// RIEGL VQ-840-G(L) topo-bathymetric scanner: its nearly elliptic scan (+/-20 deg across, +/-14
+/// deg along track) as a 20 deg conic scan, 100 revolutions (lines)/s, 200 kHz, 532 nm.
+[[nodiscard]] ConicScannerConfig riegl_vq840g();
 /// Leica ALS50-II: an oscillating mirror (triangle), +/-37.5 deg, 90 Hz mirror frequency (180
 /// lines/s), 150 kHz.
 [[nodiscard]] LineScannerConfig leica_als50_ii();

@@ -24,7 +24,8 @@ struct RotatingSensorFacts {
     std::string_view model;   ///< e.g. "Velodyne VLP-16"
     std::string_view source;  ///< document title and revision (docs/sensors.md)
     double wavelength_m = 0.0;
-    double nominal_points_per_s = 0.0;  ///< single return, as the data sheet rounds it
+    /// single return, as the data sheet rounds it: its highest mode (a preset may run a lower one)
+    double nominal_points_per_s = 0.0;
 };
 
 struct RotatingPreset {
@@ -45,10 +46,12 @@ struct RotatingPreset {
 [[nodiscard]] RotatingScannerConfig velodyne_hdl64e();
 /// Ouster OS1-64 (Gen1 design values of the Ouster SDK): beam_altitude_angles from +16.611 to
 /// -16.611 deg, beam_azimuth_angles +/-3.164 and +/-1.055 deg (negated: see
-/// beam_azimuth_offsets_deg); 1024 columns at 10 Hz, a column's beams fire together; clockwise.
+/// beam_azimuth_offsets_deg); 1024 columns at 10 Hz, a column's beams fire together; range
+/// 0.8-120 m (OS1 data sheet); clockwise.
 [[nodiscard]] RotatingScannerConfig ouster_os1_64();
-/// Ouster OS1-128 (data sheet: 45 deg vertical field of view, uniform spacing): +22.5 to -22.5
-/// deg, azimuth offsets 0 (unit-specific, not in the data sheet); 1024 x 10; clockwise.
+/// Ouster OS1-128 (data sheet: 45 deg vertical field of view; uniform spacing is a modelling
+/// choice): +22.5 to -22.5 deg, azimuth offsets 0 (unit-specific, not in the data sheet); 1024 x
+/// 10; range 0.8-120 m; clockwise.
 [[nodiscard]] RotatingScannerConfig ouster_os1_128();
 
 /// Every preset of the rotating scanner, the simplified ones first.
