@@ -12,6 +12,7 @@
 #include "beamtrace/core/thread_pool.hpp"
 #include "detail/grid_ray.hpp"
 #include "detail/level_table.hpp"
+#include "detail/view_beam.hpp"
 #include "detail/view_trace_simd.hpp"
 
 namespace beamtrace {
@@ -37,7 +38,7 @@ template <int SX, int SY, bool DOWN>
     int level = section_top;
     std::int64_t cx = r.gx >> level, cy = r.gy >> level;
     double t = r.t_min;
-    int entered = -1;
+    int entered = r.entered;
     constexpr std::int64_t kClimbX = SX > 0 ? 0 : 1;
     constexpr std::int64_t kClimbY = SY > 0 ? 0 : 1;
     const double ox = r.ox, oy = r.oy, oz = r.oz, dx = r.dx, dy = r.dy, dz = r.dz;
@@ -208,8 +209,8 @@ struct Tile {
     int x0, y0, x1, y1, width;
 };
 
-/// The rays of a tile that enter the loaded heights, traced in AVX2 lanes; the others are sky.
-/// `rays`, `pixels`, `hits` and `found` are the thread's buffers, reused from tile to tile.
+/// The rays of a tile that enter the loaded heights, with their pixels, hits and whether they
+/// hit: the thread's buffers, reused from tile to tile.
 struct SimdBuffers {
     std::vector<GridRay> rays;
     std::vector<std::size_t> pixels;
@@ -228,9 +229,101 @@ void for_each_pixel(const Tile& tile, PerPixel f) {
     }
 }
 
+/// Sets up the rays of the pixels of `tile` into `buffers` (sky for those that miss the loaded
+/// heights), kBeamPixels x kBeamPixels at a time. With a `beams` table, the rays of each such
+/// beam start where the first of them may meet a column (detail::beam_start) and those that end
+/// before it are sky: the walk from there stops where it would have from the ray's start.
+template <typename Direction>
+void set_up_rays(const Tile& tile, const Direction& direction, const detail::RaySetup& setup,
+                 const LevelTable* beams, const PixelSink& sink, SimdBuffers& buffers) {
+    buffers.rays.clear();
+    buffers.pixels.clear();
+    constexpr int kBeam = detail::kBeamPixels;
+    for (int by = tile.y0; by < tile.y1; by += kBeam) {
+        for (int bx = tile.x0; bx < tile.x1; bx += kBeam) {
+            const Tile block{bx, by, std::min(bx + kBeam, tile.x1), std::min(by + kBeam, tile.y1),
+                             tile.width};
+            const std::size_t first = buffers.rays.size();
+            detail::Beam beam;
+            for_each_pixel(block, [&](int px, int py, std::size_t i) {
+                GridRay r;
+                if (setup(direction(px, py), r)) {
+                    beam.add(r);
+                    buffers.rays.push_back(r);
+                    buffers.pixels.push_back(i);
+                } else {
+                    sink.miss(i);
+                }
+            });
+            if (beams == nullptr || buffers.rays.size() == first) {
+                continue;
+            }
+            const double start = detail::beam_start(*beams, beam);
+            const std::int64_t cells = beams->cells(0);
+            std::size_t kept = first;
+            for (std::size_t j = first; j < buffers.rays.size(); ++j) {
+                if (detail::start_ray_at(buffers.rays[j], start, cells)) {
+                    buffers.rays[kept] = buffers.rays[j];
+                    buffers.pixels[kept] = buffers.pixels[j];
+                    ++kept;
+                } else {
+                    sink.miss(buffers.pixels[j]);
+                }
+            }
+            buffers.rays.resize(kept);
+            buffers.pixels.resize(kept);
+        }
+    }
+}
+
+/// Renders the pixels of tiles [begin, end) (of `tiles_x` a row, `tile` pixels a side): their
+/// rays set up by set_up_rays, traced in `lanes` SIMD lanes (or one at a time by `trace`),
+/// shaded by `sink`. Returns the lanes of the kernel that ran.
+template <typename Direction, typename Trace>
+int render_tiles(const SectionGrid& grid, const LevelTable& table, const Direction& direction,
+                 const detail::RaySetup& setup, const PixelSink& sink, bool beams, Trace trace,
+                 int lanes, int tile, int tiles_x, int width, int height, std::size_t begin,
+                 std::size_t end) {
+    // Reused by every tile of the chunk: one allocation each, not one per ray.
+    SimdBuffers buffers;
+    const auto most = static_cast<std::size_t>(tile) * static_cast<std::size_t>(tile);
+    buffers.rays.reserve(most);
+    buffers.pixels.reserve(most);
+    buffers.hits.reserve(most);
+    buffers.found.reserve(most);
+    int ran = 1;
+    for (std::size_t k = begin; k < end; ++k) {
+        const int x0 = static_cast<int>(k % static_cast<std::size_t>(tiles_x)) * tile;
+        const int y0 = static_cast<int>(k / static_cast<std::size_t>(tiles_x)) * tile;
+        const Tile t{x0, y0, std::min(x0 + tile, width), std::min(y0 + tile, height), width};
+        set_up_rays(t, direction, setup, beams ? &table : nullptr, sink, buffers);
+        const std::size_t count = buffers.rays.size();
+        buffers.hits.resize(count);
+        buffers.found.resize(count);
+        if (lanes > 1) {
+            ran = detail::trace_rays_lanes(lanes, table, buffers.rays.data(), count,
+                                           buffers.hits.data(), buffers.found.data());
+        } else {
+            for (std::size_t j = 0; j < count; ++j) {
+                buffers.found[j] = trace(grid, table, buffers.rays[j], buffers.hits[j]) ? 1 : 0;
+            }
+        }
+        for (std::size_t j = 0; j < count; ++j) {
+            if (buffers.found[j] != 0) {
+                sink.hit(buffers.pixels[j], buffers.rays[j], buffers.hits[j]);
+            } else {
+                sink.miss(buffers.pixels[j]);
+            }
+        }
+    }
+    return ran;
+}
+
+/// Renders `image` with `trace` (one ray at a time) or the kernel of `lanes` SIMD lanes; with
+/// `beams`, rays start at their beam's start distance (set_up_rays).
 template <typename Trace>
 void render(const SectionGrid& grid, const ViewCamera& camera, const RenderOptions& options,
-            ThreadPool& pool, Trace trace, int lanes, ViewImage& image) {
+            ThreadPool& pool, Trace trace, int lanes, bool beams, ViewImage& image) {
     const LevelTable table(grid);
     camera.validate();
     image.width = camera.width;
@@ -263,61 +356,15 @@ void render(const SectionGrid& grid, const ViewCamera& camera, const RenderOptio
     std::atomic<int> ran{1};
     // Four tiles a chunk: each chunk sets up its buffers once (about 2000 chunks a 1920x1080
     // frame, still plenty to balance two to a few dozen threads).
-    pool.parallel_for(
-        static_cast<std::size_t>(tiles_x) * static_cast<std::size_t>(tiles_y), 4,
-        [&](std::size_t begin, std::size_t end) {
-            // Reused by every tile of the chunk: one allocation each, not one per ray.
-            SimdBuffers buffers;
-            if (lanes > 1) {
-                const auto most = static_cast<std::size_t>(tile) * static_cast<std::size_t>(tile);
-                buffers.rays.reserve(most);
-                buffers.pixels.reserve(most);
-                buffers.hits.reserve(most);
-                buffers.found.reserve(most);
-            }
-            for (std::size_t k = begin; k < end; ++k) {
-                const int x0 = static_cast<int>(k % static_cast<std::size_t>(tiles_x)) * tile;
-                const int y0 = static_cast<int>(k / static_cast<std::size_t>(tiles_x)) * tile;
-                const Tile t{x0, y0, std::min(x0 + tile, camera.width),
-                             std::min(y0 + tile, camera.height), camera.width};
-                if (lanes <= 1) {
-                    for_each_pixel(t, [&](int px, int py, std::size_t i) {
-                        GridRay r;
-                        GridHit hit;
-                        if (setup(direction(px, py), r) && trace(grid, table, r, hit)) {
-                            sink.hit(i, r, hit);
-                        } else {
-                            sink.miss(i);
-                        }
-                    });
-                    continue;
-                }
-                buffers.rays.clear();
-                buffers.pixels.clear();
-                for_each_pixel(t, [&](int px, int py, std::size_t i) {
-                    GridRay r;
-                    if (setup(direction(px, py), r)) {
-                        buffers.rays.push_back(r);
-                        buffers.pixels.push_back(i);
-                    } else {
-                        sink.miss(i);
-                    }
-                });
-                buffers.hits.resize(buffers.rays.size());
-                buffers.found.resize(buffers.rays.size());
-                ran.store(
-                    detail::trace_rays_lanes(lanes, table, buffers.rays.data(), buffers.rays.size(),
-                                             buffers.hits.data(), buffers.found.data()),
-                    std::memory_order_relaxed);
-                for (std::size_t j = 0; j < buffers.rays.size(); ++j) {
-                    if (buffers.found[j] != 0) {
-                        sink.hit(buffers.pixels[j], buffers.rays[j], buffers.hits[j]);
-                    } else {
-                        sink.miss(buffers.pixels[j]);
-                    }
-                }
-            }
-        });
+    pool.parallel_for(static_cast<std::size_t>(tiles_x) * static_cast<std::size_t>(tiles_y), 4,
+                      [&](std::size_t begin, std::size_t end) {
+                          const int r =
+                              render_tiles(grid, table, direction, setup, sink, beams, trace, lanes,
+                                           tile, tiles_x, camera.width, camera.height, begin, end);
+                          if (r > 1) {
+                              ran.store(r, std::memory_order_relaxed);
+                          }
+                      });
     image.kernel_lanes = ran.load();
     apply_eye_dome(image, options.eye_dome, pool);
 }
@@ -351,7 +398,7 @@ void render_view(const SectionGrid& grid, const ViewCamera& camera, const Render
         [](const SectionGrid&, const LevelTable& table, const GridRay& r, GridHit& h) {
             return trace_hierarchical(table, r, h);
         },
-        lanes, image);
+        lanes, true, image);
 }
 
 ViewImage render_view_reference(const SectionGrid& grid, const ViewCamera& camera,
@@ -362,7 +409,7 @@ ViewImage render_view_reference(const SectionGrid& grid, const ViewCamera& camer
         [](const SectionGrid& g, const LevelTable&, const GridRay& r, GridHit& h) {
             return trace_reference(g, r, h);
         },
-        1, image);
+        1, false, image);
     return image;
 }
 
