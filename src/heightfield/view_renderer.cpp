@@ -35,7 +35,7 @@ template <int SX, int SY, bool DOWN>
     // descent through the pyramid); steps climb into the pyramid where they leave a parent.
     const int top = table.root();
     const int section_top = table.section_top();
-    int level = section_top;
+    int level = r.level < 0 ? section_top : r.level;
     std::int64_t cx = r.gx >> level, cy = r.gy >> level;
     double t = r.t_min;
     int entered = r.entered;
@@ -258,11 +258,12 @@ void set_up_rays(const Tile& tile, const Direction& direction, const detail::Ray
             if (beams == nullptr || buffers.rays.size() == first) {
                 continue;
             }
-            const double start = detail::beam_start(*beams, beam);
+            const detail::BeamStart start = detail::beam_start(*beams, beam);
             const std::int64_t cells = beams->cells(0);
             std::size_t kept = first;
             for (std::size_t j = first; j < buffers.rays.size(); ++j) {
-                if (detail::start_ray_at(buffers.rays[j], start, cells)) {
+                if (detail::start_ray_at(buffers.rays[j], start.t, cells)) {
+                    buffers.rays[j].level = start.level;
                     buffers.rays[kept] = buffers.rays[j];
                     buffers.pixels[kept] = buffers.pixels[j];
                     ++kept;

@@ -135,7 +135,7 @@ TEST(ViewBeam, StartDistanceNeverPassesAColumnAnyRayOfTheBeamMeets) {
                 if (block.empty()) {
                     continue;
                 }
-                const double start = detail::beam_start(table, beam);
+                const double start = detail::beam_start(table, beam).t;
                 ++beams;
                 moved += start > beam.t_lo ? 1 : 0;
                 empty += start == kInf ? 1 : 0;

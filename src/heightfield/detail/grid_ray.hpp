@@ -26,6 +26,9 @@ struct GridRay {
     /// How the walk entered cell (gx, gy) at t_min: -1 at the ray's start, 0 through an x face,
     /// 1 through a y face (after start_ray_at, detail/view_beam.hpp, moved the start on).
     int entered = -1;
+    /// The level the hierarchical walk starts at (-1: the sections' coarsest); any level gives
+    /// the same hit, a level near the surface fewer descents.
+    int level = -1;
 };
 
 /// std::floor of a value well inside the int64 range, without a library call (the same result).
@@ -113,6 +116,7 @@ class RaySetup {
         r.t_min = t0;
         r.t_max = t1;
         r.entered = -1;
+        r.level = -1;
         r.gx = std::clamp(floor_to_int(r.ox + r.dx * t0), std::int64_t{0}, last_);
         r.gy = std::clamp(floor_to_int(r.oy + r.dy * t0), std::int64_t{0}, last_);
         return true;

@@ -72,14 +72,22 @@ inline constexpr double kBeamHeightSlack = 1e-7;
     return static_cast<double>(h);
 }
 
-/// A distance before which no ray of `beam` meets a column (kInf: none does within its span),
-/// at least beam.t_lo. Walks the beam's span in steps whose footprint (the box of every ray's
-/// positions over the step) covers at most about two cells of the current level a side,
+/// Where the rays of a beam start: a distance before which none of them meets a column (kInf:
+/// none does within its span), at least beam.t_lo, and the level their walks start at (the
+/// finest whose cells were at least twice the beam's width there).
+struct BeamStart {
+    double t = 0;
+    int level = 0;
+};
+
+/// The start of the rays of `beam`. Walks the beam's span in steps whose footprint (the box of
+/// every ray's positions over the step) covers at most about two cells of the current level a side,
 /// coarsening after a clear step and refining after a blocked one while the level's cells stay
 /// at least twice the beam's width; stops at the first step blocked at the finest such level.
-[[nodiscard]] inline double beam_start(const LevelTable& table, const Beam& b) {
+[[nodiscard]] inline BeamStart beam_start(const LevelTable& table, const Beam& b) {
+    const auto cell = [](int level) { return static_cast<double>(std::int64_t{1} << level); };
     if (!(b.t_lo < b.t_hi)) {
-        return b.t_lo;
+        return {b.t_lo, table.section_top()};
     }
     const double ax = b.dx_hi - b.dx_lo, ay = b.dy_hi - b.dy_lo;
     const double bx = std::max(std::abs(b.dx_lo), std::abs(b.dx_hi));
@@ -89,10 +97,10 @@ inline constexpr double kBeamHeightSlack = 1e-7;
     double t = b.t_lo;
     int level = 0;
     for (int steps = 0; steps < 4096; ++steps) {
-        while (level < root && 2.0 * spread * t > std::ldexp(1.0, level)) {
+        while (level < root && 2.0 * spread * t > cell(level)) {
             ++level;
         }
-        const double s = std::ldexp(1.0, level);
+        const double s = cell(level);
         // The step's end: its box is at most s wide along x and y (a * tb + b * (tb - t) <= s).
         double tb = std::min((s + bx * t) / (ax + bx), (s + by * t) / (ay + by));
         tb = std::min(tb, b.t_hi);
@@ -108,17 +116,17 @@ inline constexpr double kBeamHeightSlack = 1e-7;
         if (z > beam_box_max(table, level, x0, x1, y0, y1)) {
             t = tb;
             if (t >= b.t_hi) {
-                return kInf;
+                return {kInf, 0};
             }
             level = std::min(level + 1, root);
             continue;
         }
-        if (level == 0 || 2.0 * spread * t > std::ldexp(1.0, level - 1)) {
-            return t;
+        if (level == 0 || 2.0 * spread * t > cell(level - 1)) {
+            return {t, std::min(level, table.section_top())};
         }
         --level;
     }
-    return t;
+    return {t, std::min(level, table.section_top())};
 }
 
 /// Exit distance of column `c` along one axis of a ray (origin o, direction d, sign sd): the
