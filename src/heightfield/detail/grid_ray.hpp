@@ -226,7 +226,13 @@ inline void shade_hit(const SectionGrid& grid, const Finest& finest, const GridR
         const double lo = grid.min_height(), hi = grid.max_height();
         base = height_ramp(hi > lo ? (h - lo) / (hi - lo) : 0.5);
     } else {
-        base = attribute_color(mode, grid.attribute(hit.x, hit.y), grid.intensity_full_scale());
+        const std::uint32_t a = grid.attribute(hit.x, hit.y);
+        // RGB inline (attribute_color's first case, the bytes of the attribute): the common mode
+        // without a call per pixel.
+        base = mode == ColorMode::rgb
+                   ? Rgb8{static_cast<std::uint8_t>(a >> 16), static_cast<std::uint8_t>(a >> 8),
+                          static_cast<std::uint8_t>(a)}
+                   : attribute_color(mode, a, grid.intensity_full_scale());
     }
     double c[3] = {static_cast<double>(base[0]), static_cast<double>(base[1]),
                    static_cast<double>(base[2])};
