@@ -218,43 +218,90 @@ struct SimdBuffers {
     std::vector<std::uint8_t> found;
 };
 
-template <typename PerPixel>
-void for_each_pixel(const Tile& tile, PerPixel f) {
-    for (int py = tile.y0; py < tile.y1; ++py) {
-        for (int px = tile.x0; px < tile.x1; ++px) {
-            f(px, py,
-              static_cast<std::size_t>(py) * static_cast<std::size_t>(tile.width) +
-                  static_cast<std::size_t>(px));
+/// The ray directions of a frame's pixels: one at a time (CameraRays::direction_at of the
+/// pixel's column and row coordinates) or, with `lanes` > 1, a row of a beam at a time in SIMD
+/// lanes (detail::ray_directions_lanes: the same values).
+struct PixelDirections {
+    const CameraRays& rays;
+    std::vector<double> u, v;  ///< image-plane coordinates per column and row
+    detail::DirectionFrame frame;
+    int lanes = 1;
+
+    PixelDirections(const CameraRays& r, const ViewCamera& camera, double per_cell, int simd)
+        : rays(r),
+          u(static_cast<std::size_t>(camera.width)),
+          v(static_cast<std::size_t>(camera.height)),
+          lanes(simd) {
+        for (int px = 0; px < camera.width; ++px) {
+            u[static_cast<std::size_t>(px)] = rays.u(px);
+        }
+        for (int py = 0; py < camera.height; ++py) {
+            v[static_cast<std::size_t>(py)] = rays.v(py);
+        }
+        frame = {rays.forward().x, rays.forward().y, rays.forward().z, rays.right().x,
+                 rays.right().y,   rays.right().z,   rays.up().x,      rays.up().y,
+                 rays.up().z,      per_cell};
+    }
+
+    /// Calls f(px, pixel index, ray) for the pixels [x0, x1) of row py whose rays `setup`
+    /// clips to the loaded heights, miss(pixel index) for the others.
+    template <typename Hit, typename Miss>
+    void row(const detail::RaySetup& setup, const Tile& t, int py, Hit f, Miss miss) const {
+        const std::size_t base = static_cast<std::size_t>(py) * static_cast<std::size_t>(t.width);
+        if (lanes <= 1) {
+            for (int px = t.x0; px < t.x1; ++px) {
+                GridRay r;
+                const auto i = base + static_cast<std::size_t>(px);
+                const Vec3d d = rays.direction_at(u[static_cast<std::size_t>(px)],
+                                                  v[static_cast<std::size_t>(py)]);
+                setup(d, r) ? f(i, r) : miss(i);
+            }
+            return;
+        }
+        detail::RowDirections dirs;
+        const int n = t.x1 - t.x0;
+        detail::ray_directions_lanes(lanes, frame, u.data() + t.x0, v[static_cast<std::size_t>(py)],
+                                     n, dirs);
+        for (int k = 0; k < n; ++k) {
+            GridRay r;
+            r.dx = dirs.dx[k];
+            r.dy = dirs.dy[k];
+            r.dz = dirs.dz[k];
+            r.inv_dx = dirs.inv_dx[k];
+            r.inv_dy = dirs.inv_dy[k];
+            const auto i = base + static_cast<std::size_t>(t.x0 + k);
+            setup.clip(r, dirs.inv_dz[k]) ? f(i, r) : miss(i);
         }
     }
-}
+};
 
 /// Sets up the rays of the pixels of `tile` into `buffers` (sky for those that miss the loaded
 /// heights), kBeamPixels x kBeamPixels at a time. With a `beams` table, the rays of each such
 /// beam start where the first of them may meet a column (detail::beam_start) and those that end
 /// before it are sky: the walk from there stops where it would have from the ray's start.
-template <typename Direction>
-void set_up_rays(const Tile& tile, const Direction& direction, const detail::RaySetup& setup,
+void set_up_rays(const Tile& tile, const PixelDirections& directions, const detail::RaySetup& setup,
                  const LevelTable* beams, const PixelSink& sink, SimdBuffers& buffers) {
     buffers.rays.clear();
     buffers.pixels.clear();
     constexpr int kBeam = detail::kBeamPixels;
+    static_assert(kBeam <= detail::kRowDirections);
+    const auto miss = [&](std::size_t i) { sink.miss(i); };
     for (int by = tile.y0; by < tile.y1; by += kBeam) {
         for (int bx = tile.x0; bx < tile.x1; bx += kBeam) {
             const Tile block{bx, by, std::min(bx + kBeam, tile.x1), std::min(by + kBeam, tile.y1),
                              tile.width};
             const std::size_t first = buffers.rays.size();
             detail::Beam beam;
-            for_each_pixel(block, [&](int px, int py, std::size_t i) {
-                GridRay r;
-                if (setup(direction(px, py), r)) {
-                    beam.add(r);
-                    buffers.rays.push_back(r);
-                    buffers.pixels.push_back(i);
-                } else {
-                    sink.miss(i);
-                }
-            });
+            for (int py = block.y0; py < block.y1; ++py) {
+                directions.row(
+                    setup, block, py,
+                    [&](std::size_t i, const GridRay& r) {
+                        beam.add(r);
+                        buffers.rays.push_back(r);
+                        buffers.pixels.push_back(i);
+                    },
+                    miss);
+            }
             if (beams == nullptr || buffers.rays.size() == first) {
                 continue;
             }
@@ -280,8 +327,8 @@ void set_up_rays(const Tile& tile, const Direction& direction, const detail::Ray
 /// Renders the pixels of tiles [begin, end) (of `tiles_x` a row, `tile` pixels a side): their
 /// rays set up by set_up_rays, traced in `lanes` SIMD lanes (or one at a time by `trace`),
 /// shaded by `sink`. Returns the lanes of the kernel that ran.
-template <typename Direction, typename Trace>
-int render_tiles(const SectionGrid& grid, const LevelTable& table, const Direction& direction,
+template <typename Trace>
+int render_tiles(const SectionGrid& grid, const LevelTable& table, const PixelDirections& direction,
                  const detail::RaySetup& setup, const PixelSink& sink, bool beams, Trace trace,
                  int lanes, int tile, int tiles_x, int width, int height, std::size_t begin,
                  std::size_t end) {
@@ -336,19 +383,9 @@ void render(const SectionGrid& grid, const ViewCamera& camera, const RenderOptio
     image.rgb.resize(pixels * 3);
     image.depth.resize(pixels);
     const CameraRays rays(camera);
-    // Image-plane coordinates per column and row (the same values as in direction(px, py)).
-    std::vector<double> u(static_cast<std::size_t>(camera.width));
-    std::vector<double> v(static_cast<std::size_t>(camera.height));
-    for (int px = 0; px < camera.width; ++px) {
-        u[static_cast<std::size_t>(px)] = rays.u(px);
-    }
-    for (int py = 0; py < camera.height; ++py) {
-        v[static_cast<std::size_t>(py)] = rays.v(py);
-    }
-    const auto direction = [&](int px, int py) {
-        return rays.direction_at(u[static_cast<std::size_t>(px)], v[static_cast<std::size_t>(py)]);
-    };
     const detail::RaySetup setup(grid, camera.position);
+    // The reference sets up one ray at a time, the hierarchical renderer in its lanes.
+    const PixelDirections direction(rays, camera, setup.per_cell(), beams ? lanes : 1);
     const PixelSink sink(grid, table, options, image);
     const int tile = std::max(1, options.tile_pixels);
     const int tiles_x = (camera.width + tile - 1) / tile;

@@ -67,6 +67,17 @@ class RaySetup {
     /// Clips the ray along `dir` (unit) to the window box between the lowest and the highest
     /// loaded height; false when it misses.
     [[nodiscard]] bool operator()(const Vec3d& dir, GridRay& r) const {
+        r.dx = dir.x * per_cell_;
+        r.dy = dir.y * per_cell_;
+        r.dz = dir.z;
+        r.inv_dx = r.dx != 0 ? 1.0 / r.dx : kInf;
+        r.inv_dy = r.dy != 0 ? 1.0 / r.dy : kInf;
+        return clip(r, 1.0 / r.dz);
+    }
+
+    /// The rest of operator(), for a ray whose dx, dy, dz, inv_dx and inv_dy are set as there
+    /// (by the SIMD set-up, trace_directions_lanes, with the same operations) and inv_dz = 1 / dz.
+    [[nodiscard]] bool clip(GridRay& r, double inv_dz) const {
         const double zmax = zmax_;
         if (zmax == -kInf) {
             return false;
@@ -75,16 +86,11 @@ class RaySetup {
         r.ox = ox_;
         r.oy = oy_;
         r.oz = oz_;
-        r.dx = dir.x * per_cell_;
-        r.dy = dir.y * per_cell_;
-        r.dz = dir.z;
         r.sx = r.dx < 0 ? -1 : 1;
         r.sy = r.dy < 0 ? -1 : 1;
-        r.inv_dx = r.dx != 0 ? 1.0 / r.dx : kInf;
-        r.inv_dy = r.dy != 0 ? 1.0 / r.dy : kInf;
         double t0 = 0.0, t1 = kInf;
         // Between the window's two sides along one axis; false when parallel and outside.
-        const auto clip = [&](double o, double d, double inv_d) {
+        const auto slab = [&](double o, double d, double inv_d) {
             if (d != 0) {
                 const double a = (0.0 - o) * inv_d, b = (w - o) * inv_d;
                 t0 = std::max(t0, std::min(a, b));
@@ -93,10 +99,10 @@ class RaySetup {
             }
             return o >= 0 && o < w;
         };
-        if (!clip(r.ox, r.dx, r.inv_dx) || !clip(r.oy, r.dy, r.inv_dy)) {
+        if (!slab(r.ox, r.dx, r.inv_dx) || !slab(r.oy, r.dy, r.inv_dy)) {
             return false;
         }
-        const double inv_dz = 1.0 / r.dz;  // +-inf for a level ray (not used then)
+        // inv_dz: +-inf for a level ray (not used then).
         if (r.oz > zmax) {
             if (r.dz >= 0) {
                 return false;
@@ -121,6 +127,9 @@ class RaySetup {
         r.gy = std::clamp(floor_to_int(r.oy + r.dy * t0), std::int64_t{0}, last_);
         return true;
     }
+
+    /// 1 / cell size: dx = dir.x * per_cell(), dy = dir.y * per_cell().
+    [[nodiscard]] double per_cell() const { return per_cell_; }
 
   private:
     double zmax_, zmin_, cell_, w_;

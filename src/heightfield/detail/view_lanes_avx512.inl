@@ -64,6 +64,12 @@ BT_LANES D subd(D a, D b) {
 BT_LANES D muld(D a, D b) {
     return _mm512_mul_round_pd(a, b, _MM_FROUND_CUR_DIRECTION);
 }
+BT_LANES D divd(D a, D b) {
+    return _mm512_div_pd(a, b);
+}
+BT_LANES D sqrtd(D a) {
+    return _mm512_sqrt_pd(a);
+}
 /// a < b ? a : b, lane by lane (std::min(b, a)).
 BT_LANES D mind(D a, D b) {
     return _mm512_min_pd(a, b);
