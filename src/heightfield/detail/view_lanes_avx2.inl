@@ -7,127 +7,59 @@ using I = __m256i;
 using D = __m256d;
 using M = __m256i;
 
-BT_LANES I set1(std::int64_t v) {
-    return _mm256_set1_epi64x(v);
-}
-BT_LANES D set1d(double v) {
-    return _mm256_set1_pd(v);
-}
+BT_LANES I set1(std::int64_t v) { return _mm256_set1_epi64x(v); }
+BT_LANES D set1d(double v) { return _mm256_set1_pd(v); }
 BT_LANES I load(const std::int64_t* p) {
     return _mm256_load_si256(reinterpret_cast<const __m256i*>(p));
 }
-BT_LANES D load(const double* p) {
-    return _mm256_load_pd(p);
-}
-BT_LANES void store(std::int64_t* p, I v) {
-    _mm256_store_si256(reinterpret_cast<__m256i*>(p), v);
-}
-BT_LANES void store(double* p, D v) {
-    _mm256_store_pd(p, v);
-}
+BT_LANES D load(const double* p) { return _mm256_load_pd(p); }
+BT_LANES void store(std::int64_t* p, I v) { _mm256_store_si256(reinterpret_cast<__m256i*>(p), v); }
+BT_LANES void store(double* p, D v) { _mm256_store_pd(p, v); }
 
-BT_LANES I add(I a, I b) {
-    return _mm256_add_epi64(a, b);
-}
-BT_LANES I sub(I a, I b) {
-    return _mm256_sub_epi64(a, b);
-}
-BT_LANES I band(I a, I b) {
-    return _mm256_and_si256(a, b);
-}
-BT_LANES I bxor(I a, I b) {
-    return _mm256_xor_si256(a, b);
-}
+BT_LANES I add(I a, I b) { return _mm256_add_epi64(a, b); }
+BT_LANES I sub(I a, I b) { return _mm256_sub_epi64(a, b); }
+BT_LANES I band(I a, I b) { return _mm256_and_si256(a, b); }
+BT_LANES I bxor(I a, I b) { return _mm256_xor_si256(a, b); }
 /// a * b for a, b below 2^32.
-BT_LANES I mul32(I a, I b) {
-    return _mm256_mul_epu32(a, b);
-}
+BT_LANES I mul32(I a, I b) { return _mm256_mul_epu32(a, b); }
 /// Shifts by each lane's count (a count of 64 or more gives 0).
-BT_LANES I sllv(I a, I n) {
-    return _mm256_sllv_epi64(a, n);
-}
-BT_LANES I srlv(I a, I n) {
-    return _mm256_srlv_epi64(a, n);
-}
-BT_LANES I srl1(I a) {
-    return _mm256_srli_epi64(a, 1);
-}
+BT_LANES I sllv(I a, I n) { return _mm256_sllv_epi64(a, n); }
+BT_LANES I srlv(I a, I n) { return _mm256_srlv_epi64(a, n); }
+BT_LANES I srl1(I a) { return _mm256_srli_epi64(a, 1); }
 
-BT_LANES D addd(D a, D b) {
-    return _mm256_add_pd(a, b);
-}
-BT_LANES D subd(D a, D b) {
-    return _mm256_sub_pd(a, b);
-}
-BT_LANES D muld(D a, D b) {
-    return _mm256_mul_pd(a, b);
-}
-BT_LANES D divd(D a, D b) {
-    return _mm256_div_pd(a, b);
-}
-BT_LANES D sqrtd(D a) {
-    return _mm256_sqrt_pd(a);
-}
+BT_LANES D addd(D a, D b) { return _mm256_add_pd(a, b); }
+BT_LANES D subd(D a, D b) { return _mm256_sub_pd(a, b); }
+BT_LANES D muld(D a, D b) { return _mm256_mul_pd(a, b); }
+BT_LANES D divd(D a, D b) { return _mm256_div_pd(a, b); }
+BT_LANES D sqrtd(D a) { return _mm256_sqrt_pd(a); }
 /// a < b ? a : b, lane by lane (std::min(b, a)).
-BT_LANES D mind(D a, D b) {
-    return _mm256_min_pd(a, b);
-}
+BT_LANES D mind(D a, D b) { return _mm256_min_pd(a, b); }
 
-BT_LANES M gt(I a, I b) {
-    return _mm256_cmpgt_epi64(a, b);
-}
-BT_LANES M eq(I a, I b) {
-    return _mm256_cmpeq_epi64(a, b);
-}
-BT_LANES M led(D a, D b) {
-    return _mm256_castpd_si256(_mm256_cmp_pd(a, b, _CMP_LE_OQ));
-}
-BT_LANES M ltd(D a, D b) {
-    return _mm256_castpd_si256(_mm256_cmp_pd(a, b, _CMP_LT_OQ));
-}
-BT_LANES M ged(D a, D b) {
-    return _mm256_castpd_si256(_mm256_cmp_pd(a, b, _CMP_GE_OQ));
-}
-BT_LANES M eqd(D a, D b) {
-    return _mm256_castpd_si256(_mm256_cmp_pd(a, b, _CMP_EQ_OQ));
-}
+BT_LANES M gt(I a, I b) { return _mm256_cmpgt_epi64(a, b); }
+BT_LANES M eq(I a, I b) { return _mm256_cmpeq_epi64(a, b); }
+BT_LANES M led(D a, D b) { return _mm256_castpd_si256(_mm256_cmp_pd(a, b, _CMP_LE_OQ)); }
+BT_LANES M ltd(D a, D b) { return _mm256_castpd_si256(_mm256_cmp_pd(a, b, _CMP_LT_OQ)); }
+BT_LANES M ged(D a, D b) { return _mm256_castpd_si256(_mm256_cmp_pd(a, b, _CMP_GE_OQ)); }
+BT_LANES M eqd(D a, D b) { return _mm256_castpd_si256(_mm256_cmp_pd(a, b, _CMP_EQ_OQ)); }
 
-BT_LANES M mand(M a, M b) {
-    return _mm256_and_si256(a, b);
-}
-BT_LANES M mor(M a, M b) {
-    return _mm256_or_si256(a, b);
-}
+BT_LANES M mand(M a, M b) { return _mm256_and_si256(a, b); }
+BT_LANES M mor(M a, M b) { return _mm256_or_si256(a, b); }
 /// ~a & b.
-BT_LANES M mandnot(M a, M b) {
-    return _mm256_andnot_si256(a, b);
-}
+BT_LANES M mandnot(M a, M b) { return _mm256_andnot_si256(a, b); }
 /// The lanes of m as the bits of an int (lane j: bit j).
-BT_LANES int bits(M m) {
-    return _mm256_movemask_pd(_mm256_castsi256_pd(m));
-}
+BT_LANES int bits(M m) { return _mm256_movemask_pd(_mm256_castsi256_pd(m)); }
 BT_LANES M mask_of_bits(int b) {
     const I lane = _mm256_setr_epi64x(1, 2, 4, 8);
     return _mm256_cmpeq_epi64(_mm256_and_si256(_mm256_set1_epi64x(b), lane), lane);
 }
 
 /// m ? a : b, lane by lane.
-BT_LANES I sel(M m, I a, I b) {
-    return _mm256_blendv_epi8(b, a, m);
-}
-BT_LANES D seld(M m, D a, D b) {
-    return _mm256_blendv_pd(b, a, _mm256_castsi256_pd(m));
-}
+BT_LANES I sel(M m, I a, I b) { return _mm256_blendv_epi8(b, a, m); }
+BT_LANES D seld(M m, D a, D b) { return _mm256_blendv_pd(b, a, _mm256_castsi256_pd(m)); }
 /// m ? a : 0.
-BT_LANES I keep(M m, I a) {
-    return _mm256_and_si256(m, a);
-}
-BT_LANES I max64(I a, I b) {
-    return sel(gt(a, b), a, b);
-}
-BT_LANES I min64(I a, I b) {
-    return sel(gt(a, b), b, a);
-}
+BT_LANES I keep(M m, I a) { return _mm256_and_si256(m, a); }
+BT_LANES I max64(I a, I b) { return sel(gt(a, b), a, b); }
+BT_LANES I min64(I a, I b) { return sel(gt(a, b), b, a); }
 
 /// v as doubles, exactly, for 0 <= v < 2^52 (AVX2 has no 64-bit integer conversion).
 BT_LANES D to_double(I v) {

@@ -7,133 +7,59 @@ using I = __m512i;
 using D = __m512d;
 using M = __mmask8;
 
-BT_LANES I set1(std::int64_t v) {
-    return _mm512_set1_epi64(v);
-}
-BT_LANES D set1d(double v) {
-    return _mm512_set1_pd(v);
-}
-BT_LANES I load(const std::int64_t* p) {
-    return _mm512_load_si512(p);
-}
-BT_LANES D load(const double* p) {
-    return _mm512_load_pd(p);
-}
-BT_LANES void store(std::int64_t* p, I v) {
-    _mm512_store_si512(p, v);
-}
-BT_LANES void store(double* p, D v) {
-    _mm512_store_pd(p, v);
-}
+BT_LANES I set1(std::int64_t v) { return _mm512_set1_epi64(v); }
+BT_LANES D set1d(double v) { return _mm512_set1_pd(v); }
+BT_LANES I load(const std::int64_t* p) { return _mm512_load_si512(p); }
+BT_LANES D load(const double* p) { return _mm512_load_pd(p); }
+BT_LANES void store(std::int64_t* p, I v) { _mm512_store_si512(p, v); }
+BT_LANES void store(double* p, D v) { _mm512_store_pd(p, v); }
 
-BT_LANES I add(I a, I b) {
-    return _mm512_add_epi64(a, b);
-}
-BT_LANES I sub(I a, I b) {
-    return _mm512_sub_epi64(a, b);
-}
-BT_LANES I band(I a, I b) {
-    return _mm512_and_si512(a, b);
-}
-BT_LANES I bxor(I a, I b) {
-    return _mm512_xor_si512(a, b);
-}
+BT_LANES I add(I a, I b) { return _mm512_add_epi64(a, b); }
+BT_LANES I sub(I a, I b) { return _mm512_sub_epi64(a, b); }
+BT_LANES I band(I a, I b) { return _mm512_and_si512(a, b); }
+BT_LANES I bxor(I a, I b) { return _mm512_xor_si512(a, b); }
 /// a * b for a, b below 2^32.
-BT_LANES I mul32(I a, I b) {
-    return _mm512_mul_epu32(a, b);
-}
+BT_LANES I mul32(I a, I b) { return _mm512_mul_epu32(a, b); }
 /// Shifts by each lane's count (a count of 64 or more gives 0).
-BT_LANES I sllv(I a, I n) {
-    return _mm512_sllv_epi64(a, n);
-}
-BT_LANES I srlv(I a, I n) {
-    return _mm512_srlv_epi64(a, n);
-}
-BT_LANES I srl1(I a) {
-    return _mm512_srli_epi64(a, 1);
-}
+BT_LANES I sllv(I a, I n) { return _mm512_sllv_epi64(a, n); }
+BT_LANES I srlv(I a, I n) { return _mm512_srlv_epi64(a, n); }
+BT_LANES I srl1(I a) { return _mm512_srli_epi64(a, 1); }
 
-BT_LANES D addd(D a, D b) {
-    return _mm512_add_pd(a, b);
-}
-BT_LANES D subd(D a, D b) {
-    return _mm512_sub_pd(a, b);
-}
+BT_LANES D addd(D a, D b) { return _mm512_add_pd(a, b); }
+BT_LANES D subd(D a, D b) { return _mm512_sub_pd(a, b); }
 /// a * b rounded on its own: never fused with an addition into an FMA (AVX-512 implies FMA, and
 /// GCC fuses the plain vector product), so that oz + dz * t is the scalar traversal's double.
-BT_LANES D muld(D a, D b) {
-    return _mm512_mul_round_pd(a, b, _MM_FROUND_CUR_DIRECTION);
-}
-BT_LANES D divd(D a, D b) {
-    return _mm512_div_pd(a, b);
-}
-BT_LANES D sqrtd(D a) {
-    return _mm512_sqrt_pd(a);
-}
+BT_LANES D muld(D a, D b) { return _mm512_mul_round_pd(a, b, _MM_FROUND_CUR_DIRECTION); }
+BT_LANES D divd(D a, D b) { return _mm512_div_pd(a, b); }
+BT_LANES D sqrtd(D a) { return _mm512_sqrt_pd(a); }
 /// a < b ? a : b, lane by lane (std::min(b, a)).
-BT_LANES D mind(D a, D b) {
-    return _mm512_min_pd(a, b);
-}
+BT_LANES D mind(D a, D b) { return _mm512_min_pd(a, b); }
 
-BT_LANES M gt(I a, I b) {
-    return _mm512_cmpgt_epi64_mask(a, b);
-}
-BT_LANES M eq(I a, I b) {
-    return _mm512_cmpeq_epi64_mask(a, b);
-}
-BT_LANES M led(D a, D b) {
-    return _mm512_cmp_pd_mask(a, b, _CMP_LE_OQ);
-}
-BT_LANES M ltd(D a, D b) {
-    return _mm512_cmp_pd_mask(a, b, _CMP_LT_OQ);
-}
-BT_LANES M ged(D a, D b) {
-    return _mm512_cmp_pd_mask(a, b, _CMP_GE_OQ);
-}
-BT_LANES M eqd(D a, D b) {
-    return _mm512_cmp_pd_mask(a, b, _CMP_EQ_OQ);
-}
+BT_LANES M gt(I a, I b) { return _mm512_cmpgt_epi64_mask(a, b); }
+BT_LANES M eq(I a, I b) { return _mm512_cmpeq_epi64_mask(a, b); }
+BT_LANES M led(D a, D b) { return _mm512_cmp_pd_mask(a, b, _CMP_LE_OQ); }
+BT_LANES M ltd(D a, D b) { return _mm512_cmp_pd_mask(a, b, _CMP_LT_OQ); }
+BT_LANES M ged(D a, D b) { return _mm512_cmp_pd_mask(a, b, _CMP_GE_OQ); }
+BT_LANES M eqd(D a, D b) { return _mm512_cmp_pd_mask(a, b, _CMP_EQ_OQ); }
 
-BT_LANES M mand(M a, M b) {
-    return static_cast<M>(a & b);
-}
-BT_LANES M mor(M a, M b) {
-    return static_cast<M>(a | b);
-}
+BT_LANES M mand(M a, M b) { return static_cast<M>(a & b); }
+BT_LANES M mor(M a, M b) { return static_cast<M>(a | b); }
 /// ~a & b.
-BT_LANES M mandnot(M a, M b) {
-    return static_cast<M>(~a & b);
-}
+BT_LANES M mandnot(M a, M b) { return static_cast<M>(~a & b); }
 /// The lanes of m as the bits of an int (lane j: bit j).
-BT_LANES int bits(M m) {
-    return static_cast<int>(m);
-}
-BT_LANES M mask_of_bits(int b) {
-    return static_cast<M>(b);
-}
+BT_LANES int bits(M m) { return static_cast<int>(m); }
+BT_LANES M mask_of_bits(int b) { return static_cast<M>(b); }
 
 /// m ? a : b, lane by lane.
-BT_LANES I sel(M m, I a, I b) {
-    return _mm512_mask_blend_epi64(m, b, a);
-}
-BT_LANES D seld(M m, D a, D b) {
-    return _mm512_mask_blend_pd(m, b, a);
-}
+BT_LANES I sel(M m, I a, I b) { return _mm512_mask_blend_epi64(m, b, a); }
+BT_LANES D seld(M m, D a, D b) { return _mm512_mask_blend_pd(m, b, a); }
 /// m ? a : 0.
-BT_LANES I keep(M m, I a) {
-    return _mm512_maskz_mov_epi64(m, a);
-}
-BT_LANES I max64(I a, I b) {
-    return _mm512_max_epi64(a, b);
-}
-BT_LANES I min64(I a, I b) {
-    return _mm512_min_epi64(a, b);
-}
+BT_LANES I keep(M m, I a) { return _mm512_maskz_mov_epi64(m, a); }
+BT_LANES I max64(I a, I b) { return _mm512_max_epi64(a, b); }
+BT_LANES I min64(I a, I b) { return _mm512_min_epi64(a, b); }
 
 /// v as doubles, exactly, for |v| < 2^53.
-BT_LANES D to_double(I v) {
-    return _mm512_cvtepi64_pd(v);
-}
+BT_LANES D to_double(I v) { return _mm512_cvtepi64_pd(v); }
 
 /// Trailing zero bits of v | 2^40: 63 - the leading zeros of its lowest set bit.
 BT_LANES I trailing_zeros(I v) {
@@ -153,5 +79,6 @@ BT_LANES D load_heights(const float* const* address, I entry, I off, int on) {
         const float* b = (on & (1 << j)) != 0 ? address[e[j]] : nullptr;
         return b != nullptr ? b[o[j]] : kEmptyHeight;
     };
-    return _mm512_cvtps_pd(_mm256_setr_ps(at(0), at(1), at(2), at(3), at(4), at(5), at(6), at(7)));
+    return _mm512_cvtps_pd(
+        _mm256_setr_ps(at(0), at(1), at(2), at(3), at(4), at(5), at(6), at(7)));
 }

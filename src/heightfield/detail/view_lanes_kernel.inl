@@ -68,8 +68,8 @@ BT_LANES_INLINE D heights(const Lookup& p, I level, I x, I y, M enabled) {
                         sel(in_sections, off_s, off_p), bits(enabled));
 }
 
-BT_LANES void trace(const LevelTable& table, const GridRay* rays, std::size_t count, GridHit* hits,
-                    std::uint8_t* found) {
+BT_LANES void trace(const LevelTable& table, const GridRay* rays, std::size_t count,
+                    GridHit* hits, std::uint8_t* found) {
     const int top = table.section_top();
     const auto n = static_cast<std::int64_t>(table.sections_per_side());
     const I zero = set1(0);
@@ -118,7 +118,7 @@ BT_LANES void trace(const LevelTable& table, const GridRay* rays, std::size_t co
         const D by = to_double(sllv(add(cy, load(s.off_y)), level));
         const D tx = muld(subd(bx, ox), load(s.inv_dx));
         const D ty = muld(subd(by, oy), load(s.inv_dy));
-        const D t_out = mind(ty, tx);        // std::min(tx, ty)
+        const D t_out = mind(ty, tx);       // std::min(tx, ty)
         const D t_end = mind(t_max, t_out);  // std::min(t_out, t_max)
         const D h = heights(p, level, cx, cy, active);
         const D z = addd(oz, muld(dz, seld(ltd(dz, zerod), t_end, t)));
