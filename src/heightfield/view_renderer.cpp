@@ -243,7 +243,7 @@ struct PixelDirections {
                  rays.up().z,      per_cell};
     }
 
-    /// Calls f(px, pixel index, ray) for the pixels [x0, x1) of row py whose rays `setup`
+    /// Calls f(pixel index, ray) for the pixels [t.x0, t.x1) of row py whose rays `setup`
     /// clips to the loaded heights, miss(pixel index) for the others.
     template <typename Hit, typename Miss>
     void row(const detail::RaySetup& setup, const Tile& t, int py, Hit f, Miss miss) const {
