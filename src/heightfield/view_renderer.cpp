@@ -12,6 +12,7 @@
 #include "beamtrace/core/thread_pool.hpp"
 #include "detail/grid_ray.hpp"
 #include "detail/level_table.hpp"
+#include "detail/view_beam.hpp"
 #include "detail/view_trace_simd.hpp"
 
 namespace beamtrace {
@@ -34,10 +35,10 @@ template <int SX, int SY, bool DOWN>
     // descent through the pyramid); steps climb into the pyramid where they leave a parent.
     const int top = table.root();
     const int section_top = table.section_top();
-    int level = section_top;
+    int level = r.level < 0 ? section_top : r.level;
     std::int64_t cx = r.gx >> level, cy = r.gy >> level;
     double t = r.t_min;
-    int entered = -1;
+    int entered = r.entered;
     constexpr std::int64_t kClimbX = SX > 0 ? 0 : 1;
     constexpr std::int64_t kClimbY = SY > 0 ? 0 : 1;
     const double ox = r.ox, oy = r.oy, oz = r.oz, dx = r.dx, dy = r.dy, dz = r.dz;
@@ -208,8 +209,8 @@ struct Tile {
     int x0, y0, x1, y1, width;
 };
 
-/// The rays of a tile that enter the loaded heights, traced in AVX2 lanes; the others are sky.
-/// `rays`, `pixels`, `hits` and `found` are the thread's buffers, reused from tile to tile.
+/// The rays of a tile that enter the loaded heights, with their pixels, hits and whether they
+/// hit: the thread's buffers, reused from tile to tile.
 struct SimdBuffers {
     std::vector<GridRay> rays;
     std::vector<std::size_t> pixels;
@@ -217,20 +218,160 @@ struct SimdBuffers {
     std::vector<std::uint8_t> found;
 };
 
-template <typename PerPixel>
-void for_each_pixel(const Tile& tile, PerPixel f) {
-    for (int py = tile.y0; py < tile.y1; ++py) {
-        for (int px = tile.x0; px < tile.x1; ++px) {
-            f(px, py,
-              static_cast<std::size_t>(py) * static_cast<std::size_t>(tile.width) +
-                  static_cast<std::size_t>(px));
+/// The ray directions of a frame's pixels: one at a time (CameraRays::direction_at of the
+/// pixel's column and row coordinates) or, with `lanes` > 1, a row of a beam at a time in SIMD
+/// lanes (detail::ray_directions_lanes: the same values).
+struct PixelDirections {
+    const CameraRays& rays;
+    std::vector<double> u, v;  ///< image-plane coordinates per column and row
+    detail::DirectionFrame frame;
+    int lanes = 1;
+
+    PixelDirections(const CameraRays& r, const ViewCamera& camera, double per_cell, int simd)
+        : rays(r),
+          u(static_cast<std::size_t>(camera.width)),
+          v(static_cast<std::size_t>(camera.height)),
+          lanes(simd) {
+        for (int px = 0; px < camera.width; ++px) {
+            u[static_cast<std::size_t>(px)] = rays.u(px);
+        }
+        for (int py = 0; py < camera.height; ++py) {
+            v[static_cast<std::size_t>(py)] = rays.v(py);
+        }
+        frame = {rays.forward().x, rays.forward().y, rays.forward().z, rays.right().x,
+                 rays.right().y,   rays.right().z,   rays.up().x,      rays.up().y,
+                 rays.up().z,      per_cell};
+    }
+
+    /// Calls f(pixel index, ray) for the pixels [t.x0, t.x1) of row py whose rays `setup`
+    /// clips to the loaded heights, miss(pixel index) for the others.
+    template <typename Hit, typename Miss>
+    void row(const detail::RaySetup& setup, const Tile& t, int py, Hit f, Miss miss) const {
+        const std::size_t base = static_cast<std::size_t>(py) * static_cast<std::size_t>(t.width);
+        if (lanes <= 1) {
+            for (int px = t.x0; px < t.x1; ++px) {
+                GridRay r;
+                const auto i = base + static_cast<std::size_t>(px);
+                const Vec3d d = rays.direction_at(u[static_cast<std::size_t>(px)],
+                                                  v[static_cast<std::size_t>(py)]);
+                setup(d, r) ? f(i, r) : miss(i);
+            }
+            return;
+        }
+        detail::RowDirections dirs;
+        const int n = t.x1 - t.x0;
+        detail::ray_directions_lanes(lanes, frame, u.data() + t.x0, v[static_cast<std::size_t>(py)],
+                                     n, dirs);
+        for (int k = 0; k < n; ++k) {
+            GridRay r;
+            r.dx = dirs.dx[k];
+            r.dy = dirs.dy[k];
+            r.dz = dirs.dz[k];
+            r.inv_dx = dirs.inv_dx[k];
+            r.inv_dy = dirs.inv_dy[k];
+            const auto i = base + static_cast<std::size_t>(t.x0 + k);
+            setup.clip(r, dirs.inv_dz[k]) ? f(i, r) : miss(i);
+        }
+    }
+};
+
+/// Sets up the rays of the pixels of `tile` into `buffers` (sky for those that miss the loaded
+/// heights), kBeamPixels x kBeamPixels at a time. With a `beams` table, the rays of each such
+/// beam start where the first of them may meet a column (detail::beam_start) and those that end
+/// before it are sky: the walk from there stops where it would have from the ray's start.
+void set_up_rays(const Tile& tile, const PixelDirections& directions, const detail::RaySetup& setup,
+                 const LevelTable* beams, const PixelSink& sink, SimdBuffers& buffers) {
+    buffers.rays.clear();
+    buffers.pixels.clear();
+    constexpr int kBeam = detail::kBeamPixels;
+    static_assert(kBeam <= detail::kRowDirections);
+    const auto miss = [&](std::size_t i) { sink.miss(i); };
+    for (int by = tile.y0; by < tile.y1; by += kBeam) {
+        for (int bx = tile.x0; bx < tile.x1; bx += kBeam) {
+            const Tile block{bx, by, std::min(bx + kBeam, tile.x1), std::min(by + kBeam, tile.y1),
+                             tile.width};
+            const std::size_t first = buffers.rays.size();
+            detail::Beam beam;
+            for (int py = block.y0; py < block.y1; ++py) {
+                directions.row(
+                    setup, block, py,
+                    [&](std::size_t i, const GridRay& r) {
+                        beam.add(r);
+                        buffers.rays.push_back(r);
+                        buffers.pixels.push_back(i);
+                    },
+                    miss);
+            }
+            if (beams == nullptr || buffers.rays.size() == first) {
+                continue;
+            }
+            const detail::BeamStart start = detail::beam_start(*beams, beam);
+            const std::int64_t cells = beams->cells(0);
+            std::size_t kept = first;
+            for (std::size_t j = first; j < buffers.rays.size(); ++j) {
+                if (detail::start_ray_at(buffers.rays[j], start.t, cells)) {
+                    buffers.rays[j].level = start.level;
+                    buffers.rays[kept] = buffers.rays[j];
+                    buffers.pixels[kept] = buffers.pixels[j];
+                    ++kept;
+                } else {
+                    sink.miss(buffers.pixels[j]);
+                }
+            }
+            buffers.rays.resize(kept);
+            buffers.pixels.resize(kept);
         }
     }
 }
 
+/// Renders the pixels of tiles [begin, end) (of `tiles_x` a row, `tile` pixels a side): their
+/// rays set up by set_up_rays, traced in `lanes` SIMD lanes (or one at a time by `trace`),
+/// shaded by `sink`. Returns the lanes of the kernel that ran.
+template <typename Trace>
+int render_tiles(const SectionGrid& grid, const LevelTable& table, const PixelDirections& direction,
+                 const detail::RaySetup& setup, const PixelSink& sink, bool beams, Trace trace,
+                 int lanes, int tile, int tiles_x, int width, int height, std::size_t begin,
+                 std::size_t end) {
+    // Reused by every tile of the chunk: one allocation each, not one per ray.
+    SimdBuffers buffers;
+    const auto most = static_cast<std::size_t>(tile) * static_cast<std::size_t>(tile);
+    buffers.rays.reserve(most);
+    buffers.pixels.reserve(most);
+    buffers.hits.reserve(most);
+    buffers.found.reserve(most);
+    int ran = 1;
+    for (std::size_t k = begin; k < end; ++k) {
+        const int x0 = static_cast<int>(k % static_cast<std::size_t>(tiles_x)) * tile;
+        const int y0 = static_cast<int>(k / static_cast<std::size_t>(tiles_x)) * tile;
+        const Tile t{x0, y0, std::min(x0 + tile, width), std::min(y0 + tile, height), width};
+        set_up_rays(t, direction, setup, beams ? &table : nullptr, sink, buffers);
+        const std::size_t count = buffers.rays.size();
+        buffers.hits.resize(count);
+        buffers.found.resize(count);
+        if (lanes > 1) {
+            ran = detail::trace_rays_lanes(lanes, table, buffers.rays.data(), count,
+                                           buffers.hits.data(), buffers.found.data());
+        } else {
+            for (std::size_t j = 0; j < count; ++j) {
+                buffers.found[j] = trace(grid, table, buffers.rays[j], buffers.hits[j]) ? 1 : 0;
+            }
+        }
+        for (std::size_t j = 0; j < count; ++j) {
+            if (buffers.found[j] != 0) {
+                sink.hit(buffers.pixels[j], buffers.rays[j], buffers.hits[j]);
+            } else {
+                sink.miss(buffers.pixels[j]);
+            }
+        }
+    }
+    return ran;
+}
+
+/// Renders `image` with `trace` (one ray at a time) or the kernel of `lanes` SIMD lanes; with
+/// `beams`, rays start at their beam's start distance (set_up_rays).
 template <typename Trace>
 void render(const SectionGrid& grid, const ViewCamera& camera, const RenderOptions& options,
-            ThreadPool& pool, Trace trace, int lanes, ViewImage& image) {
+            ThreadPool& pool, Trace trace, int lanes, bool beams, ViewImage& image) {
     const LevelTable table(grid);
     camera.validate();
     image.width = camera.width;
@@ -242,19 +383,9 @@ void render(const SectionGrid& grid, const ViewCamera& camera, const RenderOptio
     image.rgb.resize(pixels * 3);
     image.depth.resize(pixels);
     const CameraRays rays(camera);
-    // Image-plane coordinates per column and row (the same values as in direction(px, py)).
-    std::vector<double> u(static_cast<std::size_t>(camera.width));
-    std::vector<double> v(static_cast<std::size_t>(camera.height));
-    for (int px = 0; px < camera.width; ++px) {
-        u[static_cast<std::size_t>(px)] = rays.u(px);
-    }
-    for (int py = 0; py < camera.height; ++py) {
-        v[static_cast<std::size_t>(py)] = rays.v(py);
-    }
-    const auto direction = [&](int px, int py) {
-        return rays.direction_at(u[static_cast<std::size_t>(px)], v[static_cast<std::size_t>(py)]);
-    };
     const detail::RaySetup setup(grid, camera.position);
+    // The reference sets up one ray at a time, the hierarchical renderer in its lanes.
+    const PixelDirections direction(rays, camera, setup.per_cell(), beams ? lanes : 1);
     const PixelSink sink(grid, table, options, image);
     const int tile = std::max(1, options.tile_pixels);
     const int tiles_x = (camera.width + tile - 1) / tile;
@@ -263,61 +394,15 @@ void render(const SectionGrid& grid, const ViewCamera& camera, const RenderOptio
     std::atomic<int> ran{1};
     // Four tiles a chunk: each chunk sets up its buffers once (about 2000 chunks a 1920x1080
     // frame, still plenty to balance two to a few dozen threads).
-    pool.parallel_for(
-        static_cast<std::size_t>(tiles_x) * static_cast<std::size_t>(tiles_y), 4,
-        [&](std::size_t begin, std::size_t end) {
-            // Reused by every tile of the chunk: one allocation each, not one per ray.
-            SimdBuffers buffers;
-            if (lanes > 1) {
-                const auto most = static_cast<std::size_t>(tile) * static_cast<std::size_t>(tile);
-                buffers.rays.reserve(most);
-                buffers.pixels.reserve(most);
-                buffers.hits.reserve(most);
-                buffers.found.reserve(most);
-            }
-            for (std::size_t k = begin; k < end; ++k) {
-                const int x0 = static_cast<int>(k % static_cast<std::size_t>(tiles_x)) * tile;
-                const int y0 = static_cast<int>(k / static_cast<std::size_t>(tiles_x)) * tile;
-                const Tile t{x0, y0, std::min(x0 + tile, camera.width),
-                             std::min(y0 + tile, camera.height), camera.width};
-                if (lanes <= 1) {
-                    for_each_pixel(t, [&](int px, int py, std::size_t i) {
-                        GridRay r;
-                        GridHit hit;
-                        if (setup(direction(px, py), r) && trace(grid, table, r, hit)) {
-                            sink.hit(i, r, hit);
-                        } else {
-                            sink.miss(i);
-                        }
-                    });
-                    continue;
-                }
-                buffers.rays.clear();
-                buffers.pixels.clear();
-                for_each_pixel(t, [&](int px, int py, std::size_t i) {
-                    GridRay r;
-                    if (setup(direction(px, py), r)) {
-                        buffers.rays.push_back(r);
-                        buffers.pixels.push_back(i);
-                    } else {
-                        sink.miss(i);
-                    }
-                });
-                buffers.hits.resize(buffers.rays.size());
-                buffers.found.resize(buffers.rays.size());
-                ran.store(
-                    detail::trace_rays_lanes(lanes, table, buffers.rays.data(), buffers.rays.size(),
-                                             buffers.hits.data(), buffers.found.data()),
-                    std::memory_order_relaxed);
-                for (std::size_t j = 0; j < buffers.rays.size(); ++j) {
-                    if (buffers.found[j] != 0) {
-                        sink.hit(buffers.pixels[j], buffers.rays[j], buffers.hits[j]);
-                    } else {
-                        sink.miss(buffers.pixels[j]);
-                    }
-                }
-            }
-        });
+    pool.parallel_for(static_cast<std::size_t>(tiles_x) * static_cast<std::size_t>(tiles_y), 4,
+                      [&](std::size_t begin, std::size_t end) {
+                          const int r =
+                              render_tiles(grid, table, direction, setup, sink, beams, trace, lanes,
+                                           tile, tiles_x, camera.width, camera.height, begin, end);
+                          if (r > 1) {
+                              ran.store(r, std::memory_order_relaxed);
+                          }
+                      });
     image.kernel_lanes = ran.load();
     apply_eye_dome(image, options.eye_dome, pool);
 }
@@ -351,7 +436,7 @@ void render_view(const SectionGrid& grid, const ViewCamera& camera, const Render
         [](const SectionGrid&, const LevelTable& table, const GridRay& r, GridHit& h) {
             return trace_hierarchical(table, r, h);
         },
-        lanes, image);
+        lanes, true, image);
 }
 
 ViewImage render_view_reference(const SectionGrid& grid, const ViewCamera& camera,
@@ -362,7 +447,7 @@ ViewImage render_view_reference(const SectionGrid& grid, const ViewCamera& camer
         [](const SectionGrid& g, const LevelTable&, const GridRay& r, GridHit& h) {
             return trace_reference(g, r, h);
         },
-        1, image);
+        1, false, image);
     return image;
 }
 

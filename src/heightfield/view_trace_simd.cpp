@@ -25,6 +25,7 @@ namespace avx2 {
 #define BT_LANES __attribute__((target("avx2")))
 #define BT_LANES_INLINE __attribute__((target("avx2"), always_inline)) inline
 #include "detail/view_lanes_kernel.inl"
+#include "detail/view_lanes_setup.inl"
 #undef BT_LANES_INLINE
 #undef BT_LANES
 }  // namespace avx2
@@ -41,6 +42,7 @@ namespace avx512 {
 #define BT_LANES_INLINE \
     __attribute__((target("avx512f,avx512dq,avx512cd,avx2"), always_inline)) inline
 #include "detail/view_lanes_kernel.inl"
+#include "detail/view_lanes_setup.inl"
 #undef BT_LANES_INLINE
 #undef BT_LANES
 }  // namespace avx512
@@ -76,6 +78,20 @@ int trace_rays_lanes(int lanes, const LevelTable& table, const GridRay* rays, st
                            " lanes are not available on this CPU");
 }
 
+void ray_directions_lanes(int lanes, const DirectionFrame& frame, const double* u, double v,
+                          int count, RowDirections& out) {
+    if (lanes == 8 && widest_lanes() >= 8) {
+        avx512::directions(frame, u, v, count, out);
+        return;
+    }
+    if (lanes == 4 && widest_lanes() >= 4) {
+        avx2::directions(frame, u, v, count, out);
+        return;
+    }
+    throw std::logic_error("ray_directions_lanes: " + std::to_string(lanes) +
+                           " lanes are not available on this CPU");
+}
+
 #else
 
 int widest_lanes() {
@@ -85,6 +101,12 @@ int widest_lanes() {
 int trace_rays_lanes(int lanes, const LevelTable&, const GridRay*, std::size_t, GridHit*,
                      std::uint8_t*) {
     throw std::logic_error("trace_rays_lanes: " + std::to_string(lanes) +
+                           " lanes are not built for this CPU");
+}
+
+void ray_directions_lanes(int lanes, const DirectionFrame&, const double*, double, int,
+                          RowDirections&) {
+    throw std::logic_error("ray_directions_lanes: " + std::to_string(lanes) +
                            " lanes are not built for this CPU");
 }
 

@@ -23,6 +23,12 @@ struct GridRay {
     int sx = 1, sy = 1;
     double t_min = 0, t_max = 0;
     std::int64_t gx = 0, gy = 0;  ///< finest cell at t_min
+    /// How the walk entered cell (gx, gy) at t_min: -1 at the ray's start, 0 through an x face,
+    /// 1 through a y face (after start_ray_at, detail/view_beam.hpp, moved the start on).
+    int entered = -1;
+    /// The level the hierarchical walk starts at (-1: the sections' coarsest); any level gives
+    /// the same hit, a level near the surface fewer descents.
+    int level = -1;
 };
 
 /// std::floor of a value well inside the int64 range, without a library call (the same result).
@@ -61,6 +67,17 @@ class RaySetup {
     /// Clips the ray along `dir` (unit) to the window box between the lowest and the highest
     /// loaded height; false when it misses.
     [[nodiscard]] bool operator()(const Vec3d& dir, GridRay& r) const {
+        r.dx = dir.x * per_cell_;
+        r.dy = dir.y * per_cell_;
+        r.dz = dir.z;
+        r.inv_dx = r.dx != 0 ? 1.0 / r.dx : kInf;
+        r.inv_dy = r.dy != 0 ? 1.0 / r.dy : kInf;
+        return clip(r, 1.0 / r.dz);
+    }
+
+    /// The rest of operator(), for a ray whose dx, dy, dz, inv_dx and inv_dy are set as there
+    /// (by the SIMD set-up, trace_directions_lanes, with the same operations) and inv_dz = 1 / dz.
+    [[nodiscard]] bool clip(GridRay& r, double inv_dz) const {
         const double zmax = zmax_;
         if (zmax == -kInf) {
             return false;
@@ -69,16 +86,11 @@ class RaySetup {
         r.ox = ox_;
         r.oy = oy_;
         r.oz = oz_;
-        r.dx = dir.x * per_cell_;
-        r.dy = dir.y * per_cell_;
-        r.dz = dir.z;
         r.sx = r.dx < 0 ? -1 : 1;
         r.sy = r.dy < 0 ? -1 : 1;
-        r.inv_dx = r.dx != 0 ? 1.0 / r.dx : kInf;
-        r.inv_dy = r.dy != 0 ? 1.0 / r.dy : kInf;
         double t0 = 0.0, t1 = kInf;
         // Between the window's two sides along one axis; false when parallel and outside.
-        const auto clip = [&](double o, double d, double inv_d) {
+        const auto slab = [&](double o, double d, double inv_d) {
             if (d != 0) {
                 const double a = (0.0 - o) * inv_d, b = (w - o) * inv_d;
                 t0 = std::max(t0, std::min(a, b));
@@ -87,10 +99,10 @@ class RaySetup {
             }
             return o >= 0 && o < w;
         };
-        if (!clip(r.ox, r.dx, r.inv_dx) || !clip(r.oy, r.dy, r.inv_dy)) {
+        if (!slab(r.ox, r.dx, r.inv_dx) || !slab(r.oy, r.dy, r.inv_dy)) {
             return false;
         }
-        const double inv_dz = 1.0 / r.dz;  // +-inf for a level ray (not used then)
+        // inv_dz: +-inf for a level ray (not used then).
         if (r.oz > zmax) {
             if (r.dz >= 0) {
                 return false;
@@ -109,10 +121,15 @@ class RaySetup {
         }
         r.t_min = t0;
         r.t_max = t1;
+        r.entered = -1;
+        r.level = -1;
         r.gx = std::clamp(floor_to_int(r.ox + r.dx * t0), std::int64_t{0}, last_);
         r.gy = std::clamp(floor_to_int(r.oy + r.dy * t0), std::int64_t{0}, last_);
         return true;
     }
+
+    /// 1 / cell size: dx = dir.x * per_cell(), dy = dir.y * per_cell().
+    [[nodiscard]] double per_cell() const { return per_cell_; }
 
   private:
     double zmax_, zmin_, cell_, w_;
@@ -218,7 +235,13 @@ inline void shade_hit(const SectionGrid& grid, const Finest& finest, const GridR
         const double lo = grid.min_height(), hi = grid.max_height();
         base = height_ramp(hi > lo ? (h - lo) / (hi - lo) : 0.5);
     } else {
-        base = attribute_color(mode, grid.attribute(hit.x, hit.y), grid.intensity_full_scale());
+        const std::uint32_t a = grid.attribute(hit.x, hit.y);
+        // RGB inline (attribute_color's first case, the bytes of the attribute): the common mode
+        // without a call per pixel.
+        base = mode == ColorMode::rgb
+                   ? Rgb8{static_cast<std::uint8_t>(a >> 16), static_cast<std::uint8_t>(a >> 8),
+                          static_cast<std::uint8_t>(a)}
+                   : attribute_color(mode, a, grid.intensity_full_scale());
     }
     double c[3] = {static_cast<double>(base[0]), static_cast<double>(base[1]),
                    static_cast<double>(base[2])};

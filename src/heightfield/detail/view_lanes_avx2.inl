@@ -30,6 +30,8 @@ BT_LANES I srl1(I a) { return _mm256_srli_epi64(a, 1); }
 BT_LANES D addd(D a, D b) { return _mm256_add_pd(a, b); }
 BT_LANES D subd(D a, D b) { return _mm256_sub_pd(a, b); }
 BT_LANES D muld(D a, D b) { return _mm256_mul_pd(a, b); }
+BT_LANES D divd(D a, D b) { return _mm256_div_pd(a, b); }
+BT_LANES D sqrtd(D a) { return _mm256_sqrt_pd(a); }
 /// a < b ? a : b, lane by lane (std::min(b, a)).
 BT_LANES D mind(D a, D b) { return _mm256_min_pd(a, b); }
 

@@ -27,7 +27,11 @@ BT_LANES I srl1(I a) { return _mm512_srli_epi64(a, 1); }
 
 BT_LANES D addd(D a, D b) { return _mm512_add_pd(a, b); }
 BT_LANES D subd(D a, D b) { return _mm512_sub_pd(a, b); }
-BT_LANES D muld(D a, D b) { return _mm512_mul_pd(a, b); }
+/// a * b rounded on its own: never fused with an addition into an FMA (AVX-512 implies FMA, and
+/// GCC fuses the plain vector product), so that oz + dz * t is the scalar traversal's double.
+BT_LANES D muld(D a, D b) { return _mm512_mul_round_pd(a, b, _MM_FROUND_CUR_DIRECTION); }
+BT_LANES D divd(D a, D b) { return _mm512_div_pd(a, b); }
+BT_LANES D sqrtd(D a) { return _mm512_sqrt_pd(a); }
 /// a < b ? a : b, lane by lane (std::min(b, a)).
 BT_LANES D mind(D a, D b) { return _mm512_min_pd(a, b); }
 

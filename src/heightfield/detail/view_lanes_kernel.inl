@@ -23,10 +23,11 @@ struct alignas(64) Lanes {
         inv_dy[j] = r.inv_dy;
         t_max[j] = r.t_max;
         t[j] = r.t_min;
-        cx[j] = r.gx >> top;
-        cy[j] = r.gy >> top;
-        level[j] = top;
-        entered[j] = -1;
+        const int l = r.level < 0 ? top : r.level;
+        cx[j] = r.gx >> l;
+        cy[j] = r.gy >> l;
+        level[j] = l;
+        entered[j] = r.entered;
         sx[j] = r.sx;
         sy[j] = r.sy;
         off_x[j] = r.sx > 0 ? 1 : 0;

@@ -24,4 +24,26 @@ namespace beamtrace::detail {
 [[nodiscard]] int trace_rays_lanes(int lanes, const LevelTable& table, const GridRay* rays,
                                    std::size_t count, GridHit* hits, std::uint8_t* found);
 
+/// What the pixel directions of a frame depend on: CameraRays' forward, right and up vectors
+/// and RaySetup::per_cell().
+struct DirectionFrame {
+    double fx = 0, fy = 0, fz = 0, rx = 0, ry = 0, rz = 0, ux = 0, uy = 0, uz = 0;
+    double per_cell = 1;
+};
+
+/// Directions of up to kRowDirections pixels of one row, as RaySetup::operator() works them out.
+inline constexpr int kRowDirections = 8;
+struct alignas(64) RowDirections {
+    double dx[kRowDirections], dy[kRowDirections], dz[kRowDirections];
+    double inv_dx[kRowDirections], inv_dy[kRowDirections], inv_dz[kRowDirections];
+};
+
+/// For pixels at image-plane coordinates (u[i], v), i < count <= kRowDirections: dx, dy and dz
+/// of the ray along CameraRays::direction_at(u[i], v) in cells (dir.x * per_cell, dir.y *
+/// per_cell, dir.z), inv_dx and inv_dy (1 / d, kInf for 0) and inv_dz = 1 / dz: the values
+/// RaySetup::operator() works out, with the same IEEE operations in the same order (none fused),
+/// `lanes` (4 or 8, at most widest_lanes()) at a time. RaySetup::clip does the rest.
+void ray_directions_lanes(int lanes, const DirectionFrame& frame, const double* u, double v,
+                          int count, RowDirections& out);
+
 }  // namespace beamtrace::detail
