@@ -1,6 +1,7 @@
 #include "beamtrace/physics/waveform.hpp"
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <numbers>
 
@@ -203,17 +204,28 @@ double WaveformConfig::min_separation_or_default_m() const {
 
 void build_waveform(const WaveformConfig& config, std::span<const EchoContribution> contributions,
                     Waveform& out) {
+    build_waveform(config, contributions, BinnedEcho{}, out);
+}
+
+void build_waveform(const WaveformConfig& config, std::span<const EchoContribution> contributions,
+                    const BinnedEcho& binned, Waveform& out) {
     out.bin_ns = config.bin_ns;
     out.first_bin = 0;
     out.samples_w.clear();
-    if (contributions.empty()) {
+    if (contributions.empty() && binned.empty()) {
         return;
     }
     const double sigma_p = config.pulse_fwhm_ns / kFwhmPerSigma;
     const auto sigma_of = [sigma_p](const EchoContribution& c) {
         return c.sigma_ns > 0 ? c.sigma_ns : sigma_p;
     };
-    double t_lo = contributions[0].range_m, t_hi = t_lo, sigma_max = 0.0;
+    double t_lo = contributions.empty() ? binned.first_range_m : contributions[0].range_m;
+    double t_hi = t_lo, sigma_max = 0.0;
+    if (!binned.empty()) {
+        t_lo = std::min(t_lo, binned.first_range_m);
+        t_hi = std::max(t_hi, binned.last_range_m);
+        sigma_max = sigma_p;
+    }
     for (const auto& c : contributions) {
         t_lo = std::min(t_lo, c.range_m);
         t_hi = std::max(t_hi, c.range_m);
@@ -236,6 +248,16 @@ void build_waveform(const WaveformConfig& config, std::span<const EchoContributi
         // The stretched echo keeps its energy: its peak drops as sigma_p / sigma.
         const double amplitude = c.sigma_ns > 0 ? c.power_w * (sigma_p / sigma) : c.power_w;
         add_gaussian(out, b0, b1, t, amplitude, sigma);
+    }
+    // The binned pulses' bins lie inside: their extent counted above with sigma_p <= sigma_max.
+    if (!binned.empty()) {
+        const std::int64_t at = binned.first_bin - first;
+        assert(at >= 0 && at + static_cast<std::int64_t>(binned.samples_w.size()) <=
+                              static_cast<std::int64_t>(out.samples_w.size()));
+        double* y = out.samples_w.data() + at;
+        for (const double v : binned.samples_w) {
+            *y++ += v;
+        }
     }
 }
 
