@@ -53,28 +53,43 @@ struct EchoSpan {
 /// The weighted least-squares Gaussian (Caruana's parabola through ln v, Guo's weights v^2) over
 /// the samples v(m) of the span, contiguous around its top, of at least kEchoFitFraction of
 /// v(top); false when fewer than 3 samples or no downward parabola (the caller falls back).
+/// Working space of the fits: the values of one fit's samples.
+struct FitScratch {
+    std::vector<double> left, right;
+};
+
 template <typename Value>
-bool fit_gaussian(const Waveform& waveform, const EchoSpan& span, Value v, GaussianFit& fit) {
+bool fit_gaussian(const Waveform& waveform, const EchoSpan& span, Value v, FitScratch& scratch,
+                  GaussianFit& fit) {
     const double peak = v(span.top);
     const double floor_w = kEchoFitFraction * peak;
     if (!(peak > 0)) {
         return false;
     }
+    // Each sample's value once (v may be a residual, costly): those left of the top, nearest
+    // first, then the top and those right of it.
+    std::vector<double>& left = scratch.left;
+    std::vector<double>& right = scratch.right;
+    left.clear();
+    right.assign(1, peak);
     std::size_t a = span.top, b = span.top;
-    while (a > span.lo && v(a - 1) >= floor_w) {
-        --a;
+    for (double x = 0; a > span.lo && (x = v(a - 1)) >= floor_w; --a) {
+        left.push_back(x);
     }
-    while (b < span.hi && v(b + 1) >= floor_w) {
-        ++b;
+    for (double x = 0; b < span.hi && (x = v(b + 1)) >= floor_w; ++b) {
+        right.push_back(x);
     }
     if (b - a < 2) {
         return false;
     }
+    const auto value = [&](std::size_t m) {
+        return m < span.top ? left[span.top - m - 1] : right[m - span.top];
+    };
     // Moments in bins from the top: s[n] = sum w t^n, r[n] = sum w ln(v / peak) t^n, w = v^2.
     double s[5] = {0, 0, 0, 0, 0}, r[3] = {0, 0, 0};
     for (std::size_t m = a; m <= b; ++m) {
         const double t = static_cast<double>(m) - static_cast<double>(span.top);
-        const double y = v(m), l = std::log(y / peak);
+        const double y = value(m), l = std::log(y / peak);
         double tn = y * y;
         for (int n = 0; n < 5; ++n) {
             s[n] += tn;
@@ -111,7 +126,7 @@ bool fit_gaussian(const Waveform& waveform, const EchoSpan& span, Value v, Gauss
 /// the samples themselves), or the top sample with the pulse's width when it fails.
 GaussianFit fit_echo(const WaveformConfig& config, const Waveform& waveform,
                      const std::vector<EchoSpan>& spans, const std::vector<GaussianFit>& others,
-                     std::size_t e) {
+                     std::size_t e, FitScratch& scratch) {
     const auto& y = waveform.samples_w;
     const EchoSpan& span = spans[e];
     GaussianFit fit{waveform.time_ns(span.top), y[span.top], config.pulse_fwhm_ns / kFwhmPerSigma};
@@ -122,7 +137,7 @@ GaussianFit fit_echo(const WaveformConfig& config, const Waveform& waveform,
         }
         return v;
     };
-    if (!fit_gaussian(waveform, span, residual, fit)) {
+    if (!fit_gaussian(waveform, span, residual, scratch, fit)) {
         fit = GaussianFit{waveform.time_ns(span.top), y[span.top],
                           config.pulse_fwhm_ns / kFwhmPerSigma};
     }
@@ -270,14 +285,15 @@ void detect_echoes(const WaveformConfig& config, const Waveform& waveform, doubl
     find_spans(config, waveform, spans);
     std::vector<GaussianFit> fits;
     fits.reserve(spans.size());
+    FitScratch scratch;
     for (std::size_t e = 0; e < spans.size(); ++e) {
-        fits.push_back(fit_echo(config, waveform, spans, {}, e));
+        fits.push_back(fit_echo(config, waveform, spans, {}, e, scratch));
     }
     // Separate echoes overlap: refit each on the samples less its neighbours' first fits.
     if (spans.size() > 1) {
         const std::vector<GaussianFit> first = fits;
         for (std::size_t e = 0; e < spans.size(); ++e) {
-            fits[e] = fit_echo(config, waveform, spans, first, e);
+            fits[e] = fit_echo(config, waveform, spans, first, e, scratch);
         }
     }
     for (std::size_t e = 0; e < spans.size(); ++e) {
