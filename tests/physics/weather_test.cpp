@@ -184,15 +184,15 @@ TEST(WeatherFog, ProfileGivesTheSlabWalksWaveform) {
     const double p_t = 30.0, gain = 1.5e-3, far_m = 200.0;
     const SoftTargetProfile profile(medium, p_t, gain, sampling, wf, far_m);
     ASSERT_FALSE(profile.empty());
-    const double sigma_m = wf.pulse_fwhm_ns / (2.0 * std::sqrt(2.0 * std::log(2.0))) /
-                           round_trip_ns_per_m();
+    const double sigma_m =
+        wf.pulse_fwhm_ns / (2.0 * std::sqrt(2.0 * std::log(2.0))) / round_trip_ns_per_m();
     const std::vector<std::vector<BeamShare>> beams{
         {{1.0, far_m}},
         {{0.5, far_m}, {0.5, 7.3}},
         {{0.25, 12.0}, {0.25, 12.0}, {0.25, 12.05}, {0.25, far_m}},
-        {{0.7, 1.2}, {0.3, 30.0}},  // one share ends on the ramp
-        {{1.0, 0.3}},               // inside the blind zone: no fog
-        {{0.6, 2.0}, {0.6, far_m}}, // heavier than one beam
+        {{0.7, 1.2}, {0.3, 30.0}},   // one share ends on the ramp
+        {{1.0, 0.3}},                // inside the blind zone: no fog
+        {{0.6, 2.0}, {0.6, far_m}},  // heavier than one beam
         {{1.0, 45.0}}};
     for (std::size_t i = 0; i < beams.size(); ++i) {
         std::vector<BeamShare> a = beams[i], b = beams[i];
