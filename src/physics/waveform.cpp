@@ -169,25 +169,30 @@ void find_spans(const WaveformConfig& config, const Waveform& waveform,
     const double min_sep_bins =
         config.min_separation_or_default_m() * round_trip_ns_per_m() / waveform.bin_ns;
     const double keep = 1.0 - config.min_dip;
+    // The lowest sample after the last span's top up to k (the first of equal ones; the top
+    // itself when none is lower), kept as k advances.
+    std::size_t valley = 0;
     for (std::size_t k = 1; k + 1 < y.size(); ++k) {
+        if (!spans.empty() && y[k] < y[valley]) {
+            valley = k;
+        }
         if (!(y[k] > y[k - 1] && y[k] >= y[k + 1])) {
             continue;
         }
         if (spans.empty()) {
             spans.push_back({0, y.size() - 1, k});
+            valley = k;
             continue;
         }
         EchoSpan& last = spans.back();
-        std::size_t valley = last.top;
-        for (std::size_t j = last.top + 1; j <= k; ++j) {
-            valley = y[j] < y[valley] ? j : valley;
-        }
         const bool far = static_cast<double>(k - last.top) >= min_sep_bins;
         if (far && y[valley] < keep * std::min(y[last.top], y[k])) {
             last.hi = valley;
             spans.push_back({valley, y.size() - 1, k});
+            valley = k;
         } else if (y[k] > y[last.top]) {
             last.top = k;
+            valley = k;
         }
     }
 }
