@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 namespace beamtrace {
@@ -172,9 +173,11 @@ void find_spans(const WaveformConfig& config, const Waveform& waveform,
     // The lowest sample after the last span's top up to k (the first of equal ones; the top
     // itself when none is lower), kept as k advances.
     std::size_t valley = 0;
+    double valley_w = std::numeric_limits<double>::infinity();  // y[valley] once a span exists
     for (std::size_t k = 1; k + 1 < y.size(); ++k) {
-        if (!spans.empty() && y[k] < y[valley]) {
+        if (y[k] < valley_w) {
             valley = k;
+            valley_w = y[k];
         }
         if (!(y[k] > y[k - 1] && y[k] >= y[k + 1])) {
             continue;
@@ -182,6 +185,7 @@ void find_spans(const WaveformConfig& config, const Waveform& waveform,
         if (spans.empty()) {
             spans.push_back({0, y.size() - 1, k});
             valley = k;
+            valley_w = y[k];
             continue;
         }
         EchoSpan& last = spans.back();
@@ -190,9 +194,11 @@ void find_spans(const WaveformConfig& config, const Waveform& waveform,
             last.hi = valley;
             spans.push_back({valley, y.size() - 1, k});
             valley = k;
+            valley_w = y[k];
         } else if (y[k] > y[last.top]) {
             last.top = k;
             valley = k;
+            valley_w = y[k];
         }
     }
 }
