@@ -210,9 +210,12 @@ void SoftTargetProfile::bin_slabs(const WaveformConfig& waveform) {
     first_bin_ = b0.front();
     const auto bins = static_cast<std::size_t>(b1.back() - first_bin_ + 1);
     slab_last_bin_.resize(slabs_.size());
+    slab_first_bin_.resize(slabs_.size());
     for (std::size_t s = 0; s < slabs_.size(); ++s) {
         slab_last_bin_[s] = static_cast<std::uint32_t>(b1[s] - first_bin_);
+        slab_first_bin_[s] = static_cast<std::uint32_t>(b0[s] - first_bin_);
     }
+    whole_.resize(bins);
     bin_first_slab_.resize(bins);
     bin_offset_.resize(bins + 1);
     prefix_.clear();
@@ -236,6 +239,7 @@ void SoftTargetProfile::bin_slabs(const WaveformConfig& waveform) {
             sum += slabs_[s].unit_w * std::exp(-dt * dt * inv_two_var);
             prefix_.push_back(sum);
         }
+        whole_[k] = sum;
     }
     bin_offset_[bins] = static_cast<std::uint32_t>(prefix_.size());
 }
@@ -298,7 +302,13 @@ void SoftTargetProfile::fill_bins(std::size_t n, double scale_w, SoftTargetEcho&
     e.last_range_m = slabs_[n - 1].r;
     const std::size_t bins = slab_last_bin_[n - 1] + 1;
     e.samples_w.resize(bins);
-    for (std::size_t k = 0; k < bins; ++k) {
+    // Bins before the first one slab n reaches hold all their slabs.
+    const std::size_t whole =
+        n < slabs_.size() ? std::min<std::size_t>(slab_first_bin_[n], bins) : bins;
+    for (std::size_t k = 0; k < whole; ++k) {
+        e.samples_w[k] = scale_w * whole_[k];
+    }
+    for (std::size_t k = whole; k < bins; ++k) {
         const std::size_t first = bin_first_slab_[k];
         const std::size_t len = bin_offset_[k + 1] - bin_offset_[k] - 1;
         const std::size_t count = n > first ? std::min(n - first, len) : 0;

@@ -164,6 +164,8 @@ class SoftTargetProfile {
     std::vector<std::uint32_t> bin_first_slab_;  ///< per bin: the first slab reaching it
     std::vector<std::uint32_t> bin_offset_;      ///< per bin: where its prefix sums start
     std::vector<std::uint32_t> slab_last_bin_;   ///< per slab: the last bin it reaches - first_bin_
+    std::vector<std::uint32_t> slab_first_bin_;  ///< per slab: its first bin - first_bin_
+    std::vector<double> whole_;   ///< per bin: the sum over all its slabs (its last prefix sum)
     std::vector<double> prefix_;  ///< per bin: 0, then the sums over 1, 2, ... of its slabs
 };
 
