@@ -23,9 +23,11 @@ namespace {
 py::array run(const SurveySpec& spec, const RunOptions& o, const py::object& progress) {
     SurveyRunConfig run = run_config(o);
     auto records = std::make_unique<std::vector<std::uint8_t>>();
-    run.extra_sinks.emplace_back([out = records.get()](const SinkFacts& facts) {
-        return make_callback_sink(
-            facts, [out](std::span<const BlockPoint> points) { append_records(points, *out); });
+    const RecordLayout layout = record_layout(spec);
+    run.extra_sinks.emplace_back([out = records.get(), layout](const SinkFacts& facts) {
+        return make_callback_sink(facts, [out, layout](std::span<const BlockPoint> points) {
+            append_records(points, layout, *out);
+        });
     });
     run_watched(
         [&](const CancelToken& cancel, const ProgressFn& report) {
@@ -33,7 +35,7 @@ py::array run(const SurveySpec& spec, const RunOptions& o, const py::object& pro
             (void)run_survey(spec, run, report);
         },
         progress);
-    return records_array(std::move(*records));
+    return records_array(std::move(*records), layout);
 }
 
 void add_run_survey(py::module_& m, const char* name, SurveySpec (*load)(const std::string&),

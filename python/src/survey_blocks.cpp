@@ -73,6 +73,7 @@ class SurveyBlocks {
     void join();
 
     SurveySpec spec_;
+    RecordLayout layout_;  ///< the records' columns (with `weather` when the survey has it)
     SurveyRunConfig run_;
     std::size_t block_bytes_;
     py::object progress_;
@@ -91,8 +92,9 @@ class SurveyBlocks {
 SurveyBlocks::SurveyBlocks(SurveySpec spec, const RunOptions& options, std::size_t block_points,
                            py::object progress)
     : spec_(std::move(spec)),
+      layout_(record_layout(spec_)),
       run_(run_config(options)),
-      block_bytes_(block_points * kRecordBytes),
+      block_bytes_(block_points * layout_.bytes()),
       progress_(std::move(progress)) {
     run_.cancel = &cancel_;
     run_.extra_sinks.emplace_back([this](const SinkFacts& facts) {
@@ -135,9 +137,9 @@ void SurveyBlocks::produce() {
 // Cuts the points into blocks of block_bytes_, pushing each full one.
 void SurveyBlocks::take_points(std::span<const BlockPoint> points) {
     while (!points.empty()) {
-        const std::size_t room = (block_bytes_ - current_.size()) / kRecordBytes;
+        const std::size_t room = (block_bytes_ - current_.size()) / layout_.bytes();
         const std::size_t n = std::min(room, points.size());
-        append_records(points.first(n), current_);
+        append_records(points.first(n), layout_, current_);
         points = points.subspan(n);
         if (current_.size() == block_bytes_) {
             push_block();
@@ -212,7 +214,7 @@ py::array SurveyBlocks::next() {
             throw;
         }
         if (taken.block) {
-            return records_array(std::move(*taken.block));
+            return records_array(std::move(*taken.block), layout_);
         }
         if (taken.done) {
             join();

@@ -11,7 +11,7 @@ namespace beamtrace::python {
 namespace {
 
 /// The columns of the survey arrays, packed in this order (write_point follows it).
-constexpr std::array<Field, 19> kFields{{{"x", "f8"},
+constexpr std::array<Field, 20> kFields{{{"x", "f8"},
                                          {"y", "f8"},
                                          {"z", "f8"},
                                          {"intensity", "u2"},
@@ -29,9 +29,10 @@ constexpr std::array<Field, 19> kFields{{{"x", "f8"},
                                          {"red", "u2"},
                                          {"green", "u2"},
                                          {"blue", "u2"},
-                                         {"nir", "u2"}}};
+                                         {"nir", "u2"},
+                                         {"weather", "u1"}}};
 
-void write_point(const BlockPoint& p, std::uint8_t* record) {
+void write_point(const BlockPoint& p, RecordLayout layout, std::uint8_t* record) {
     std::size_t at = 0;
     const auto put = [&](const auto value) { put_field(record, at, value); };
     put(p.x);
@@ -53,30 +54,41 @@ void write_point(const BlockPoint& p, std::uint8_t* record) {
     put(p.green);
     put(p.blue);
     put(p.nir);
+    if (layout.weather) {
+        put(p.weather);  // WeatherEffect: 0 the scene, 1 fog, 2 rain, 3 snow
+    }
 }
 
 }  // namespace
 
-void append_records(std::span<const BlockPoint> points, std::vector<std::uint8_t>& out) {
+RecordLayout record_layout(const SurveySpec& spec) {
+    return {spec.physics.has_value() && spec.physics->weather.has_value()};
+}
+
+void append_records(std::span<const BlockPoint> points, RecordLayout layout,
+                    std::vector<std::uint8_t>& out) {
     const std::size_t at = out.size();
-    out.resize(at + points.size() * kRecordBytes);
+    const std::size_t bytes = layout.bytes();
+    out.resize(at + points.size() * bytes);
     for (std::size_t i = 0; i < points.size(); ++i) {
-        write_point(points[i], out.data() + at + i * kRecordBytes);
+        write_point(points[i], layout, out.data() + at + i * bytes);
     }
 }
 
-py::array records_array(std::vector<std::uint8_t>&& records) {
-    const py::dtype dtype = structured_dtype(kFields);
-    if (static_cast<std::size_t>(dtype.itemsize()) != kRecordBytes) {
+py::array records_array(std::vector<std::uint8_t>&& records, RecordLayout layout) {
+    const std::span<const Field> fields(kFields.data(), kFields.size() - (layout.weather ? 0 : 1));
+    const py::dtype dtype = structured_dtype(fields);
+    const std::size_t record_bytes = layout.bytes();
+    if (static_cast<std::size_t>(dtype.itemsize()) != record_bytes) {
         throw std::logic_error("survey points: dtype is not packed");
     }
     using Records = std::vector<std::uint8_t>;
     auto owned = std::make_unique<Records>(std::move(records));
-    const auto count = static_cast<py::ssize_t>(owned->size() / kRecordBytes);
+    const auto count = static_cast<py::ssize_t>(owned->size() / record_bytes);
     std::uint8_t* data = owned->data();
     py::capsule base(owned.get(), [](void* p) { delete static_cast<Records*>(p); });
     (void)owned.release();
-    return py::array(dtype, {count}, {static_cast<py::ssize_t>(kRecordBytes)}, data, base);
+    return py::array(dtype, {count}, {static_cast<py::ssize_t>(record_bytes)}, data, base);
 }
 
 SurveyRunConfig run_config(const RunOptions& o) {

@@ -16,14 +16,24 @@
 
 namespace beamtrace::python {
 
-/// Bytes of one packed point record (the dtype's itemsize).
+/// Bytes of one packed point record (the dtype's itemsize) without the weather column.
 inline constexpr std::size_t kRecordBytes = 3 * 8 + 2 + 3 + 2 + 8 + 4 + 1 + 2 + 4 + 4 + 8 + 4 * 2;
 
+/// The records' columns: the common ones, and `weather` (u1, last) when the survey has weather.
+struct RecordLayout {
+    bool weather = false;
+    [[nodiscard]] std::size_t bytes() const { return kRecordBytes + (weather ? 1 : 0); }
+};
+
+/// The layout of `spec`'s points: with `weather` when its physics has a `weather:` block.
+[[nodiscard]] RecordLayout record_layout(const SurveySpec& spec);
+
 /// Appends the packed records of `points` to `out`.
-void append_records(std::span<const BlockPoint> points, std::vector<std::uint8_t>& out);
+void append_records(std::span<const BlockPoint> points, RecordLayout layout,
+                    std::vector<std::uint8_t>& out);
 
 /// `records` (whole records) as a structured array that owns them: no copy.
-[[nodiscard]] py::array records_array(std::vector<std::uint8_t>&& records);
+[[nodiscard]] py::array records_array(std::vector<std::uint8_t>&& records, RecordLayout layout);
 
 /// What a survey call asks of the run, besides the survey.
 struct RunOptions {

@@ -199,3 +199,28 @@ def test_backends_give_the_same_points():
     np.testing.assert_array_equal(beamtrace.run_survey(survey, backend="kdtree"), bvh)
     with pytest.raises(beamtrace.ConfigError, match="octree"):
         beamtrace.run_survey(survey, backend="octree")
+
+
+def test_weather_column_marks_the_mediums_points(cli, examples, tmp_path):
+    """With a `weather:` block the arrays gain `weather` (0 the scene, 2 rain): its points are
+    those the CLI's points.las classes 7 (the medium's class; no part of the demo has it) and
+    that its summary counts; the blocks of iter_survey carry it too. Without weather: no column."""
+    survey = examples / "surveys" / "weather_rain.yaml"
+    points = beamtrace.run_survey(str(survey), seed=3, threads=2)
+    assert points.dtype.names[-1] == "weather"
+    assert points.dtype["weather"] == np.uint8
+    assert set(np.unique(points["weather"])) == {0, 2}
+    summary = subprocess.run([str(cli), "survey", str(survey), "--output", str(tmp_path / "rain"),
+                              "--seed", "3", "--threads", "2"], check=True,
+                             capture_output=True, text=True).stdout
+    counted = [line for line in summary.splitlines() if line.startswith("weather: ")]
+    assert counted == [f"weather: {np.count_nonzero(points['weather'])} of the points are the "
+                       "medium's (fog, rain or snow)"]
+    las, _ = beamtrace.read_las(tmp_path / "rain" / "points.las")
+    assert_same_las_points(points, las)
+    np.testing.assert_array_equal(points["weather"] != 0, las["classification"] == 7)
+    blocks = list(beamtrace.iter_survey(str(survey), seed=3, threads=2, block_points=10000))
+    assert len(blocks) > 1
+    np.testing.assert_array_equal(np.concatenate(blocks), points)
+    clear = beamtrace.run_survey(str(examples / "surveys" / "weather_clear.yaml"), max_pulses=100)
+    assert "weather" not in clear.dtype.names

@@ -12,6 +12,8 @@ namespace beamtrace {
 
 namespace {
 
+const BinnedEcho kNoBinnedEcho{};
+
 constexpr NameTable<ReturnMode, 4> kReturnModes{"return mode",
                                                 {{{ReturnMode::first, "first"},
                                                   {ReturnMode::last, "last"},
@@ -285,11 +287,13 @@ void PulseSimulator::simulate_samples(std::uint64_t seed, std::uint64_t pulse_in
         out.contributions.insert(out.contributions.end(), out.medium.contributions.begin(),
                                  out.medium.contributions.end());
     }
-    if (out.contributions.empty()) {
+    // The fog's binned slabs (none without a medium: out.medium may hold another's).
+    const BinnedEcho& binned = medium_ ? out.medium.fog.binned : kNoBinnedEcho;
+    if (out.contributions.empty() && binned.empty()) {
         return;
     }
     const WaveformConfig& wf = config_.waveform;
-    build_waveform(wf, out.contributions, out.waveform);
+    build_waveform(wf, out.contributions, binned, out.waveform);
     detect_echoes(wf, out.waveform, config_.radiometry.detection_threshold_w, out.echoes);
     if (!config_.keep_waveform) {
         out.waveform.samples_w.clear();
@@ -347,7 +351,7 @@ WeatherEffect PulseSimulator::medium_dominates(const PulseResponse& out, double 
                            round_trip_ns_per_m();
     const MediumEchoes& m = out.medium;
     // The medium's contributions add up at the echo's peak (a fog's slabs are one echo).
-    double fog = 0.0, particles = 0.0;
+    double fog = medium_->binned_fog_share(m, range_m, sigma_m), particles = 0.0;
     for (std::size_t i = 0; i < m.contributions.size(); ++i) {
         const double d = (m.contributions[i].range_m - range_m) / sigma_m;
         const double share = m.contributions[i].power_w / sigma_m * std::exp(-0.5 * d * d);

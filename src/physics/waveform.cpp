@@ -1,7 +1,9 @@
 #include "beamtrace/physics/waveform.hpp"
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 namespace beamtrace {
@@ -52,28 +54,43 @@ struct EchoSpan {
 /// The weighted least-squares Gaussian (Caruana's parabola through ln v, Guo's weights v^2) over
 /// the samples v(m) of the span, contiguous around its top, of at least kEchoFitFraction of
 /// v(top); false when fewer than 3 samples or no downward parabola (the caller falls back).
+/// Working space of the fits: the values of one fit's samples.
+struct FitScratch {
+    std::vector<double> left, right;
+};
+
 template <typename Value>
-bool fit_gaussian(const Waveform& waveform, const EchoSpan& span, Value v, GaussianFit& fit) {
+bool fit_gaussian(const Waveform& waveform, const EchoSpan& span, Value v, FitScratch& scratch,
+                  GaussianFit& fit) {
     const double peak = v(span.top);
     const double floor_w = kEchoFitFraction * peak;
     if (!(peak > 0)) {
         return false;
     }
+    // Each sample's value once (v may be a residual, costly): those left of the top, nearest
+    // first, then the top and those right of it.
+    std::vector<double>& left = scratch.left;
+    std::vector<double>& right = scratch.right;
+    left.clear();
+    right.assign(1, peak);
     std::size_t a = span.top, b = span.top;
-    while (a > span.lo && v(a - 1) >= floor_w) {
-        --a;
+    for (double x = 0; a > span.lo && (x = v(a - 1)) >= floor_w; --a) {
+        left.push_back(x);
     }
-    while (b < span.hi && v(b + 1) >= floor_w) {
-        ++b;
+    for (double x = 0; b < span.hi && (x = v(b + 1)) >= floor_w; ++b) {
+        right.push_back(x);
     }
     if (b - a < 2) {
         return false;
     }
+    const auto value = [&](std::size_t m) {
+        return m < span.top ? left[span.top - m - 1] : right[m - span.top];
+    };
     // Moments in bins from the top: s[n] = sum w t^n, r[n] = sum w ln(v / peak) t^n, w = v^2.
     double s[5] = {0, 0, 0, 0, 0}, r[3] = {0, 0, 0};
     for (std::size_t m = a; m <= b; ++m) {
         const double t = static_cast<double>(m) - static_cast<double>(span.top);
-        const double y = v(m), l = std::log(y / peak);
+        const double y = value(m), l = std::log(y / peak);
         double tn = y * y;
         for (int n = 0; n < 5; ++n) {
             s[n] += tn;
@@ -110,7 +127,7 @@ bool fit_gaussian(const Waveform& waveform, const EchoSpan& span, Value v, Gauss
 /// the samples themselves), or the top sample with the pulse's width when it fails.
 GaussianFit fit_echo(const WaveformConfig& config, const Waveform& waveform,
                      const std::vector<EchoSpan>& spans, const std::vector<GaussianFit>& others,
-                     std::size_t e) {
+                     std::size_t e, FitScratch& scratch) {
     const auto& y = waveform.samples_w;
     const EchoSpan& span = spans[e];
     GaussianFit fit{waveform.time_ns(span.top), y[span.top], config.pulse_fwhm_ns / kFwhmPerSigma};
@@ -121,7 +138,7 @@ GaussianFit fit_echo(const WaveformConfig& config, const Waveform& waveform,
         }
         return v;
     };
-    if (!fit_gaussian(waveform, span, residual, fit)) {
+    if (!fit_gaussian(waveform, span, residual, scratch, fit)) {
         fit = GaussianFit{waveform.time_ns(span.top), y[span.top],
                           config.pulse_fwhm_ns / kFwhmPerSigma};
     }
@@ -153,25 +170,35 @@ void find_spans(const WaveformConfig& config, const Waveform& waveform,
     const double min_sep_bins =
         config.min_separation_or_default_m() * round_trip_ns_per_m() / waveform.bin_ns;
     const double keep = 1.0 - config.min_dip;
+    // The lowest sample after the last span's top up to k (the first of equal ones; the top
+    // itself when none is lower), kept as k advances.
+    std::size_t valley = 0;
+    double valley_w = std::numeric_limits<double>::infinity();  // y[valley] once a span exists
     for (std::size_t k = 1; k + 1 < y.size(); ++k) {
+        if (y[k] < valley_w) {
+            valley = k;
+            valley_w = y[k];
+        }
         if (!(y[k] > y[k - 1] && y[k] >= y[k + 1])) {
             continue;
         }
         if (spans.empty()) {
             spans.push_back({0, y.size() - 1, k});
+            valley = k;
+            valley_w = y[k];
             continue;
         }
         EchoSpan& last = spans.back();
-        std::size_t valley = last.top;
-        for (std::size_t j = last.top + 1; j <= k; ++j) {
-            valley = y[j] < y[valley] ? j : valley;
-        }
         const bool far = static_cast<double>(k - last.top) >= min_sep_bins;
         if (far && y[valley] < keep * std::min(y[last.top], y[k])) {
             last.hi = valley;
             spans.push_back({valley, y.size() - 1, k});
+            valley = k;
+            valley_w = y[k];
         } else if (y[k] > y[last.top]) {
             last.top = k;
+            valley = k;
+            valley_w = y[k];
         }
     }
 }
@@ -203,17 +230,28 @@ double WaveformConfig::min_separation_or_default_m() const {
 
 void build_waveform(const WaveformConfig& config, std::span<const EchoContribution> contributions,
                     Waveform& out) {
+    build_waveform(config, contributions, BinnedEcho{}, out);
+}
+
+void build_waveform(const WaveformConfig& config, std::span<const EchoContribution> contributions,
+                    const BinnedEcho& binned, Waveform& out) {
     out.bin_ns = config.bin_ns;
     out.first_bin = 0;
     out.samples_w.clear();
-    if (contributions.empty()) {
+    if (contributions.empty() && binned.empty()) {
         return;
     }
     const double sigma_p = config.pulse_fwhm_ns / kFwhmPerSigma;
     const auto sigma_of = [sigma_p](const EchoContribution& c) {
         return c.sigma_ns > 0 ? c.sigma_ns : sigma_p;
     };
-    double t_lo = contributions[0].range_m, t_hi = t_lo, sigma_max = 0.0;
+    double t_lo = contributions.empty() ? binned.first_range_m : contributions[0].range_m;
+    double t_hi = t_lo, sigma_max = 0.0;
+    if (!binned.empty()) {
+        t_lo = std::min(t_lo, binned.first_range_m);
+        t_hi = std::max(t_hi, binned.last_range_m);
+        sigma_max = sigma_p;
+    }
     for (const auto& c : contributions) {
         t_lo = std::min(t_lo, c.range_m);
         t_hi = std::max(t_hi, c.range_m);
@@ -237,6 +275,16 @@ void build_waveform(const WaveformConfig& config, std::span<const EchoContributi
         const double amplitude = c.sigma_ns > 0 ? c.power_w * (sigma_p / sigma) : c.power_w;
         add_gaussian(out, b0, b1, t, amplitude, sigma);
     }
+    // The binned pulses' bins lie inside: their extent counted above with sigma_p <= sigma_max.
+    if (!binned.empty()) {
+        const std::int64_t at = binned.first_bin - first;
+        assert(at >= 0 && at + static_cast<std::int64_t>(binned.samples_w.size()) <=
+                              static_cast<std::int64_t>(out.samples_w.size()));
+        double* y = out.samples_w.data() + at;
+        for (const double v : binned.samples_w) {
+            *y++ += v;
+        }
+    }
 }
 
 void detect_echoes(const WaveformConfig& config, const Waveform& waveform, double threshold_w,
@@ -248,14 +296,15 @@ void detect_echoes(const WaveformConfig& config, const Waveform& waveform, doubl
     find_spans(config, waveform, spans);
     std::vector<GaussianFit> fits;
     fits.reserve(spans.size());
+    FitScratch scratch;
     for (std::size_t e = 0; e < spans.size(); ++e) {
-        fits.push_back(fit_echo(config, waveform, spans, {}, e));
+        fits.push_back(fit_echo(config, waveform, spans, {}, e, scratch));
     }
     // Separate echoes overlap: refit each on the samples less its neighbours' first fits.
     if (spans.size() > 1) {
         const std::vector<GaussianFit> first = fits;
         for (std::size_t e = 0; e < spans.size(); ++e) {
-            fits[e] = fit_echo(config, waveform, spans, first, e);
+            fits[e] = fit_echo(config, waveform, spans, first, e, scratch);
         }
     }
     for (std::size_t e = 0; e < spans.size(); ++e) {

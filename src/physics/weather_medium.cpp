@@ -55,6 +55,8 @@ WeatherMedium::WeatherMedium(const WeatherConfig& weather, const RadiometryConfi
         fog_ = {fog_backscatter_per_m_sr(*weather.fog), extinction_per_m, weather.overlap};
         fog_sampling_ = {fog_slab_m(waveform), fog_slab_m(waveform) / 5.0,
                          kFogCutoffFraction * radiometry.detection_threshold_w};
+        fog_profile_ = SoftTargetProfile(fog_, emitted_power_w_, receiver_gain_m2_, fog_sampling_,
+                                         waveform, max_range_m_);
     }
     if (const auto& p = weather.precipitation) {
         if (!(beam.divergence_rad > 0.0) && !(beam.exit_diameter_m > 0.0)) {
@@ -104,8 +106,7 @@ void WeatherMedium::echoes(std::uint64_t seed, std::uint64_t pulse_index,
         return;
     }
     if (weather_.fog) {
-        add_soft_target_echo(fog_, emitted_power_w_, receiver_gain_m2_, shares, fog_sampling_,
-                             out.contributions);
+        fog_profile_.echo(shares, out.fog, out.contributions);
         out.effects.resize(out.contributions.size(), WeatherEffect::fog);
     }
     if (!particles_) {

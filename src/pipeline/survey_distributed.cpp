@@ -1,6 +1,7 @@
 #include "beamtrace/pipeline/survey_distributed.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <exception>
 #include <functional>
@@ -120,7 +121,8 @@ LasRecordBlock reduce_totals(Communicator& comm, const LasRecordBlock& mine) {
 struct RoundRecords {
     std::vector<LasRecordBlock> blocks;
     std::vector<std::uint8_t> bytes;
-    LasRecordBlock totals;  ///< of these records (bytes unused)
+    LasRecordBlock totals;      ///< of these records (bytes unused)
+    std::uint64_t weather = 0;  ///< of these points, the weather's (BlockPoint::weather)
 };
 
 /// The survey's rounds. While the ranks exchange their byte counts and write round r, the pool
@@ -183,11 +185,14 @@ class RoundWriter {
                 error = std::current_exception();  // reported at the next exchange
             }
             las_add_totals(totals, mine.totals);
+            weather_ += mine.weather;
             written += all;
         }
         agree_on_error(comm_, error);
         return totals;
     }
+    /// This rank's points of the weather (run_all's rounds).
+    [[nodiscard]] std::uint64_t weather_points() const { return weather_; }
 
   private:
     static constexpr std::uint64_t kFailed = std::numeric_limits<std::uint64_t>::max();
@@ -200,6 +205,7 @@ class RoundWriter {
         const std::size_t end = std::min(session_.blocks(), first + per_rank_);
         const std::size_t count = end > first ? end - first : 0;
         out.blocks.resize(std::max(out.blocks.size(), count));
+        std::atomic<std::uint64_t> weather{0};
         pool_.parallel_for(count, 1, [&](std::size_t b, std::size_t e) {
             std::unique_ptr<detail::BlockWork> w = shelf_.take();
             for (std::size_t k = b; k < e; ++k) {
@@ -210,11 +216,15 @@ class RoundWriter {
                 }
                 encode_las_extra_bytes(session_.facts().extra_bytes, w->points.points, encoder_,
                                        out.blocks[k]);
+                weather += static_cast<std::uint64_t>(
+                    std::count_if(w->points.points.begin(), w->points.points.end(),
+                                  [](const BlockPoint& p) { return p.weather != 0; }));
             }
             shelf_.put(std::move(w));
         });
         out.bytes.clear();
         out.totals = LasRecordBlock{};
+        out.weather = weather;
         for (std::size_t k = 0; k < count; ++k) {
             const LasRecordBlock& block = out.blocks[k];
             const std::size_t size = block.count * encoder_.header().point_record_length;
@@ -232,6 +242,7 @@ class RoundWriter {
     ThreadPool& pool_;
     detail::WorkShelf shelf_;
     RoundRecords slots_[2];
+    std::uint64_t weather_ = 0;
 };
 
 /// The ranks write points.las together: no in-memory outputs (SurveyRunConfig::extra_sinks).
@@ -264,10 +275,10 @@ void make_output_dir(Communicator& comm, const std::filesystem::path& dir,
 }
 
 /// Collective: the records of every round into `file`, then the header (rank 0); returns the
-/// totals of all ranks' records.
+/// totals of all ranks' records, and their points of the weather in `weather_points`.
 LasRecordBlock write_points(const detail::SurveySession& session, const SurveyRunConfig& run,
                             Communicator& comm, SharedFile& file, ThreadPool& pool,
-                            const ProgressFn& progress) {
+                            const ProgressFn& progress, std::uint64_t& weather_points) {
     const LasWriter encoder(survey_las_config(session.facts()));
     const std::size_t per_rank = std::max<std::size_t>(
         1, (run.chunk_pulses + detail::kBlockPulses - 1) / detail::kBlockPulses);
@@ -289,6 +300,9 @@ LasRecordBlock write_points(const detail::SurveySession& session, const SurveyRu
                    static_cast<std::uint64_t>(comm.size()));
         });
     const LasRecordBlock totals = reduce_totals(comm, mine);
+    std::uint64_t weather[1] = {rounds.weather_points()};
+    comm.sum(weather);
+    weather_points = weather[0];
     collectively(comm, [&] {
         if (comm.rank() == 0) {
             file.write_at(0, encoder.header_bytes(totals));
@@ -351,7 +365,12 @@ SurveyResult run_survey_distributed(const SurveySpec& spec, const SurveyRunConfi
     try {
         std::unique_ptr<SharedFile> file;
         collectively(comm, [&] { file = comm.open_shared(temp); });
-        result.points = write_points(*session, run, comm, *file, pool, progress).count;
+        std::uint64_t weather_points = 0;
+        result.points =
+            write_points(*session, run, comm, *file, pool, progress, weather_points).count;
+        if (spec.physics && spec.physics->weather) {
+            result.weather_points = weather_points;  // every rank's
+        }
         result.outputs =
             commit_outputs(spec, session->facts(), comm, temp, run.output_dir / "points.las");
     } catch (...) {

@@ -174,6 +174,58 @@ TEST(WeatherFog, HardTargetsShadowTheFogBehindThem) {
                  std::invalid_argument);
 }
 
+// The survey's precomputed fog (SoftTargetProfile: slabs summed per bin once) against the slab
+// walk of add_soft_target_echo, pulse by pulse: beams whose shares end before, inside and
+// beyond the fog's reach, cut on the overlap ramp, misses, a beam heavier than the table's.
+TEST(WeatherFog, ProfileGivesTheSlabWalksWaveform) {
+    const SoftTarget medium{0.046 / 40.0, std::log(20.0) / 40.0, {0.5, 2.0}};
+    const WaveformConfig wf;
+    const SoftTargetSampling sampling{0.127, 0.0254, 1e-3 * 2e-8};
+    const double p_t = 30.0, gain = 1.5e-3, far_m = 200.0;
+    const SoftTargetProfile profile(medium, p_t, gain, sampling, wf, far_m);
+    ASSERT_FALSE(profile.empty());
+    const double sigma_m =
+        wf.pulse_fwhm_ns / (2.0 * std::sqrt(2.0 * std::log(2.0))) / round_trip_ns_per_m();
+    const std::vector<std::vector<BeamShare>> beams{
+        {{1.0, far_m}},
+        {{0.5, far_m}, {0.5, 7.3}},
+        {{0.25, 12.0}, {0.25, 12.0}, {0.25, 12.05}, {0.25, far_m}},
+        {{0.7, 1.2}, {0.3, 30.0}},   // one share ends on the ramp
+        {{1.0, 0.3}},                // inside the blind zone: no fog
+        {{0.6, 2.0}, {0.6, far_m}},  // heavier than one beam
+        {{1.0, 45.0}}};
+    for (std::size_t i = 0; i < beams.size(); ++i) {
+        std::vector<BeamShare> a = beams[i], b = beams[i];
+        std::vector<EchoContribution> walk, rest;
+        add_soft_target_echo(medium, p_t, gain, a, sampling, walk);
+        SoftTargetEcho binned;
+        profile.echo(b, binned, rest);
+        Waveform want, got;
+        build_waveform(wf, walk, want);
+        build_waveform(wf, rest, binned.binned, got);
+        ASSERT_EQ(got.first_bin, want.first_bin) << i;
+        ASSERT_EQ(got.samples_w.size(), want.samples_w.size()) << i;
+        double peak = 0.0;
+        for (const double v : want.samples_w) {
+            peak = std::max(peak, v);
+        }
+        for (std::size_t k = 0; k < want.samples_w.size(); ++k) {
+            EXPECT_NEAR(got.samples_w[k], want.samples_w[k], 1e-12 * peak) << i << " " << k;
+        }
+        EXPECT_EQ(binned.slabs + rest.size(), walk.size()) << i;
+        // What the binned slabs add at an echo's peak, against the sum over the walk's slabs.
+        for (const double r : {1.0, 1.35, 2.4, 7.0, 11.9, 20.0}) {
+            double brute = 0.0;
+            for (std::size_t s = 0; s < binned.slabs; ++s) {
+                const double d = (walk[s].range_m - r) / sigma_m;
+                brute += walk[s].power_w / sigma_m * std::exp(-0.5 * d * d);
+            }
+            EXPECT_NEAR(profile.share_at(binned, r, sigma_m), brute, 1e-12 * brute + 1e-30)
+                << i << " " << r;
+        }
+    }
+}
+
 TEST(WeatherPrecipitation, DistributionsFollowTheirPublishedForms) {
     const auto rain = drop_size_distribution(PrecipitationKind::rain, 10.0);
     EXPECT_EQ(rain.n0_per_m3_mm, 8000.0);

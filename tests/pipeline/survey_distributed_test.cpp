@@ -7,6 +7,7 @@
 #include <atomic>
 #include <filesystem>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -114,6 +115,59 @@ TEST(SurveyDistributed, ExtraBytesIdenticalToOneProcess) {
     std::vector<LasPoint> points(64);
     ASSERT_EQ(reader.read(points), 64u);
     EXPECT_NE(points[0].extra_bytes, std::vector<std::uint8_t>(14, 0));
+}
+
+// The summary's count of the weather's points is every rank's, not the rank's own: each rank
+// reports the one-process run's count, and the ranks' file is that run's.
+TEST(SurveyDistributed, WeatherPointsAreCountedOverEveryRank) {
+    // The airborne flight with sub-rays in heavy rain (the weather examples' range camera is a
+    // scanner the ranks refuse).
+    SurveySpec spec = example("airborne_line_physics");
+    ASSERT_TRUE(spec.physics.has_value());
+    WeatherConfig weather;
+    PrecipitationConfig rain;
+    rain.rate_mm_h = 25.0;
+    weather.precipitation = rain;
+    spec.physics->weather = weather;
+    constexpr std::uint64_t kWeatherPulses = 16 * 1024;
+    test::TempDir dir;
+    SurveyRunConfig one;
+    one.output_dir = dir / "single";
+    one.seed = 7;
+    one.max_pulses = kWeatherPulses;
+    const SurveyResult single = run_survey(spec, one);
+    ASSERT_TRUE(single.weather_points.has_value());
+    ASSERT_GT(*single.weather_points, 0u);
+    ASSERT_LT(*single.weather_points, single.points);
+    for (const int ranks : {2, 3}) {
+        std::vector<std::optional<std::uint64_t>> counts(static_cast<std::size_t>(ranks));
+        test::ThreadWorld world(ranks);
+        world.run([&](Communicator& comm) {
+            SurveyRunConfig run;
+            run.output_dir = dir / std::to_string(ranks);
+            run.seed = 7;
+            run.threads = 1;
+            run.chunk_pulses = 4 * 1024;  // several rounds
+            run.max_pulses = kWeatherPulses;
+            counts[static_cast<std::size_t>(comm.rank())] =
+                run_survey_distributed(spec, run, comm).weather_points;
+        });
+        EXPECT_EQ(test::read_file(dir / std::to_string(ranks) / "points.las"),
+                  test::read_file(dir / "single" / "points.las"));
+        for (const auto& c : counts) {
+            EXPECT_EQ(c, single.weather_points) << ranks << " ranks";
+        }
+    }
+    // Without weather: no count.
+    const SurveySpec clear = example("airborne_line_physics");
+    test::ThreadWorld world(2);
+    world.run([&](Communicator& comm) {
+        SurveyRunConfig run;
+        run.output_dir = dir / "clear";
+        run.seed = 7;
+        run.max_pulses = kWeatherPulses;
+        EXPECT_FALSE(run_survey_distributed(clear, run, comm).weather_points.has_value());
+    });
 }
 
 TEST(SurveyDistributed, AFailingRankStopsEveryRankAndLeavesNothing) {

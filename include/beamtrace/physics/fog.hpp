@@ -20,6 +20,7 @@
 // simulation on real LiDAR point clouds"). Both can be overridden.
 #pragma once
 
+#include <cstdint>
 #include <optional>
 #include <span>
 #include <string>
@@ -97,5 +98,75 @@ struct BeamShare {
 void add_soft_target_echo(const SoftTarget& medium, double emitted_power_w, double receiver_gain_m2,
                           std::span<BeamShare> shares, const SoftTargetSampling& sampling,
                           std::vector<EchoContribution>& out);
+
+/// What SoftTargetProfile::echo gives besides its contributions: the leading slabs, already
+/// summed on the waveform's bin grid (BinnedEcho, waveform.hpp), and how to weigh them.
+struct SoftTargetEcho {
+    BinnedEcho binned;      ///< the leading slabs' samples
+    std::size_t slabs = 0;  ///< how many leading slabs `binned` holds
+    double scale_w = 0.0;   ///< emitted power x gain x beta x the travelling weight
+    void clear() {
+        binned.clear();
+        slabs = 0;
+        scale_w = 0.0;
+    }
+};
+
+/// add_soft_target_echo for a whole survey, with its slabs and their pulses on the waveform's
+/// bin grid worked out once. Its slabs run on a fixed grid from overlap.start_m until a share
+/// ends; up to there a pulse's echo is one weight times a precomputed sum per bin (prefix
+/// sums over the slabs that reach each bin), so a pulse costs one multiply-add per bin instead
+/// of a Gaussian per slab. From where the first share ends on, slabs are cut as
+/// add_soft_target_echo cuts them and returned as contributions. The slabs, their powers and
+/// where the sum stops are those of add_soft_target_echo; only the order of the additions
+/// differs (the samples agree to rounding).
+class SoftTargetProfile {
+  public:
+    SoftTargetProfile() = default;
+    /// Precomputes the slabs from overlap.start_m up to where a beam of weight `max_weight`
+    /// meets the cut-off, at most `max_range_m` (and at most 2^16 slabs; any further ones are
+    /// made per pulse).
+    SoftTargetProfile(const SoftTarget& medium, double emitted_power_w, double receiver_gain_m2,
+                      const SoftTargetSampling& sampling, const WaveformConfig& waveform,
+                      double max_range_m, double max_weight = 1.5);
+
+    [[nodiscard]] bool empty() const { return slabs_.empty(); }
+    /// The echo of add_soft_target_echo(shares): the leading slabs into `binned`, the others
+    /// appended to `out`. `shares` is sorted by end in place.
+    void echo(std::span<BeamShare> shares, SoftTargetEcho& binned,
+              std::vector<EchoContribution>& out) const;
+    /// Sum over the binned slabs of their peak power / sigma_m x exp(-((r - range_m) /
+    /// sigma_m)^2 / 2): what they add at an echo's peak at `range_m` (pulse.cpp's share of the
+    /// medium), with slabs beyond 12 sigma_m left out (below 1e-31 of the nearest).
+    [[nodiscard]] double share_at(const SoftTargetEcho& binned, double range_m,
+                                  double sigma_m) const;
+
+  private:
+    struct Slab {
+        double lo = 0.0, hi = 0.0, width = 0.0, r = 0.0, xi = 0.0, transmission = 0.0;
+        double unit_w = 0.0;  ///< width xi transmission / r^2: the power per unit scale
+    };
+    /// True when slab `s` with the weight's scale `scale_w` ends the sum (add_soft_target_echo's
+    /// cut-off test).
+    [[nodiscard]] bool below_cutoff(std::size_t s, double scale_w) const;
+    /// The bins' prefix sums of the slabs' unit pulses.
+    void bin_slabs(const WaveformConfig& waveform);
+    /// The first `n` slabs at `scale_w` into `binned`.
+    void fill_bins(std::size_t n, double scale_w, SoftTargetEcho& binned) const;
+
+    SoftTarget medium_;
+    double emitted_power_w_ = 0.0, receiver_gain_m2_ = 0.0;
+    SoftTargetSampling sampling_;
+    double bin_ns_ = 0.5;
+    std::vector<Slab> slabs_;
+    std::size_t first_full_ = 0;  ///< the first slab beyond full overlap (r > full_m)
+    std::int64_t first_bin_ = 0;  ///< the first bin any slab reaches
+    std::vector<std::uint32_t> bin_first_slab_;  ///< per bin: the first slab reaching it
+    std::vector<std::uint32_t> bin_offset_;      ///< per bin: where its prefix sums start
+    std::vector<std::uint32_t> slab_last_bin_;   ///< per slab: the last bin it reaches - first_bin_
+    std::vector<std::uint32_t> slab_first_bin_;  ///< per slab: its first bin - first_bin_
+    std::vector<double> whole_;   ///< per bin: the sum over all its slabs (its last prefix sum)
+    std::vector<double> prefix_;  ///< per bin: 0, then the sums over 1, 2, ... of its slabs
+};
 
 }  // namespace beamtrace

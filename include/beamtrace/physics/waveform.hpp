@@ -96,6 +96,22 @@ struct Echo {
 void build_waveform(const WaveformConfig& config, std::span<const EchoContribution> contributions,
                     Waveform& out);
 
+/// Pulses already summed on the bin grid: samples_w[k] adds to bin first_bin + k. They stand for
+/// unstretched pulses (sigma_p) centred from first_range_m to last_range_m, which set the
+/// waveform's extent as their contributions would (e.g. a fog's slabs, fog.hpp).
+struct BinnedEcho {
+    std::int64_t first_bin = 0;
+    std::vector<double> samples_w;
+    double first_range_m = 0.0;
+    double last_range_m = 0.0;
+    [[nodiscard]] bool empty() const { return samples_w.empty(); }
+    void clear() { samples_w.clear(); }
+};
+
+/// The same with `binned` added after the contributions (either may be empty).
+void build_waveform(const WaveformConfig& config, std::span<const EchoContribution> contributions,
+                    const BinnedEcho& binned, Waveform& out);
+
 /// HELIOS++'s pulse of length L (its scanners' `pulseLength_ns`): p(t) = (t/tau)^2 exp(-t/tau),
 /// tau = L / 7, sampled over [0, L). Its FWHM is this factor times L: (x2 - x1) / 7 with
 /// x1 = 0.761240, x2 = 4.155921 the roots of x^2 e^-x = 2 e^-2 (half the peak, at x = 2).

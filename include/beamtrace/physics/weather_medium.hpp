@@ -17,12 +17,16 @@ namespace beamtrace {
 
 /// The medium's contributions to one pulse's waveform, with what made each.
 struct MediumEchoes {
+    /// The fog's leading slabs, summed on the waveform's bins (fog.hpp, SoftTargetProfile);
+    /// its other slabs are among the contributions.
+    SoftTargetEcho fog;
     std::vector<EchoContribution> contributions;
     std::vector<WeatherEffect> effects;  ///< one per contribution
     /// The particles drawn (their echoes are among the contributions): each takes away its
     /// blocked fraction of the beam behind it.
     std::vector<Particle> particles;
     void clear() {
+        fog.clear();
         contributions.clear();
         effects.clear();
         particles.clear();
@@ -46,6 +50,13 @@ class WeatherMedium {
     void echoes(std::uint64_t seed, std::uint64_t pulse_index, std::span<BeamShare> shares,
                 MediumEchoes& out) const;
 
+    /// What the fog's binned slabs of `echoes` add at an echo's peak at `range_m`: their peak
+    /// powers / sigma_m weighted by exp(-((r - range_m) / sigma_m)^2 / 2).
+    [[nodiscard]] double binned_fog_share(const MediumEchoes& echoes, double range_m,
+                                          double sigma_m) const {
+        return fog_profile_.share_at(echoes.fog, range_m, sigma_m);
+    }
+
   private:
     /// The particles' sampler of the whole beam, over the particles' reach.
     [[nodiscard]] ParticleSampler particle_sampler(const WeatherConfig& weather,
@@ -57,6 +68,7 @@ class WeatherMedium {
     WeatherConfig weather_;
     SoftTarget fog_;
     SoftTargetSampling fog_sampling_;
+    SoftTargetProfile fog_profile_;
     double emitted_power_w_ = 0.0;
     double receiver_gain_m2_ = 0.0;
     double max_range_m_ = 0.0;
