@@ -57,10 +57,14 @@ int run(ScanCommand& cmd) {
         }
         std::printf("rays: %zu, hits: %zu, points written: %zu\n", r.rays, r.hits,
                     r.points_written);
+        const auto rate = [&](double s) {
+            return s > 0 ? static_cast<double>(r.rays) / s / 1e6 : 0.0;
+        };
         std::printf(
-            "time: load %.3f s, build (%s) %.3f s, trace %.3f s (%.2f M rays/s), write %.3f s\n",
+            "time: load %.3f s, build (%s) %.3f s, trace %.3f s (%.2f M rays/s), write "
+            "%.3f s (trace and write %.2f M rays/s)\n",
             r.load_s, std::string(to_string(c.backend)).c_str(), r.build_s, r.trace_s,
-            r.trace_s > 0 ? static_cast<double>(r.rays) / r.trace_s / 1e6 : 0.0, r.write_s);
+            rate(r.trace_s), r.write_s, rate(r.trace_s + r.write_s));
         for (const auto& p : r.outputs) {
             std::printf("wrote %s\n", p.string().c_str());
         }

