@@ -23,8 +23,49 @@ MovingInstances::MovingInstances(const std::vector<TriangleMesh>& meshes,
             blas_[mi.mesh] = build_bvh(meshes[mi.mesh], config, pool);
             mesh_bounds_[mi.mesh] = meshes[mi.mesh].bounds();
         }
-        placements_.push_back({mi.local.inverse(), mi.local.determinant() < 0.0});
+        placements_.push_back(place(mi, motions[mi.motion], mesh_bounds_[mi.mesh]));
     }
+}
+
+namespace {
+
+/// Whether `how` keeps one attitude at all times (no spin; keys all of one attitude).
+bool never_turns(const RigidMotion& how) {
+    if (how.keys.empty()) {
+        return how.spin_rate_rad_s == 0.0;
+    }
+    const Quat& q = how.keys.front().attitude;
+    return std::all_of(how.keys.begin(), how.keys.end(), [&](const MotionKey& k) {
+        return k.attitude.w == q.w && k.attitude.x == q.x && k.attitude.y == q.y &&
+               k.attitude.z == q.z;
+    });
+}
+
+}  // namespace
+
+MovingInstances::Placement MovingInstances::place(const MovingInstance& mi, const RigidMotion& how,
+                                                  const Aabb& object_box) {
+    Placement pl{mi.local.inverse(), mi.local.determinant() < 0.0};
+    pl.still_attitude = never_turns(how) && !object_box.empty();
+    if (!pl.still_attitude) {
+        return pl;
+    }
+    // The mesh's box corners in the motion's frame, turned by its one attitude, and the offset:
+    // the swept box over any span is then the path's box plus this one (prepare()).
+    const Quat q = how.at(0.0).attitude;
+    double reach = 0.0;
+    for (int c = 0; c < 8; ++c) {
+        const Vec3d corner((c & 1) ? object_box.hi.x : object_box.lo.x,
+                           (c & 2) ? object_box.hi.y : object_box.lo.y,
+                           (c & 4) ? object_box.hi.z : object_box.lo.z);
+        const Vec3d m = mi.local.apply_point(corner);
+        reach = std::max(reach, length(m));
+        const Vec3d w = q.rotate(m) + mi.offset_m;
+        pl.box_lo = c == 0 ? w : min(pl.box_lo, w);
+        pl.box_hi = c == 0 ? w : max(pl.box_hi, w);
+    }
+    pl.pad_m = 1e-6 * (reach + length(mi.offset_m)) + 1e-6;
+    return pl;
 }
 
 namespace {
@@ -57,13 +98,44 @@ double refit(Bvh& bvh, std::span<const Aabb> boxes) {
 
 }  // namespace
 
+Aabb MovingInstances::swept_box(std::size_t k, double t0, double t1) const {
+    const MovingInstance& mi = instances_[k];
+    const RigidMotion& how = motions_[mi.motion];
+    const Placement& pl = placements_[k];
+    if (!pl.still_attitude) {
+        return mi.swept_bounds(mesh_bounds_[mi.mesh], how, t0, t1);
+    }
+    // The path's box: its ends and the keys between them (positions are linear between keys).
+    const bool keyed = !how.keys.empty();
+    Vec3d lo = keyed ? how.at(t0).position_m : how.pivot_m + how.velocity_mps * t0;
+    const Vec3d end = keyed ? how.at(t1).position_m : how.pivot_m + how.velocity_mps * t1;
+    Vec3d hi = max(lo, end);
+    lo = min(lo, end);
+    if (keyed) {
+        const auto first =
+            std::upper_bound(how.keys.begin(), how.keys.end(), t0,
+                             [](double t, const MotionKey& key) { return t < key.time_s; });
+        for (auto key = first; key != how.keys.end() && key->time_s < t1; ++key) {
+            lo = min(lo, key->position_m);
+            hi = max(hi, key->position_m);
+        }
+    }
+    // A margin for the float rounding of the traced rays, as in MovingInstance::swept_bounds. It
+    // is at least 1e-6 of each coordinate's size (|path.lo| + |box_lo| <= |path.lo| + reach +
+    // |offset|), far above the half float ulp (6e-8 of it) of the conversion below: rounding
+    // to the nearest float keeps the box around the part.
+    const double pad = pl.pad_m + 1e-6 * (length(hi - lo) + length(lo));
+    lo = lo + pl.box_lo - Vec3d{pad, pad, pad};
+    hi = hi + pl.box_hi + Vec3d{pad, pad, pad};
+    return Aabb{Vec3f(lo), Vec3f(hi)};
+}
+
 void MovingInstances::prepare(double t0, double t1, MovingFrame& frame, ThreadPool& pool) const {
     frame.t0 = t0;
     frame.t1 = t1;
     frame.boxes.resize(instances_.size());
     for (std::size_t k = 0; k < instances_.size(); ++k) {
-        const MovingInstance& mi = instances_[k];
-        frame.boxes[k] = mi.swept_bounds(mesh_bounds_[mi.mesh], motions_[mi.motion], t0, t1);
+        frame.boxes[k] = swept_box(k, t0, t1);
     }
     if (!frame.top.nodes.empty() && refit(frame.top, frame.boxes) <= 2.0 * frame.built_cost) {
         return;

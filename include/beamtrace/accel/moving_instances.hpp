@@ -58,7 +58,17 @@ class MovingInstances {
     struct Placement {
         Affine3 local_inverse;  ///< the motion's frame -> object coordinates
         bool mirrored = false;
+        /// The motion never turns the part: its swept box over a span is the path's box plus
+        /// [box_lo, box_hi] (the mesh's box placed at the origin of the path, offset included)
+        /// padded by pad_m and a share of the path's size, computed without the general sweep.
+        bool still_attitude = false;
+        Vec3d box_lo{0, 0, 0}, box_hi{0, 0, 0};
+        double pad_m = 0.0;
     };
+    [[nodiscard]] static Placement place(const MovingInstance& mi, const RigidMotion& how,
+                                         const Aabb& object_box);
+    /// Instance k's bounds over [t0, t1].
+    [[nodiscard]] Aabb swept_box(std::size_t k, double t0, double t1) const;
     const std::vector<TriangleMesh>* meshes_;
     std::span<const MovingInstance> instances_;
     std::span<const RigidMotion> motions_;
