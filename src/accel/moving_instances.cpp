@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cassert>
+#include <optional>
 
 #include "detail/queries.hpp"
 #include "detail/walk_bvh.hpp"
@@ -50,9 +51,11 @@ MovingInstances::Placement MovingInstances::place(const MovingInstance& mi, cons
     if (!pl.still_attitude) {
         return pl;
     }
+    const Quat q = how.at(0.0).attitude;
+    pl.shift_only = q.w == 1.0 && q.x == 0.0 && q.y == 0.0 && q.z == 0.0 &&
+                    pl.local_inverse.linear.m == Mat3::identity().m;
     // The mesh's box corners in the motion's frame, turned by its one attitude, and the offset:
     // the swept box over any span is then the path's box plus this one (prepare()).
-    const Quat q = how.at(0.0).attitude;
     double reach = 0.0;
     for (int c = 0; c < 8; ++c) {
         const Vec3d corner((c & 1) ? object_box.hi.x : object_box.lo.x,
@@ -158,6 +161,60 @@ bool reaches_root(const detail::TraceRay& r, std::size_t i, const Bvh& top, cons
 
 }  // namespace
 
+Vec3d MovingInstances::position_at(std::size_t k, double time) const {
+    const RigidMotion& how = motions_[instances_[k].motion];
+    return how.keys.empty() ? how.pivot_m + how.velocity_mps * time : how.at(time).position_m;
+}
+
+bool MovingInstances::to_object(std::size_t k, const detail::TraceRay& world, const Vec3d& org,
+                                const Vec3d& dir, double time, detail::TraceRay& local) const {
+    const MovingInstance& mi = instances_[k];
+    const Placement& pl = placements_[k];
+    if (pl.shift_only) {  // only the origin moves: the direction stays the world's
+        const Vec3d o = org - position_at(k, time) - mi.offset_m + pl.local_inverse.translation;
+        local.org = Vec3f(o);
+        local.dir = world.dir;
+        local.inv_dir = world.inv_dir;
+        return true;
+    }
+    // World -> object: the inverse pose at the ray's time, then the inverse local map.
+    const Pose pose = motions_[mi.motion].at(time);
+    Vec3d o = org - pose.position_m - mi.offset_m, d = dir;
+    if (pose.attitude.w != 1.0) {  // a turned part (w = 1 exactly: no rotation)
+        const Quat back = pose.attitude.conjugate();
+        o = back.rotate(o);
+        d = back.rotate(d);
+    }
+    local.org = Vec3f(pl.local_inverse.apply_point(o));
+    local.dir = Vec3f(pl.local_inverse.apply_vector(d));
+    local.inv_dir = Vec3f(1.0f / local.dir.x, 1.0f / local.dir.y, 1.0f / local.dir.z);
+    return false;
+}
+
+namespace {
+
+/// The watertight set-up of `local` (ray `world` in an instance's object coordinates), made when
+/// the instance's mesh first reaches a leaf: that of the world direction, made once per ray, when
+/// the instance only shifts.
+struct LazySetUp {
+    const detail::TraceRay& world;
+    std::optional<WatertightRay> world_wt;
+
+    void make(detail::TraceRay& local, bool shifted) {
+        if (!shifted) {
+            local.wt = make_watertight_ray(local.org, local.dir);
+            return;
+        }
+        if (!world_wt) {
+            world_wt = make_watertight_ray(world.org, world.dir);
+        }
+        local.wt = *world_wt;
+        local.wt.org = local.org;
+    }
+};
+
+}  // namespace
+
 void MovingInstances::intersect(const RayBatch& rays, std::size_t begin, std::size_t end,
                                 std::span<const double> ray_time_s, const MovingFrame& frame,
                                 HitBatch& hits) const {
@@ -172,6 +229,8 @@ void MovingInstances::intersect(const RayBatch& rays, std::size_t begin, std::si
         detail::NearestVisitor vis(r);
         vis.start_from(hits, i);
         const Vec3d org = rays.origin(i), dir = rays.direction(i);
+        TraceRay local = r;
+        LazySetUp set_up{r, std::nullopt};
         detail::walk_bvh(frame.top, r, vis, [&](std::uint32_t k) {
             const Aabb& b = frame.boxes[k];  // a leaf's box may hold two instances
             const float lo[3] = {b.lo.x, b.lo.y, b.lo.z}, hi[3] = {b.hi.x, b.hi.y, b.hi.z};
@@ -180,25 +239,12 @@ void MovingInstances::intersect(const RayBatch& rays, std::size_t begin, std::si
                 return false;
             }
             const MovingInstance& mi = instances_[k];
-            const Placement& pl = placements_[k];
-            // World -> object: the inverse pose at the ray's time, then the inverse local map.
-            const Pose pose = motions_[mi.motion].at(time);
-            Vec3d o = org - pose.position_m - mi.offset_m, d = dir;
-            if (pose.attitude.w != 1.0) {  // a turned part (w = 1 exactly: no rotation)
-                const Quat back = pose.attitude.conjugate();
-                o = back.rotate(o);
-                d = back.rotate(d);
-            }
-            TraceRay local = r;
-            local.org = Vec3f(pl.local_inverse.apply_point(o));
-            local.dir = Vec3f(pl.local_inverse.apply_vector(d));
-            local.inv_dir = Vec3f(1.0f / local.dir.x, 1.0f / local.dir.y, 1.0f / local.dir.z);
-            vis.enter((*meshes_)[mi.mesh], local, mi.first_face, pl.mirrored);
-            // The watertight set-up only once a leaf of the mesh is reached.
-            bool ready = false;
+            const bool shifted = to_object(k, r, org, dir, time, local);
+            vis.enter((*meshes_)[mi.mesh], local, mi.first_face, placements_[k].mirrored);
+            bool ready = false;  // the set-up only once a leaf of the mesh is reached
             return detail::walk_bvh(blas_[mi.mesh], local, vis, [&](std::uint32_t face) {
                 if (!ready) {
-                    local.wt = make_watertight_ray(local.org, local.dir);
+                    set_up.make(local, shifted);
                     ready = true;
                 }
                 return vis.visit(face);

@@ -19,6 +19,10 @@
 
 namespace beamtrace {
 
+namespace detail {
+struct TraceRay;
+}  // namespace detail
+
 /// The top level of the moving instances for rays whose times lie in [t0, t1]: a BVH over each
 /// instance's bounds swept over that span. One per thread (the survey keeps one per block).
 struct MovingFrame {
@@ -64,11 +68,21 @@ class MovingInstances {
         bool still_attitude = false;
         Vec3d box_lo{0, 0, 0}, box_hi{0, 0, 0};
         double pad_m = 0.0;
+        /// The part is only shifted (no turn, no linear map): a ray keeps its direction, and its
+        /// division and watertight set-up, in the part's object coordinates.
+        bool shift_only = false;
     };
     [[nodiscard]] static Placement place(const MovingInstance& mi, const RigidMotion& how,
                                          const Aabb& object_box);
     /// Instance k's bounds over [t0, t1].
     [[nodiscard]] Aabb swept_box(std::size_t k, double t0, double t1) const;
+    /// The position of instance k's motion at `time`.
+    [[nodiscard]] Vec3d position_at(std::size_t k, double time) const;
+    /// The world ray `world` (org, dir in double) at `time` in instance k's object coordinates:
+    /// origin, direction and inverse direction of `local` (not its watertight set-up). True
+    /// when the part only shifts (the direction is the world's).
+    bool to_object(std::size_t k, const detail::TraceRay& world, const Vec3d& org,
+                   const Vec3d& dir, double time, detail::TraceRay& local) const;
     const std::vector<TriangleMesh>* meshes_;
     std::span<const MovingInstance> instances_;
     std::span<const RigidMotion> motions_;
