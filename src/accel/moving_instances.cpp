@@ -20,12 +20,12 @@ MovingInstances::MovingInstances(const std::vector<TriangleMesh>& meshes,
     mesh_bounds_.resize(meshes.size());
     placements_.reserve(instances.size());
     for (const MovingInstance& mi : instances) {
-        if (blas_[mi.mesh].nodes.empty() && !meshes[mi.mesh].faces.empty()) {
-            blas_[mi.mesh] = build_bvh(meshes[mi.mesh], config, pool);
+        if (mesh_bounds_[mi.mesh].empty() && !meshes[mi.mesh].faces.empty()) {
             mesh_bounds_[mi.mesh] = meshes[mi.mesh].bounds();
         }
-        placements_.push_back(place(mi, motions[mi.motion], mesh_bounds_[mi.mesh]));
+        placements_.push_back(place(mi, motions[mi.motion]));
     }
+    make_movers(pool);
 }
 
 namespace {
@@ -42,20 +42,60 @@ bool never_turns(const RigidMotion& how) {
     });
 }
 
+/// The most faces a flattened run holds (a longer run is split): bounds the copies' memory.
+constexpr std::size_t kMaxFlatFaces = std::size_t{1} << 20;
+
 }  // namespace
 
-MovingInstances::Placement MovingInstances::place(const MovingInstance& mi, const RigidMotion& how,
-                                                  const Aabb& object_box) {
+MovingInstances::Placement MovingInstances::place(const MovingInstance& mi,
+                                                  const RigidMotion& how) {
     Placement pl{mi.local.inverse(), mi.local.determinant() < 0.0};
-    pl.still_attitude = never_turns(how) && !object_box.empty();
-    if (!pl.still_attitude) {
-        return pl;
-    }
     const Quat q = how.at(0.0).attitude;
-    pl.shift_only = q.w == 1.0 && q.x == 0.0 && q.y == 0.0 && q.z == 0.0 &&
+    pl.shift_only = never_turns(how) && q.w == 1.0 && q.x == 0.0 && q.y == 0.0 && q.z == 0.0 &&
                     pl.local_inverse.linear.m == Mat3::identity().m;
-    // The mesh's box corners in the motion's frame, turned by its one attitude, and the offset:
-    // the swept box over any span is then the path's box plus this one (prepare()).
+    return pl;
+}
+
+void MovingInstances::make_movers(ThreadPool& pool) {
+    const auto faces = [&](std::size_t k) { return (*meshes_)[instances_[k].mesh].faces.size(); };
+    // Instance k joins the run before it when both share a motion that never turns and k's faces
+    // follow the run's.
+    std::size_t k = 0;
+    while (k < instances_.size()) {
+        const MovingInstance& head = instances_[k];
+        std::size_t end = k + 1, run_faces = faces(k);
+        if (never_turns(motions_[head.motion])) {
+            while (end < instances_.size() && instances_[end].motion == head.motion &&
+                   instances_[end].first_face == head.first_face + run_faces &&
+                   run_faces + faces(end) <= kMaxFlatFaces) {
+                run_faces += faces(end);
+                ++end;
+            }
+        }
+        const auto first = static_cast<std::uint32_t>(k);
+        movers_.push_back(end - k >= 2 ? flatten(first, static_cast<std::uint32_t>(end - k), pool)
+                                       : single(first));
+        if (!movers_.back().flat && blas_[head.mesh].nodes.empty() &&
+            !(*meshes_)[head.mesh].faces.empty()) {
+            blas_[head.mesh] = build_bvh((*meshes_)[head.mesh], BvhBuildConfig{}, pool);
+        }
+        k = end;
+    }
+}
+
+MovingInstances::Mover MovingInstances::single(std::uint32_t k) const {
+    const MovingInstance& mi = instances_[k];
+    const RigidMotion& how = motions_[mi.motion];
+    const Aabb& object_box = mesh_bounds_[mi.mesh];
+    Mover mv;
+    mv.first = k;
+    mv.motion = mi.motion;
+    mv.still = never_turns(how) && !object_box.empty();
+    if (!mv.still) {
+        return mv;
+    }
+    // The mesh's box corners in the motion's frame, turned by its one attitude, and the offset.
+    const Quat q = how.at(0.0).attitude;
     double reach = 0.0;
     for (int c = 0; c < 8; ++c) {
         const Vec3d corner((c & 1) ? object_box.hi.x : object_box.lo.x,
@@ -64,11 +104,40 @@ MovingInstances::Placement MovingInstances::place(const MovingInstance& mi, cons
         const Vec3d m = mi.local.apply_point(corner);
         reach = std::max(reach, length(m));
         const Vec3d w = q.rotate(m) + mi.offset_m;
-        pl.box_lo = c == 0 ? w : min(pl.box_lo, w);
-        pl.box_hi = c == 0 ? w : max(pl.box_hi, w);
+        mv.box_lo = c == 0 ? w : min(mv.box_lo, w);
+        mv.box_hi = c == 0 ? w : max(mv.box_hi, w);
     }
-    pl.pad_m = 1e-6 * (reach + length(mi.offset_m)) + 1e-6;
-    return pl;
+    mv.pad_m = 1e-6 * (reach + length(mi.offset_m)) + 1e-6;
+    return mv;
+}
+
+MovingInstances::Mover MovingInstances::flatten(std::uint32_t first, std::uint32_t count,
+                                                ThreadPool& pool) const {
+    Mover mv;
+    mv.first = first;
+    mv.motion = instances_[first].motion;
+    mv.flat = true;
+    mv.still = true;
+    // Each copy placed in the motion's frame: offset + attitude * local (the attitude is one).
+    const Pose still{{0, 0, 0}, motions_[mv.motion].at(0.0).attitude};
+    for (std::uint32_t k = first; k < first + count; ++k) {
+        const MovingInstance& mi = instances_[k];
+        const TriangleMesh& mesh = (*meshes_)[mi.mesh];
+        const Affine3 to_frame = mi.to_world(still);
+        TriangleMesh placed;
+        placed.faces = mesh.faces;
+        placed.vertices.reserve(mesh.vertices.size());
+        for (const Vec3f& v : mesh.vertices) {
+            placed.vertices.emplace_back(to_frame.apply_point(Vec3d(v)));
+        }
+        mv.mesh.append(placed);
+    }
+    mv.bvh = build_bvh(mv.mesh, BvhBuildConfig{}, pool);
+    const Aabb box = mv.mesh.bounds();
+    mv.box_lo = Vec3d(box.lo);
+    mv.box_hi = Vec3d(box.hi);
+    mv.pad_m = 1e-6 * (length(mv.box_lo) + length(mv.box_hi)) + 1e-6;
+    return mv;
 }
 
 namespace {
@@ -101,44 +170,41 @@ double refit(Bvh& bvh, std::span<const Aabb> boxes) {
 
 }  // namespace
 
-Aabb MovingInstances::swept_box(std::size_t k, double t0, double t1) const {
-    const MovingInstance& mi = instances_[k];
-    const RigidMotion& how = motions_[mi.motion];
-    const Placement& pl = placements_[k];
-    if (!pl.still_attitude) {
+Aabb MovingInstances::swept_box(std::size_t m, double t0, double t1) const {
+    const Mover& mv = movers_[m];
+    const RigidMotion& how = motions_[mv.motion];
+    if (!mv.still) {
+        const MovingInstance& mi = instances_[mv.first];
         return mi.swept_bounds(mesh_bounds_[mi.mesh], how, t0, t1);
     }
     // The path's box: its ends and the keys between them (positions are linear between keys).
-    const bool keyed = !how.keys.empty();
-    Vec3d lo = keyed ? how.at(t0).position_m : how.pivot_m + how.velocity_mps * t0;
-    const Vec3d end = keyed ? how.at(t1).position_m : how.pivot_m + how.velocity_mps * t1;
+    Vec3d lo = position_at(mv.motion, t0);
+    const Vec3d end = position_at(mv.motion, t1);
     Vec3d hi = max(lo, end);
     lo = min(lo, end);
-    if (keyed) {
-        const auto first =
-            std::upper_bound(how.keys.begin(), how.keys.end(), t0,
-                             [](double t, const MotionKey& key) { return t < key.time_s; });
-        for (auto key = first; key != how.keys.end() && key->time_s < t1; ++key) {
-            lo = min(lo, key->position_m);
-            hi = max(hi, key->position_m);
-        }
+    const auto first =
+        std::upper_bound(how.keys.begin(), how.keys.end(), t0,
+                         [](double t, const MotionKey& key) { return t < key.time_s; });
+    for (auto key = first; key != how.keys.end() && key->time_s < t1; ++key) {
+        lo = min(lo, key->position_m);
+        hi = max(hi, key->position_m);
     }
     // A margin for the float rounding of the traced rays, as in MovingInstance::swept_bounds. It
-    // is at least 1e-6 of each coordinate's size (|path.lo| + |box_lo| <= |path.lo| + reach +
-    // |offset|), far above the half float ulp (6e-8 of it) of the conversion below: rounding
-    // to the nearest float keeps the box around the part.
-    const double pad = pl.pad_m + 1e-6 * (length(hi - lo) + length(lo));
-    lo = lo + pl.box_lo - Vec3d{pad, pad, pad};
-    hi = hi + pl.box_hi + Vec3d{pad, pad, pad};
+    // is at least 1e-6 of each coordinate's size (|path.lo| + |box_lo|), far above the half
+    // float ulp (6e-8 of it) of the conversion below: rounding to the nearest float keeps the
+    // box around the part.
+    const double pad = mv.pad_m + 1e-6 * (length(hi - lo) + length(lo));
+    lo = lo + mv.box_lo - Vec3d{pad, pad, pad};
+    hi = hi + mv.box_hi + Vec3d{pad, pad, pad};
     return Aabb{Vec3f(lo), Vec3f(hi)};
 }
 
 void MovingInstances::prepare(double t0, double t1, MovingFrame& frame, ThreadPool& pool) const {
     frame.t0 = t0;
     frame.t1 = t1;
-    frame.boxes.resize(instances_.size());
-    for (std::size_t k = 0; k < instances_.size(); ++k) {
-        frame.boxes[k] = swept_box(k, t0, t1);
+    frame.boxes.resize(movers_.size());
+    for (std::size_t m = 0; m < movers_.size(); ++m) {
+        frame.boxes[m] = swept_box(m, t0, t1);
     }
     if (!frame.top.nodes.empty() && refit(frame.top, frame.boxes) <= 2.0 * frame.built_cost) {
         return;
@@ -161,8 +227,8 @@ bool reaches_root(const detail::TraceRay& r, std::size_t i, const Bvh& top, cons
 
 }  // namespace
 
-Vec3d MovingInstances::position_at(std::size_t k, double time) const {
-    const RigidMotion& how = motions_[instances_[k].motion];
+Vec3d MovingInstances::position_at(std::uint32_t motion, double time) const {
+    const RigidMotion& how = motions_[motion];
     return how.keys.empty() ? how.pivot_m + how.velocity_mps * time : how.at(time).position_m;
 }
 
@@ -171,7 +237,8 @@ bool MovingInstances::to_object(std::size_t k, const detail::TraceRay& world, co
     const MovingInstance& mi = instances_[k];
     const Placement& pl = placements_[k];
     if (pl.shift_only) {  // only the origin moves: the direction stays the world's
-        const Vec3d o = org - position_at(k, time) - mi.offset_m + pl.local_inverse.translation;
+        const Vec3d o =
+            org - position_at(mi.motion, time) - mi.offset_m + pl.local_inverse.translation;
         local.org = Vec3f(o);
         local.dir = world.dir;
         local.inv_dir = world.inv_dir;
@@ -193,9 +260,8 @@ bool MovingInstances::to_object(std::size_t k, const detail::TraceRay& world, co
 
 namespace {
 
-/// The watertight set-up of `local` (ray `world` in an instance's object coordinates), made when
-/// the instance's mesh first reaches a leaf: that of the world direction, made once per ray, when
-/// the instance only shifts.
+/// The watertight set-up of `local` (ray `world` in a mover's coordinates): when the mover only
+/// shifts, that of the world direction, made once per ray.
 struct LazySetUp {
     const detail::TraceRay& world;
     std::optional<WatertightRay> world_wt;
@@ -212,6 +278,12 @@ struct LazySetUp {
         local.wt.org = local.org;
     }
 };
+
+/// The nearest hit in one mesh, out of line: the two walks in one function ran slower.
+[[gnu::noinline]] bool walk_mesh(const Bvh& bvh, const detail::TraceRay& local,
+                                 detail::NearestVisitor& vis) {
+    return detail::walk_bvh(bvh, local, vis, [&](std::uint32_t face) { return vis.visit(face); });
+}
 
 }  // namespace
 
@@ -231,24 +303,28 @@ void MovingInstances::intersect(const RayBatch& rays, std::size_t begin, std::si
         const Vec3d org = rays.origin(i), dir = rays.direction(i);
         TraceRay local = r;
         LazySetUp set_up{r, std::nullopt};
-        detail::walk_bvh(frame.top, r, vis, [&](std::uint32_t k) {
-            const Aabb& b = frame.boxes[k];  // a leaf's box may hold two instances
+        detail::walk_bvh(frame.top, r, vis, [&](std::uint32_t m) {
+            const Aabb& b = frame.boxes[m];  // a leaf's box may hold two movers
             const float lo[3] = {b.lo.x, b.lo.y, b.lo.z}, hi[3] = {b.hi.x, b.hi.y, b.hi.z};
             float entry = 0.0f;
             if (!detail::slab_entry(r, lo, hi, r.tmin, vis.limit(), entry)) {
                 return false;
             }
-            const MovingInstance& mi = instances_[k];
-            const bool shifted = to_object(k, r, org, dir, time, local);
-            vis.enter((*meshes_)[mi.mesh], local, mi.first_face, placements_[k].mirrored);
-            bool ready = false;  // the set-up only once a leaf of the mesh is reached
-            return detail::walk_bvh(blas_[mi.mesh], local, vis, [&](std::uint32_t face) {
-                if (!ready) {
-                    set_up.make(local, shifted);
-                    ready = true;
-                }
-                return vis.visit(face);
-            });
+            const Mover& mv = movers_[m];
+            const MovingInstance& mi = instances_[mv.first];
+            bool shifted = true;
+            if (mv.flat) {  // the motion's frame: the ray shifted by the position at its time
+                local.org = Vec3f(org - position_at(mv.motion, time));
+                local.dir = r.dir;
+                local.inv_dir = r.inv_dir;
+                vis.enter(mv.mesh, local, mi.first_face, false);
+            } else {
+                shifted = to_object(mv.first, r, org, dir, time, local);
+                vis.enter((*meshes_)[mi.mesh], local, mi.first_face,
+                          placements_[mv.first].mirrored);
+            }
+            set_up.make(local, shifted);
+            return walk_mesh(mv.flat ? mv.bvh : blas_[mi.mesh], local, vis);
         });
         vis.store(hits, i);
     }

@@ -27,8 +27,8 @@ struct TraceRay;
 /// instance's bounds swept over that span. One per thread (the survey keeps one per block).
 struct MovingFrame {
     double t0 = 0.0, t1 = 0.0;
-    std::vector<Aabb> boxes;  ///< per instance
-    Bvh top;                  ///< prim_ids index the instances
+    std::vector<Aabb> boxes;  ///< per mover (an instance, or a flattened run of them)
+    Bvh top;                  ///< prim_ids index the movers
     /// The summed half areas of the top's nodes when it was built: prepare() refits the same
     /// tree to new boxes and builds a new one only when the refitted sum exceeds twice this.
     double built_cost = 0.0;
@@ -62,33 +62,49 @@ class MovingInstances {
     struct Placement {
         Affine3 local_inverse;  ///< the motion's frame -> object coordinates
         bool mirrored = false;
-        /// The motion never turns the part: its swept box over a span is the path's box plus
-        /// [box_lo, box_hi] (the mesh's box placed at the origin of the path, offset included)
-        /// padded by pad_m and a share of the path's size, computed without the general sweep.
-        bool still_attitude = false;
-        Vec3d box_lo{0, 0, 0}, box_hi{0, 0, 0};
-        double pad_m = 0.0;
         /// The part is only shifted (no turn, no linear map): a ray keeps its direction, and its
         /// division and watertight set-up, in the part's object coordinates.
         bool shift_only = false;
     };
-    [[nodiscard]] static Placement place(const MovingInstance& mi, const RigidMotion& how,
-                                         const Aabb& object_box);
-    /// Instance k's bounds over [t0, t1].
-    [[nodiscard]] Aabb swept_box(std::size_t k, double t0, double t1) const;
-    /// The position of instance k's motion at `time`.
-    [[nodiscard]] Vec3d position_at(std::size_t k, double time) const;
+    /// A prim of the top level: one instance (its mesh's BVH, the ray taken into its object
+    /// coordinates), or a run of instances with consecutive face IDs that share a motion that
+    /// never turns (an `array:` of moving copies), flattened once into one mesh in the motion's
+    /// frame (scene coordinates less the motion's position at the ray's time): a ray is only
+    /// shifted into it and meets the run through one BVH.
+    struct Mover {
+        std::uint32_t first = 0;  ///< the instance (the run's first)
+        std::uint32_t motion = 0;
+        bool flat = false;
+        TriangleMesh mesh;  ///< flat: the run's faces in the motion's frame, in face ID order
+        Bvh bvh;            ///< flat: over `mesh`
+        /// The motion never turns the mover: its swept box over a span is the path's box plus
+        /// [box_lo, box_hi] (its box in the motion's frame, offsets included) padded by pad_m
+        /// and a share of the path's size, computed without the general sweep.
+        bool still = false;
+        Vec3d box_lo{0, 0, 0}, box_hi{0, 0, 0};
+        double pad_m = 0.0;
+    };
+    [[nodiscard]] static Placement place(const MovingInstance& mi, const RigidMotion& how);
+    /// Makes movers_: the runs that share a still motion flattened, the other instances alone.
+    void make_movers(ThreadPool& pool);
+    [[nodiscard]] Mover single(std::uint32_t k) const;
+    [[nodiscard]] Mover flatten(std::uint32_t first, std::uint32_t count, ThreadPool& pool) const;
+    /// Mover m's bounds over [t0, t1].
+    [[nodiscard]] Aabb swept_box(std::size_t m, double t0, double t1) const;
+    /// The position of motion `motion` at `time`.
+    [[nodiscard]] Vec3d position_at(std::uint32_t motion, double time) const;
     /// The world ray `world` (org, dir in double) at `time` in instance k's object coordinates:
     /// origin, direction and inverse direction of `local` (not its watertight set-up). True
     /// when the part only shifts (the direction is the world's).
-    bool to_object(std::size_t k, const detail::TraceRay& world, const Vec3d& org,
-                   const Vec3d& dir, double time, detail::TraceRay& local) const;
+    bool to_object(std::size_t k, const detail::TraceRay& world, const Vec3d& org, const Vec3d& dir,
+                   double time, detail::TraceRay& local) const;
     const std::vector<TriangleMesh>* meshes_;
     std::span<const MovingInstance> instances_;
     std::span<const RigidMotion> motions_;
     std::vector<Bvh> blas_;              ///< per mesh (empty for meshes no instance moves)
     std::vector<Aabb> mesh_bounds_;      ///< per mesh, object coordinates
     std::vector<Placement> placements_;  ///< per instance
+    std::vector<Mover> movers_;          ///< the top level's prims
     BvhBuildConfig top_config_;
 };
 
