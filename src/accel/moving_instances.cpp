@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cassert>
+#include <limits>
+#include <memory>
 #include <optional>
 
 #include "detail/queries.hpp"
@@ -12,7 +14,7 @@ namespace beamtrace {
 MovingInstances::MovingInstances(const std::vector<TriangleMesh>& meshes,
                                  std::span<const MovingInstance> instances,
                                  std::span<const RigidMotion> motions, const BvhBuildConfig& config,
-                                 ThreadPool& pool)
+                                 ThreadPool& pool, BackendKind groups)
     : meshes_(&meshes), instances_(instances), motions_(motions), top_config_(config) {
     top_config_.min_leaf_size = 1;
     top_config_.max_leaf_size = 2;
@@ -25,7 +27,7 @@ MovingInstances::MovingInstances(const std::vector<TriangleMesh>& meshes,
         }
         placements_.push_back(place(mi, motions[mi.motion]));
     }
-    make_movers(pool);
+    make_movers(pool, groups);
 }
 
 namespace {
@@ -44,6 +46,8 @@ bool never_turns(const RigidMotion& how) {
 
 /// The most faces a flattened run holds (a longer run is split): bounds the copies' memory.
 constexpr std::size_t kMaxFlatFaces = std::size_t{1} << 20;
+/// The most runs traced as groups (each is a pass over every ray); later runs are movers.
+constexpr std::size_t kMaxGroups = 4;
 
 }  // namespace
 
@@ -56,7 +60,7 @@ MovingInstances::Placement MovingInstances::place(const MovingInstance& mi,
     return pl;
 }
 
-void MovingInstances::make_movers(ThreadPool& pool) {
+void MovingInstances::make_movers(ThreadPool& pool, BackendKind groups) {
     const auto faces = [&](std::size_t k) { return (*meshes_)[instances_[k].mesh].faces.size(); };
     // Instance k joins the run before it when both share a motion that never turns and k's faces
     // follow the run's.
@@ -73,8 +77,16 @@ void MovingInstances::make_movers(ThreadPool& pool) {
             }
         }
         const auto first = static_cast<std::uint32_t>(k);
-        movers_.push_back(end - k >= 2 ? flatten(first, static_cast<std::uint32_t>(end - k), pool)
-                                       : single(first));
+        const auto count = static_cast<std::uint32_t>(end - k);
+        if (count >= 2 && groups_.size() < kMaxGroups) {
+            Group g{head.motion, head.first_face, std::make_unique<SceneGeometry>(), nullptr};
+            g.geometry->append_flat(flat_mesh(first, count));
+            g.backend = make_backend(groups, *g.geometry, pool);
+            groups_.push_back(std::move(g));
+            k = end;
+            continue;
+        }
+        movers_.push_back(count >= 2 ? flatten(first, count, pool) : single(first));
         if (!movers_.back().flat && blas_[head.mesh].nodes.empty() &&
             !(*meshes_)[head.mesh].faces.empty()) {
             blas_[head.mesh] = build_bvh((*meshes_)[head.mesh], BvhBuildConfig{}, pool);
@@ -111,15 +123,10 @@ MovingInstances::Mover MovingInstances::single(std::uint32_t k) const {
     return mv;
 }
 
-MovingInstances::Mover MovingInstances::flatten(std::uint32_t first, std::uint32_t count,
-                                                ThreadPool& pool) const {
-    Mover mv;
-    mv.first = first;
-    mv.motion = instances_[first].motion;
-    mv.flat = true;
-    mv.still = true;
+TriangleMesh MovingInstances::flat_mesh(std::uint32_t first, std::uint32_t count) const {
+    TriangleMesh flat;
     // Each copy placed in the motion's frame: offset + attitude * local (the attitude is one).
-    const Pose still{{0, 0, 0}, motions_[mv.motion].at(0.0).attitude};
+    const Pose still{{0, 0, 0}, motions_[instances_[first].motion].at(0.0).attitude};
     for (std::uint32_t k = first; k < first + count; ++k) {
         const MovingInstance& mi = instances_[k];
         const TriangleMesh& mesh = (*meshes_)[mi.mesh];
@@ -130,8 +137,19 @@ MovingInstances::Mover MovingInstances::flatten(std::uint32_t first, std::uint32
         for (const Vec3f& v : mesh.vertices) {
             placed.vertices.emplace_back(to_frame.apply_point(Vec3d(v)));
         }
-        mv.mesh.append(placed);
+        flat.append(placed);
     }
+    return flat;
+}
+
+MovingInstances::Mover MovingInstances::flatten(std::uint32_t first, std::uint32_t count,
+                                                ThreadPool& pool) const {
+    Mover mv;
+    mv.first = first;
+    mv.motion = instances_[first].motion;
+    mv.flat = true;
+    mv.still = true;
+    mv.mesh = flat_mesh(first, count);
     mv.bvh = build_bvh(mv.mesh, BvhBuildConfig{}, pool);
     const Aabb box = mv.mesh.bounds();
     mv.box_lo = Vec3d(box.lo);
@@ -287,10 +305,60 @@ struct LazySetUp {
 
 }  // namespace
 
+void MovingInstances::trace_group(const Group& g, const RayBatch& rays, std::size_t begin,
+                                  std::size_t end, std::span<const double> ray_time_s,
+                                  MovingFrame& frame, HitBatch& hits) const {
+    // A few ulps past the hit found so far: a hit as near on a lower face ID still wins.
+    constexpr double kRoom = 1.0 + 8.0 * std::numeric_limits<float>::epsilon();
+    const std::size_t n = end - begin;
+    RayBatch& s = frame.shifted;
+    s.resize(n);
+    for (std::size_t j = 0; j < n; ++j) {
+        const std::size_t i = begin + j;
+        const Vec3d p = position_at(g.motion, ray_time_s[j]);
+        s.ox[j] = rays.ox[i] - p.x;
+        s.oy[j] = rays.oy[i] - p.y;
+        s.oz[j] = rays.oz[i] - p.z;
+        s.dx[j] = rays.dx[i];
+        s.dy[j] = rays.dy[i];
+        s.dz[j] = rays.dz[i];
+        s.tmin[j] = rays.tmin[i];
+        s.tmax[j] = hits.face[i] != kNoFace
+                        ? std::min(rays.tmax[i], static_cast<double>(hits.t[i]) * kRoom)
+                        : rays.tmax[i];
+    }
+    if (!frame.caller) {
+        frame.caller = std::make_unique<ThreadPool>(1);
+    }
+    HitBatch& gh = frame.group_hits;
+    gh.resize(n);
+    g.backend->intersect(s, 0, n, gh, *frame.caller);
+    for (std::size_t j = 0; j < n; ++j) {
+        const std::size_t i = begin + j;
+        if (gh.face[j] == kNoFace) {
+            continue;
+        }
+        const std::uint32_t face = g.first_face + gh.face[j];
+        if (hits.face[i] == kNoFace || gh.t[j] < hits.t[i] ||
+            (gh.t[j] == hits.t[i] && face < hits.face[i])) {
+            hits.t[i] = gh.t[j];
+            hits.face[i] = face;
+            hits.u[i] = gh.u[j];
+            hits.v[i] = gh.v[j];
+        }
+    }
+}
+
 void MovingInstances::intersect(const RayBatch& rays, std::size_t begin, std::size_t end,
-                                std::span<const double> ray_time_s, const MovingFrame& frame,
+                                std::span<const double> ray_time_s, MovingFrame& frame,
                                 HitBatch& hits) const {
     using detail::TraceRay;
+    for (const Group& g : groups_) {
+        trace_group(g, rays, begin, end, ray_time_s, frame, hits);
+    }
+    if (movers_.empty()) {
+        return;
+    }
     for (std::size_t i = begin; i < end; ++i) {
         const double time = ray_time_s[i - begin];
         assert(time >= frame.t0 && time <= frame.t1);

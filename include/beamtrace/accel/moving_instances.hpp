@@ -7,9 +7,11 @@
 #pragma once
 
 #include <cstddef>
+#include <memory>
 #include <span>
 #include <vector>
 
+#include "beamtrace/accel/backend.hpp"
 #include "beamtrace/accel/bvh.hpp"
 #include "beamtrace/core/hit_batch.hpp"
 #include "beamtrace/core/ray_batch.hpp"
@@ -32,6 +34,11 @@ struct MovingFrame {
     /// The summed half areas of the top's nodes when it was built: prepare() refits the same
     /// tree to new boxes and builds a new one only when the refitted sum exceeds twice this.
     double built_cost = 0.0;
+    /// intersect()'s scratch: the rays shifted into a group's frame, their hits, and a pool
+    /// with no workers (the group's backend traces on the caller's thread).
+    RayBatch shifted;
+    HitBatch group_hits;
+    std::unique_ptr<ThreadPool> caller;
 };
 
 class MovingInstances {
@@ -40,7 +47,8 @@ class MovingInstances {
     /// must outlive this object.
     MovingInstances(const std::vector<TriangleMesh>& meshes,
                     std::span<const MovingInstance> instances, std::span<const RigidMotion> motions,
-                    const BvhBuildConfig& config, ThreadPool& pool);
+                    const BvhBuildConfig& config, ThreadPool& pool,
+                    BackendKind groups = BackendKind::bvh);
 
     [[nodiscard]] bool empty() const { return instances_.empty(); }
     [[nodiscard]] std::size_t size() const { return instances_.size(); }
@@ -55,8 +63,7 @@ class MovingInstances {
     /// the hit it holds (ties in range: the lower face ID, as in every backend). Runs on the
     /// caller's thread; results depend on nothing but the rays and times.
     void intersect(const RayBatch& rays, std::size_t begin, std::size_t end,
-                   std::span<const double> ray_time_s, const MovingFrame& frame,
-                   HitBatch& hits) const;
+                   std::span<const double> ray_time_s, MovingFrame& frame, HitBatch& hits) const;
 
   private:
     struct Placement {
@@ -84,9 +91,23 @@ class MovingInstances {
         Vec3d box_lo{0, 0, 0}, box_hi{0, 0, 0};
         double pad_m = 0.0;
     };
+    /// A run of instances with consecutive face IDs that share a motion that never turns,
+    /// flattened into one still mesh in the motion's frame and traced by a backend of the
+    /// survey's kind: each ray's origin shifted by the motion's position at the ray's time.
+    struct Group {
+        std::uint32_t motion = 0;
+        std::uint32_t first_face = 0;
+        std::unique_ptr<SceneGeometry> geometry;  ///< the backend points into it
+        std::unique_ptr<Backend> backend;
+    };
+    /// Nearest hits of rays [begin, end) on group g, merged into `hits`.
+    void trace_group(const Group& g, const RayBatch& rays, std::size_t begin, std::size_t end,
+                     std::span<const double> ray_time_s, MovingFrame& frame, HitBatch& hits) const;
+    /// Instances [first, first + count) placed in their motion's frame, as one mesh.
+    [[nodiscard]] TriangleMesh flat_mesh(std::uint32_t first, std::uint32_t count) const;
     [[nodiscard]] static Placement place(const MovingInstance& mi, const RigidMotion& how);
     /// Makes movers_: the runs that share a still motion flattened, the other instances alone.
-    void make_movers(ThreadPool& pool);
+    void make_movers(ThreadPool& pool, BackendKind groups);
     [[nodiscard]] Mover single(std::uint32_t k) const;
     [[nodiscard]] Mover flatten(std::uint32_t first, std::uint32_t count, ThreadPool& pool) const;
     /// Mover m's bounds over [t0, t1].
@@ -105,6 +126,7 @@ class MovingInstances {
     std::vector<Aabb> mesh_bounds_;      ///< per mesh, object coordinates
     std::vector<Placement> placements_;  ///< per instance
     std::vector<Mover> movers_;          ///< the top level's prims
+    std::vector<Group> groups_;          ///< traced before the top level
     BvhBuildConfig top_config_;
 };
 
