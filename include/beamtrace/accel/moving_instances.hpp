@@ -1,9 +1,18 @@
-// Moving instances (scene parts with a `motion:`), traced at each ray's own time: a mesh BVH per
-// unique mesh built once, and per block of rays a small top-level BVH over the instances' bounds
-// swept over the block's time span. Each ray that reaches an instance's box is taken into the
-// instance's object coordinates with the instance placed at that ray's time, so every pulse sees
-// the part exactly where it is when the pulse is emitted (no time step). The still part of the
-// scene is traced by any backend; intersect() then keeps whichever hit is nearer.
+// Moving instances (scene parts with a `motion:`), traced at each ray's own time, in two ways:
+// - Groups: a run of instances with consecutive face IDs that share a motion that never turns
+//   (the copies of an `array:` with a velocity or keys that only move) is, in the motion's frame
+//   (scene coordinates less the motion's position p(t)), a still mesh: it is flattened once and
+//   given to a backend of the survey's kind (Embree or our BVH). Each ray's origin is shifted by
+//   -p(t) at its own time (direction unchanged), so the hit is exact for every pulse, with no
+//   per-block rebuild or commit. At most a few groups (each is one pass over the rays).
+// - The others (turning parts, lone parts, runs past that cap): a mesh BVH per unique mesh (or
+//   the run flattened), built once, and per block of rays a small top-level BVH over their
+//   bounds swept over the block's time span, refitted from block to block. Each ray that
+//   reaches a box is taken into the part's coordinates with the part placed at that ray's time.
+// Either way every pulse sees each part exactly where it is when the pulse is emitted (to float
+// precision of the traced coordinates, about 1e-6 of them). The still part of the scene is traced
+// by any backend first; intersect() then keeps whichever hit is nearer (ties: lower face ID).
+// Blocks share nothing: a block's top level and scratch live in its own MovingFrame.
 #pragma once
 
 #include <cstddef>
