@@ -79,9 +79,10 @@ void MovingInstances::make_movers(ThreadPool& pool, BackendKind groups) {
         const auto first = static_cast<std::uint32_t>(k);
         const auto count = static_cast<std::uint32_t>(end - k);
         if (count >= 2 && groups_.size() < kMaxGroups) {
-            Group g{head.motion, head.first_face, std::make_unique<SceneGeometry>(), nullptr};
+            Group g{head.motion, head.first_face, std::make_unique<SceneGeometry>(), nullptr, {}};
             g.geometry->append_flat(flat_mesh(first, count));
             g.backend = make_backend(groups, *g.geometry, pool);
+            g.box = g.geometry->bounds();
             groups_.push_back(std::move(g));
             k = end;
             continue;
@@ -310,31 +311,40 @@ void MovingInstances::trace_group(const Group& g, const RayBatch& rays, std::siz
                                   MovingFrame& frame, HitBatch& hits) const {
     // A few ulps past the hit found so far: a hit as near on a lower face ID still wins.
     constexpr double kRoom = 1.0 + 8.0 * std::numeric_limits<float>::epsilon();
-    const std::size_t n = end - begin;
+    const float lo[3] = {g.box.lo.x, g.box.lo.y, g.box.lo.z};
+    const float hi[3] = {g.box.hi.x, g.box.hi.y, g.box.hi.z};
     RayBatch& s = frame.shifted;
-    s.resize(n);
-    for (std::size_t j = 0; j < n; ++j) {
-        const std::size_t i = begin + j;
-        const Vec3d p = position_at(g.motion, ray_time_s[j]);
-        s.ox[j] = rays.ox[i] - p.x;
-        s.oy[j] = rays.oy[i] - p.y;
-        s.oz[j] = rays.oz[i] - p.z;
-        s.dx[j] = rays.dx[i];
-        s.dy[j] = rays.dy[i];
-        s.dz[j] = rays.dz[i];
-        s.tmin[j] = rays.tmin[i];
-        s.tmax[j] = hits.face[i] != kNoFace
-                        ? std::min(rays.tmax[i], static_cast<double>(hits.t[i]) * kRoom)
-                        : rays.tmax[i];
+    s.resize(end - begin);  // then shrunk to the rays kept (the capacity stays for the next block)
+    frame.shifted_index.resize(end - begin);
+    std::size_t kept = 0;
+    for (std::size_t i = begin; i < end; ++i) {
+        const Vec3d o = rays.origin(i) - position_at(g.motion, ray_time_s[i - begin]);
+        const double tmax = hits.face[i] != kNoFace
+                                ? std::min(rays.tmax[i], static_cast<double>(hits.t[i]) * kRoom)
+                                : rays.tmax[i];
+        // The shifted ray as the backend sees it (float) against the still mesh's box.
+        detail::TraceRay r = detail::make_box_ray(rays, i);
+        r.org = Vec3f(o);
+        float entry = 0.0f;
+        if (!detail::slab_entry(r, lo, hi, r.tmin,
+                                std::min(r.tmax, static_cast<float>(tmax) * 1.0001f), entry)) {
+            continue;
+        }
+        s.set(kept, o, rays.direction(i), rays.tmin[i], tmax);
+        frame.shifted_index[kept++] = i;
+    }
+    s.resize(kept);
+    if (s.empty()) {
+        return;
     }
     if (!frame.caller) {
         frame.caller = std::make_unique<ThreadPool>(1);
     }
     HitBatch& gh = frame.group_hits;
-    gh.resize(n);
-    g.backend->intersect(s, 0, n, gh, *frame.caller);
-    for (std::size_t j = 0; j < n; ++j) {
-        const std::size_t i = begin + j;
+    gh.resize(s.size());
+    g.backend->intersect(s, 0, s.size(), gh, *frame.caller);
+    for (std::size_t j = 0; j < s.size(); ++j) {
+        const std::size_t i = frame.shifted_index[j];
         if (gh.face[j] == kNoFace) {
             continue;
         }

@@ -43,9 +43,11 @@ struct MovingFrame {
     /// The summed half areas of the top's nodes when it was built: prepare() refits the same
     /// tree to new boxes and builds a new one only when the refitted sum exceeds twice this.
     double built_cost = 0.0;
-    /// intersect()'s scratch: the rays shifted into a group's frame, their hits, and a pool
-    /// with no workers (the group's backend traces on the caller's thread).
+    /// intersect()'s scratch: the rays shifted into a group's frame that reach its box, the
+    /// index of each among the traced rays, their hits, and a pool with no workers (the group's
+    /// backend traces on the caller's thread).
     RayBatch shifted;
+    std::vector<std::size_t> shifted_index;
     HitBatch group_hits;
     std::unique_ptr<ThreadPool> caller;
 };
@@ -108,6 +110,7 @@ class MovingInstances {
         std::uint32_t first_face = 0;
         std::unique_ptr<SceneGeometry> geometry;  ///< the backend points into it
         std::unique_ptr<Backend> backend;
+        Aabb box;  ///< of the still mesh: only rays that reach it go to the backend
     };
     /// Nearest hits of rays [begin, end) on group g, merged into `hits`.
     void trace_group(const Group& g, const RayBatch& rays, std::size_t begin, std::size_t end,
