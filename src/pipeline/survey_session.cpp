@@ -73,7 +73,7 @@ SurveySession::SurveySession(const SurveySpec& spec, const SurveyRunConfig& run,
     backend_ = make_backend(run.backend, scene_.geometry, pool);
     if (!scene_.moving.empty()) {
         moving_.emplace(scene_.geometry.meshes, scene_.moving, scene_.motions, BvhBuildConfig{},
-                        pool);
+                        pool, run.backend);
     }
     result_.build_s = std::chrono::duration<double>(Clock::now() - t0).count();
 

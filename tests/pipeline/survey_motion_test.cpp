@@ -4,6 +4,7 @@
 // threads, and the two examples with moving parts run.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <string>
@@ -136,6 +137,98 @@ TEST(SurveyMotion, ASceneOfMovingPartsOnlyGivesItsPointsInTheLasBounds) {
     // The offset is near the box's path (the bounds hold the moving part over the survey).
     EXPECT_GT(h.offset.x, -60.0);
     EXPECT_LT(h.offset.x, 0.0);
+}
+
+/// Blocks race if a block's moving frame (its top level, the rays shifted into a group) is not
+/// its own: 87 blocks of three kinds of moving parts (a run of copies sharing a motion, a lone
+/// sliding cube, a spinning one) at 1, 2 and 4 threads (thrice) give the same bytes, and every
+/// point is on the surface of a cube placed (by its motion, worked out here) at the point's GPS
+/// time, with that cube's velocity there.
+TEST(SurveyMotion, ManyBlocksAtOneTwoAndFourThreadsAreIdenticalAndOnTheirPartsAtEachPointsTime) {
+    test::TempDir dir;
+    write_cube(dir / "cube.obj");
+    test::write_file(dir / "scene.yaml",
+                     "parts:\n"
+                     "  - {mesh: cube.obj, transform: {translate_m: [-40, -5, 0]},\n"
+                     "     array: {count: [1, 3, 1], step_m: [0, 5, 0]},\n"
+                     "     motion: {velocity_mps: [5, 0, 0]}}\n"
+                     "  - {mesh: cube.obj, transform: {translate_m: [-60, 3, 5]},\n"
+                     "     motion: {velocity_mps: [2, -1, 0]}}\n"
+                     "  - {mesh: cube.obj, transform: {translate_m: [-70, -4, -5]},\n"
+                     "     motion: {spin: {axis: [0, 0, 1], rate_rad_s: 2}}}\n"
+                     "  - {plane: {point_m: [-100, 0, 0], normal: [1, 0, 0], size_m: 200}}\n");
+    test::write_file(dir / "survey.yaml",
+                     "scene: scene.yaml\n"
+                     "scanner: {type: pinhole, width: 21, height: 21, hfov_deg: 20, vfov_deg: 20,\n"
+                     "          frames: 200, pulse_rate_hz: 20000}\n"
+                     "platform: {type: static, position_m: [0, 0, 0], rotate_deg: [0, 0, 180]}\n"
+                     "output: {trajectory_rate_hz: 0, extra_bytes: [velocity_x, velocity_y]}\n");
+    const SurveySpec spec = load_survey_spec(dir / "survey.yaml");
+    // Four threads thrice: a race shows in some runs only.
+    const unsigned thread_counts[] = {1, 2, 4, 4, 4};
+    for (std::size_t run = 0; run < std::size(thread_counts); ++run) {
+        SurveyRunConfig config;
+        config.output_dir = dir / ("run" + std::to_string(run));
+        config.threads = thread_counts[run];
+        config.chunk_pulses = 8192;  // 8 blocks in flight: the threads overlap
+        (void)run_survey(spec, config);
+    }
+    const std::string one = test::read_file(dir / "run0" / "points.las");
+    for (std::size_t run = 1; run < std::size(thread_counts); ++run) {
+        EXPECT_TRUE(one == test::read_file(dir / ("run" + std::to_string(run)) / "points.las"))
+            << thread_counts[run] << " threads, run " << run;
+    }
+    const auto points = read_las_points(dir / "run4" / "points.las");
+    ASSERT_EQ(points.size(), 21u * 21u * 200u) << "every pulse meets a cube or the wall";
+    LasReader reader(dir / "run4" / "points.las");
+    const auto fields = las_extra_bytes_descriptors(reader.vlrs());
+    std::size_t on[3] = {0, 0, 0};
+    for (const LasPoint& p : points) {
+        if (std::abs(p.x + 100.0) < 1e-3) {
+            continue;  // the wall
+        }
+        const double t = p.gps_time;
+        const Vec3d at{p.x, p.y, p.z};
+        const Vec3d v{las_extra_bytes_value(fields, 0, p.extra_bytes),
+                      las_extra_bytes_value(fields, 1, p.extra_bytes), 0.0};
+        // Each cube's centre at t and the point in its own coordinates (turned back for the
+        // spinning one): on its surface, the largest coordinate is +-2 m.
+        const double a = 2.0 * t;
+        const Vec3d spun = at - Vec3d{-70, -4, -5};
+        const Vec3d in_spun{std::cos(a) * spun.x + std::sin(a) * spun.y,
+                            -std::sin(a) * spun.x + std::cos(a) * spun.y, spun.z};
+        const auto on_surface = [](const Vec3d& q) {
+            const double m = std::max({std::abs(q.x), std::abs(q.y), std::abs(q.z)});
+            return std::abs(m - 2.0) < 1e-3;
+        };
+        bool found = false;
+        for (int k = 0; k < 3 && !found; ++k) {
+            found = on_surface(at - Vec3d{-40 + 5 * t, -5.0 + 5 * k, 0});
+            if (found) {
+                EXPECT_NEAR(v.x, 5.0, 1e-4);
+                EXPECT_NEAR(v.y, 0.0, 1e-4);
+                ++on[0];
+            }
+        }
+        if (!found && on_surface(at - Vec3d{-60 + 2 * t, 3 - t, 5})) {
+            found = true;
+            EXPECT_NEAR(v.x, 2.0, 1e-4);
+            EXPECT_NEAR(v.y, -1.0, 1e-4);
+            ++on[1];
+        }
+        if (!found && on_surface(in_spun)) {
+            found = true;
+            // omega x r, omega = 2 z; r from the LAS coordinates (1 mm steps)
+            EXPECT_NEAR(v.x, -2.0 * spun.y, 3e-3);
+            EXPECT_NEAR(v.y, 2.0 * spun.x, 3e-3);
+            ++on[2];
+        }
+        ASSERT_TRUE(found) << "a point on no cube at t = " << t << ": " << p.x << " " << p.y << " "
+                           << p.z;
+    }
+    EXPECT_GT(on[0], 5000u);
+    EXPECT_GT(on[1], 1000u);
+    EXPECT_GT(on[2], 1000u);
 }
 
 /// The examples with moving parts, run small (max_pulses) from their own folder.
