@@ -185,10 +185,13 @@ BT_PK void walk_packet(Packet& p, const Bvh& bvh, const TriangleMesh& mesh) {
             vf el, er;
             const Mask ml = slab_lanes(p, nodes[li], el) & mask;
             const Mask mr = slab_lanes(p, nodes[ri], er) & mask;
-            if ((ml & mr) != 0) {
+            if (ml != 0 && mr != 0) {
+                // Lanes in both: most of them go first; else the child with more lanes.
                 const Mask both = ml & mr;
-                const Mask left_first = lane_bits(el <= er) & both;
-                if (2 * std::popcount(left_first) >= std::popcount(both)) {
+                const bool left =
+                    both != 0 ? 2 * std::popcount(lane_bits(el <= er) & both) >= std::popcount(both)
+                              : std::popcount(ml) >= std::popcount(mr);
+                if (left) {
                     stack[sp++] = {er, ri, mr};
                     index = li;
                     mask = ml;
