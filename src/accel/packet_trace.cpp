@@ -3,10 +3,12 @@
 // product fused into an FMA rounds once where the scalar test rounds twice.
 #include "detail/packet_trace.hpp"
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <new>
 
 #include "detail/queries.hpp"
 #include "detail/walk_bvh.hpp"

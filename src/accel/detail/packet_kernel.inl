@@ -48,18 +48,18 @@ struct Packet {
     vu best_face;
     std::size_t kx = 0, ky = 1, kz = 2;
     Mask active = 0;
-    const TraceRay* rays = nullptr;  ///< the lanes' rays (for the double-precision edge case)
+    const TraceRay* const* rays = nullptr;  ///< the lanes' rays (for the double edge case)
 };
 
-/// Lanes [0, n) from rays[0..n), which share the watertight axis order; lanes past n copy ray 0
-/// and stay inactive.
-BT_PK void load_packet(Packet& p, const TraceRay* rays, int n) {
+/// Lanes [0, n) from *rays[0..n), which share the watertight axis order; lanes past n copy ray
+/// 0 and stay inactive.
+BT_PK void load_packet(Packet& p, const TraceRay* const* rays, int n) {
     p.rays = rays;
-    p.kx = static_cast<std::size_t>(rays[0].wt.kx);
-    p.ky = static_cast<std::size_t>(rays[0].wt.ky);
-    p.kz = static_cast<std::size_t>(rays[0].wt.kz);
+    p.kx = static_cast<std::size_t>(rays[0]->wt.kx);
+    p.ky = static_cast<std::size_t>(rays[0]->wt.ky);
+    p.kz = static_cast<std::size_t>(rays[0]->wt.kz);
     for (int l = 0; l < kLanes; ++l) {
-        const TraceRay& r = rays[l < n ? l : 0];
+        const TraceRay& r = *rays[l < n ? l : 0];
         for (std::size_t a = 0; a < 3; ++a) {
             p.o[a][l] = r.org[a];
             p.inv[a][l] = r.inv_dir[a];
@@ -101,7 +101,7 @@ BT_PK Mask slab_lanes(const Packet& p, const BvhNode& node, vf& entry) {
 BT_PK void test_lane(Packet& p, int l, std::uint32_t face, const Vec3f& a, const Vec3f& b,
                      const Vec3f& c) {
     TriangleHit h;
-    const TraceRay& r = p.rays[l];
+    const TraceRay& r = *p.rays[l];
     if (intersect_watertight(r.wt, a, b, c, r.tmin, p.limit[l], Facing::both, h) &&
         (h.t < p.best_t[l] || (h.t == p.best_t[l] && face < p.best_face[l]))) {
         p.best_t[l] = h.t;
@@ -238,16 +238,16 @@ BT_PK void store_packet(const Packet& p, const std::size_t* slots, HitBatch& hit
 /// Rays waiting for a packet, grouped by the watertight axis order (kz and whether kx, ky swap).
 struct Groups {
     static constexpr int kKeys = 6;
-    TraceRay rays[kKeys][kLanes];
+    const TraceRay* rays[kKeys][kLanes];
     std::size_t slots[kKeys][kLanes];
     int fill[kKeys] = {};
 };
 
-BT_PK bool coherent(const TraceRay* rays, int n, float min_cos) {
-    const Vec3f d0 = rays[0].dir;
+BT_PK bool coherent(const TraceRay* const* rays, int n, float min_cos) {
+    const Vec3f d0 = rays[0]->dir;
     const float n0 = dot(d0, d0);
     for (int l = 1; l < n; ++l) {
-        const Vec3f d = rays[l].dir;
+        const Vec3f d = rays[l]->dir;
         const float c = dot(d, d0);
         if (!(c > 0.0f && c * c >= min_cos * min_cos * dot(d, d) * n0)) {
             return false;
@@ -265,7 +265,7 @@ BT_PK void flush(Groups& g, int key, const Bvh& bvh, const TriangleMesh& mesh, H
     }
     if (only_coherent && (n == 1 || !coherent(g.rays[key], n, min_cos))) {
         for (int l = 0; l < n; ++l) {
-            trace_single(bvh, mesh, g.rays[key][l], hits, g.slots[key][l]);
+            trace_single(bvh, mesh, *g.rays[key][l], hits, g.slots[key][l]);
         }
         return;
     }
@@ -278,18 +278,28 @@ BT_PK void flush(Groups& g, int key, const Bvh& bvh, const TriangleMesh& mesh, H
 BT_PK_ENTRY void trace_range(const Bvh& bvh, const TriangleMesh& mesh, const RayBatch& rays,
                              std::size_t begin, std::size_t end, HitBatch& hits, bool only_coherent,
                              float min_cos) {
+    // The rays of a stage are made in place (copying them whole into their group stalls on
+    // store forwarding) and every group is traced before the next stage overwrites them.
+    constexpr std::size_t kStage = 256;
+    TraceRay staged[kStage];
     Groups g;
-    for (std::size_t i = begin; i < end; ++i) {
-        const TraceRay r = make_trace_ray(rays, i);
-        const int key = 2 * r.wt.kz + (r.wt.kx == (r.wt.kz + 1) % 3 ? 0 : 1);
-        const int k = g.fill[key]++;
-        g.rays[key][k] = r;
-        g.slots[key][k] = i;
-        if (k + 1 == kLanes) {
+    for (std::size_t first = begin; first < end; first += kStage) {
+        const std::size_t n = std::min(kStage, end - first);
+        for (std::size_t j = 0; j < n; ++j) {
+            ::new (static_cast<void*>(&staged[j])) TraceRay(make_trace_ray(rays, first + j));
+        }
+        for (std::size_t j = 0; j < n; ++j) {
+            const TraceRay& r = staged[j];
+            const int key = 2 * r.wt.kz + (r.wt.kx == (r.wt.kz + 1) % 3 ? 0 : 1);
+            const int k = g.fill[key]++;
+            g.rays[key][k] = &r;
+            g.slots[key][k] = first + j;
+            if (k + 1 == kLanes) {
+                flush(g, key, bvh, mesh, hits, only_coherent, min_cos);
+            }
+        }
+        for (int key = 0; key < Groups::kKeys; ++key) {
             flush(g, key, bvh, mesh, hits, only_coherent, min_cos);
         }
-    }
-    for (int key = 0; key < Groups::kKeys; ++key) {
-        flush(g, key, bvh, mesh, hits, only_coherent, min_cos);
     }
 }
