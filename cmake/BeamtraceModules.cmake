@@ -67,6 +67,9 @@ beamtrace_read_modules("${PROJECT_SOURCE_DIR}/cmake/modules.txt")
 foreach(module IN LISTS BEAMTRACE_MODULES)
   beamtrace_add_module(${module})
 endforeach()
+# The BVH's packets must round every product as the scalar test does (no FMA contraction).
+set_source_files_properties("${PROJECT_SOURCE_DIR}/src/accel/packet_trace.cpp" PROPERTIES
+  COMPILE_OPTIONS "-ffp-contract=off" COMPILE_DEFINITIONS BEAMTRACE_FP_CONTRACT_OFF)
 
 # Third-party libraries, each on the module that uses it.
 target_link_libraries(beamtrace_core PUBLIC Threads::Threads)

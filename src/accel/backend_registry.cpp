@@ -20,7 +20,8 @@ bool always() {
 /// CPU backends traverse ray by ray in the pipeline's blocks of 1024 pulses; the oracles trace a
 /// flattened copy of an instanced scene.
 constexpr BackendTraits kCpuRays{1024, false, false, false};
-constexpr BackendTraits kCpuTwoLevel{1024, false, false, true};
+/// The BVH traces neighbouring coherent rays of one mesh in packets (BvhTraceConfig).
+constexpr BackendTraits kBvh{1024, true, false, true};
 
 #ifdef BEAMTRACE_HAVE_EMBREE
 constexpr BackendEntry::MeshFactory kEmbreeMesh = [](const TriangleMesh& m, ThreadPool& pool,
@@ -43,7 +44,7 @@ using detail::make_kdtree_backend;
 // clang-format off
 constexpr std::array kBackends{
     BackendEntry{BackendKind::bvh, "bvh", "binned-SAH BVH (two-level over instances)", true,
-                 always, kCpuTwoLevel, make_bvh_backend, make_bvh_backend, ""},
+                 always, kBvh, make_bvh_backend, make_bvh_backend, ""},
     BackendEntry{BackendKind::kdtree, "kdtree", "SAH k-d tree (or the ladar report's rules)", true,
                  always, kCpuRays, make_kdtree_backend, make_kdtree_backend, ""},
     BackendEntry{BackendKind::brute, "brute", "every ray against every triangle (the oracle)", true,

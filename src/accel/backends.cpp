@@ -11,6 +11,7 @@
 #include "beamtrace/accel/kdtree.hpp"
 #include "beamtrace/core/error.hpp"
 #include "detail/own_backends.hpp"
+#include "detail/packet_trace.hpp"
 #include "detail/queries.hpp"
 #include "detail/walk_bvh.hpp"
 
@@ -57,6 +58,15 @@ struct BruteForceTraverser {
 struct BvhTraverser {
     const TriangleMesh* mesh = nullptr;
     Bvh bvh;
+    BvhTraceConfig trace;
+    int lanes = 1;  ///< packet_lanes(trace) on this CPU; 1: one ray at a time
+
+    /// Nearest hits of rays [begin, end): in packets where they are coherent (packet_trace.hpp).
+    void intersect_range(const RayBatch& rays, std::size_t begin, std::size_t end,
+                         HitBatch& hits) const {
+        intersect_packets(bvh, *mesh, rays, begin, end, hits, lanes,
+                          trace.packets != BvhPackets::always, trace.max_spread_rad);
+    }
 
     template <class Visitor>
     void traverse(const TraceRay& r, Visitor& vis) const {
@@ -230,7 +240,8 @@ std::unique_ptr<Backend> make_kdtree_backend(const TriangleMesh& mesh, ThreadPoo
 std::unique_ptr<Backend> make_bvh_backend(const TriangleMesh& mesh, ThreadPool& pool,
                                           const BackendConfig& config) {
     return std::make_unique<QueryBackend<BvhTraverser, BackendKind::bvh>>(
-        BvhTraverser{&mesh, build_bvh(mesh, config.bvh, pool)});
+        BvhTraverser{&mesh, build_bvh(mesh, config.bvh, pool), config.bvh_trace,
+                     packet_lanes(config.bvh_trace)});
 }
 
 std::unique_ptr<Backend> make_bvh_backend(const SceneGeometry& geometry, ThreadPool& pool,

@@ -137,6 +137,19 @@ std::vector<NamedBackend> accelerated_backends() {
         if (kind == BackendKind::kdtree) {
             all.push_back({kind, report, "kdtree-report-rules"});
         }
+        if (kind == BackendKind::bvh) {
+            // Every ray through the packet kernels this CPU has, and the single-ray walk.
+            for (const int lanes : {8, 16}) {
+                BackendConfig packets;
+                packets.bvh_trace = {BvhPackets::always, lanes};
+                if (bvh_packet_lanes(packets.bvh_trace) == lanes) {
+                    all.push_back({kind, packets, lanes == 8 ? "bvh-packets-8" : "bvh-packets-16"});
+                }
+            }
+            BackendConfig single;
+            single.bvh_trace.packets = BvhPackets::off;
+            all.push_back({kind, single, "bvh-single-rays"});
+        }
     }
     return all;
 }

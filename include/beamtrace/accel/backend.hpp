@@ -91,6 +91,7 @@ class Backend {
 struct BackendConfig {
     BvhBuildConfig bvh;
     KdTreeBuildConfig kdtree;
+    BvhTraceConfig bvh_trace;  ///< packets or single rays (the BVH backend over one mesh)
 };
 
 /// Builds a backend over `mesh`, which must outlive it (geometry is never copied; the Embree

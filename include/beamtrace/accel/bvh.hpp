@@ -36,6 +36,28 @@ struct BvhBuildConfig {
     float intersection_cost = 1.0f;  ///< ...the cost of one ray/triangle test
 };
 
+/// How the BVH backend traces nearest hits (Backend::intersect) over one mesh. Packets give the
+/// same hits as single rays, bit for bit (t, face, u, v): only the speed differs.
+enum class BvhPackets : std::uint8_t {
+    automatic,  ///< packets where neighbouring rays are coherent (see max_spread_rad), else single
+    off,        ///< one ray at a time
+    always,     ///< every ray in a packet, coherent or not (for tests)
+};
+
+struct BvhTraceConfig {
+    BvhPackets packets = BvhPackets::automatic;
+    /// Rays per packet: 0 = the widest this CPU has (16 with AVX-512, 8 with AVX2, else single
+    /// rays); 8 or 16 ask for that width, and fall back to single rays where the CPU lacks it.
+    int lanes = 0;
+    /// automatic: a packet is traced together when every direction is within this angle of its
+    /// first ray's (and all share the watertight test's axis order), else ray by ray.
+    double max_spread_rad = 0.15;
+};
+
+/// The packet width the BVH backend traces with under `config` on this CPU: 16 or 8, or 1 (one
+/// ray at a time: packets off, or no AVX2).
+[[nodiscard]] int bvh_packet_lanes(const BvhTraceConfig& config);
+
 /// Top-down binned-SAH build (Wald 2007). `pool` parallelises the per-face preparation and the
 /// subtrees below the top levels; the result is the same for any thread count.
 [[nodiscard]] Bvh build_bvh(const TriangleMesh& mesh, const BvhBuildConfig& config,

@@ -40,6 +40,9 @@ namespace beamtrace::detail {
     return true;
 }
 
+/// The nearest hit's limit is its range times this (a few ulps past it; see NearestVisitor).
+inline constexpr float kNearestRoom = 1.0f + 8.0f * std::numeric_limits<float>::epsilon();
+
 /// What every visitor keeps of the mesh it is in: a traverser calls enter() before it visits
 /// faces of a mesh (with the ray in that mesh's coordinates, the global ID of its face 0, and
 /// whether its placement mirrors, which swaps front and back).
@@ -71,7 +74,7 @@ class VisitorBase {
 /// itself as their limit, either could drop a hit at that very range (a point on an edge two
 /// triangles share), so the limit they get is a few ulps past it and the choice is made here.
 class NearestVisitor : public VisitorBase {
-    static constexpr float kRoom = 1.0f + 8.0f * std::numeric_limits<float>::epsilon();
+    static constexpr float kRoom = kNearestRoom;
 
   public:
     explicit NearestVisitor(const TraceRay& ray) : best_t_(ray.tmax), limit_(ray.tmax * kRoom) {}
@@ -247,6 +250,14 @@ class QueryBackend final : public Backend {
 
     void intersect(const RayBatch& rays, std::size_t begin, std::size_t end, HitBatch& hits,
                    ThreadPool& pool) const override {
+        if constexpr (requires { traverser_.intersect_range(rays, begin, end, hits); }) {
+            // The traverser traces ranges of neighbouring rays itself (e.g. in packets).
+            pool.parallel_for(end - begin, ray_grain(end - begin, pool),
+                              [&](std::size_t b, std::size_t e) {
+                                  traverser_.intersect_range(rays, begin + b, begin + e, hits);
+                              });
+            return;
+        }
         for_each_ray(rays, begin, end, pool, [&](std::size_t i, const TraceRay& r) {
             NearestVisitor vis(r);
             traverser_.traverse(r, vis);

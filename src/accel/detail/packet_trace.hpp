@@ -1,0 +1,34 @@
+// Nearest hits of coherent rays in packets of 8 (AVX2) or 16 (AVX-512) lanes over one mesh's BVH
+// (packet_trace.cpp): one walk of the tree per packet with a mask of the lanes still in each node,
+// and the watertight test in lanes with the scalar test's float arithmetic, operation for
+// operation (packet_trace.cpp is compiled with -ffp-contract=off, so no product is fused into
+// an FMA). The hits equal the single-ray walk's bit for bit: per lane, the nearest hit is the
+// least (t, face) among the faces whose test passes within the lane's limit, whatever the order
+// in which nodes are met, and a lane enters a node on the same slab test as a single ray does.
+#pragma once
+
+#include <cstddef>
+
+#include "beamtrace/accel/bvh.hpp"
+#include "beamtrace/core/hit_batch.hpp"
+#include "beamtrace/core/ray_batch.hpp"
+#include "beamtrace/geometry/triangle_mesh.hpp"
+
+namespace beamtrace::detail {
+
+/// The widest packet this CPU can trace: 16 (AVX-512F/DQ), 8 (AVX2) or 1 (neither, or a build
+/// for another architecture).
+[[nodiscard]] int widest_packet_lanes();
+
+/// The packet width `config` asks for on this CPU (1: single rays).
+[[nodiscard]] int packet_lanes(const BvhTraceConfig& config);
+
+/// Nearest hits of rays [begin, end) into `hits`, as the single-ray walk gives them, in packets
+/// of `lanes` (8 or 16, at most widest_packet_lanes(); else one ray at a time). Rays are grouped
+/// by the watertight test's axis order in the order they come, and with `only_coherent` a group
+/// of `lanes` rays whose directions spread wider than `max_spread_rad` is traced ray by ray.
+void intersect_packets(const Bvh& bvh, const TriangleMesh& mesh, const RayBatch& rays,
+                       std::size_t begin, std::size_t end, HitBatch& hits, int lanes,
+                       bool only_coherent, double max_spread_rad);
+
+}  // namespace beamtrace::detail

@@ -1,0 +1,146 @@
+// Packets of coherent rays through one mesh's BVH (detail/packet_trace.hpp). This file must be
+// compiled with -ffp-contract=off (cmake/BeamtraceModules.cmake): AVX-512 brings FMA, and a
+// product fused into an FMA rounds once where the scalar test rounds twice.
+#include "detail/packet_trace.hpp"
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <new>
+
+#include "detail/queries.hpp"
+#include "detail/walk_bvh.hpp"
+
+#if defined(__x86_64__) && defined(__GNUC__)
+#include <immintrin.h>
+#define BEAMTRACE_PACKET_LANES 1
+#else
+#define BEAMTRACE_PACKET_LANES 0
+#endif
+
+#ifndef BEAMTRACE_FP_CONTRACT_OFF
+// The scalar and packet tests must round every product; see the comment at the top.
+#error "packet_trace.cpp must be compiled with -ffp-contract=off -DBEAMTRACE_FP_CONTRACT_OFF"
+#endif
+
+namespace beamtrace::detail {
+namespace {
+
+/// One ray as the BVH backend traces it alone (BvhTraverser with a NearestVisitor).
+void trace_single(const Bvh& bvh, const TriangleMesh& mesh, const TraceRay& r, HitBatch& hits,
+                  std::size_t i) {
+    NearestVisitor vis(r);
+    vis.enter(mesh, r, 0, false);
+    walk_bvh(bvh, r, vis, [&](std::uint32_t face) { return vis.visit(face); });
+    vis.store(hits, i);
+}
+
+#if BEAMTRACE_PACKET_LANES
+
+// One copy of the kernel per instruction set, each compiled for it by function attributes only
+// (as the height-field view's lanes are), so nothing shared with the rest of the program is
+// built for an instruction set the CPU may lack.
+namespace avx2 {
+constexpr int kLanes = 8;
+using vf = float __attribute__((vector_size(32)));
+using vi = std::int32_t __attribute__((vector_size(32)));
+using vu = std::uint32_t __attribute__((vector_size(32)));
+#define BT_PK __attribute__((target("avx2"), always_inline)) inline
+#define BT_PK_ENTRY __attribute__((target("avx2")))
+BT_PK std::uint32_t lane_bits(vi m) {
+    return static_cast<std::uint32_t>(_mm256_movemask_ps(reinterpret_cast<__m256>(m)));
+}
+#include "detail/packet_kernel.inl"
+#undef BT_PK_ENTRY
+#undef BT_PK
+}  // namespace avx2
+
+// GCC 12 warns of its own AVX-512 intrinsics' placeholder operands (GCC bug 105593).
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wuninitialized"
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+namespace avx512 {
+constexpr int kLanes = 16;
+using vf = float __attribute__((vector_size(64)));
+using vi = std::int32_t __attribute__((vector_size(64)));
+using vu = std::uint32_t __attribute__((vector_size(64)));
+#define BT_PK __attribute__((target("avx512f,avx512dq,avx512cd,avx2"), always_inline)) inline
+#define BT_PK_ENTRY __attribute__((target("avx512f,avx512dq,avx512cd,avx2")))
+BT_PK std::uint32_t lane_bits(vi m) {
+    return static_cast<std::uint32_t>(_mm512_movepi32_mask(reinterpret_cast<__m512i>(m)));
+}
+#include "detail/packet_kernel.inl"
+#undef BT_PK_ENTRY
+#undef BT_PK
+}  // namespace avx512
+#pragma GCC diagnostic pop
+
+#endif
+
+}  // namespace
+
+#if BEAMTRACE_PACKET_LANES
+int widest_packet_lanes() {
+    static const int lanes = [] {
+        __builtin_cpu_init();
+        if (__builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512dq") &&
+            __builtin_cpu_supports("avx512cd")) {
+            return 16;
+        }
+        return __builtin_cpu_supports("avx2") ? 8 : 1;
+    }();
+    return lanes;
+}
+#else
+int widest_packet_lanes() {
+    return 1;
+}
+#endif
+
+int packet_lanes(const BvhTraceConfig& config) {
+    if (config.packets == BvhPackets::off) {
+        return 1;
+    }
+    const int widest = widest_packet_lanes();
+    if (config.lanes == 0) {
+        return widest;
+    }
+    return (config.lanes == 8 || config.lanes == 16) && config.lanes <= widest ? config.lanes : 1;
+}
+
+void intersect_packets(const Bvh& bvh, const TriangleMesh& mesh, const RayBatch& rays,
+                       std::size_t begin, std::size_t end, HitBatch& hits, int lanes,
+                       bool only_coherent, double max_spread_rad) {
+    const auto min_cos = static_cast<float>(std::cos(max_spread_rad));
+#if BEAMTRACE_PACKET_LANES
+    if (!bvh.nodes.empty()) {
+        if (lanes == 16 && widest_packet_lanes() >= 16) {
+            avx512::trace_range(bvh, mesh, rays, begin, end, hits, only_coherent, min_cos);
+            return;
+        }
+        if (lanes == 8 && widest_packet_lanes() >= 8) {
+            avx2::trace_range(bvh, mesh, rays, begin, end, hits, only_coherent, min_cos);
+            return;
+        }
+    }
+#else
+    (void)lanes;
+    (void)only_coherent;
+    (void)min_cos;
+#endif
+    for (std::size_t i = begin; i < end; ++i) {
+        trace_single(bvh, mesh, make_trace_ray(rays, i), hits, i);
+    }
+}
+
+}  // namespace beamtrace::detail
+
+namespace beamtrace {
+
+int bvh_packet_lanes(const BvhTraceConfig& config) {
+    return detail::packet_lanes(config);
+}
+
+}  // namespace beamtrace
