@@ -159,6 +159,29 @@ SurveyResult run_checked(const SurveySpec& spec, const SurveyRunConfig& run,
     return sr;
 }
 
+/// The survey end to end once with each of `backends` but the default one, keeping each one's
+/// best run in fig.other_backends (one entry per backend, in their order).
+void time_other_backends(const SurveySpec& spec, SurveyRunConfig run, const std::string& name,
+                         const std::vector<BackendKind>& backends, ThreadFigures& fig) {
+    std::size_t slot = 0;
+    for (BackendKind kind : backends) {
+        if (kind == default_backend_kind()) {
+            continue;
+        }
+        if (fig.other_backends.size() <= slot) {
+            fig.other_backends.push_back({std::string(to_string(kind))});
+        }
+        BackendSurveyFigure& f = fig.other_backends[slot++];
+        run.backend = kind;
+        const SurveyResult sr = run_checked(spec, run, name);
+        if (f.survey_s == 0.0 || sr.survey_s < f.survey_s) {
+            f.survey_s = sr.survey_s;
+            f.pulses_per_s = static_cast<double>(sr.pulses) / sr.survey_s;
+            f.points_per_s = static_cast<double>(sr.points) / sr.survey_s;
+        }
+    }
+}
+
 /// What a memory run gives: the survey's counts, its survey-stage time and the peak RSS.
 struct MemoryRun {
     std::uint64_t pulses = 0, points = 0;
@@ -402,6 +425,8 @@ ThroughputReport run_throughput_bench(const ThroughputBenchConfig& config,
                     fig.survey_pulses_per_s = static_cast<double>(sr.pulses) / sr.survey_s;
                     fig.survey_points_per_s = static_cast<double>(sr.points) / sr.survey_s;
                 }
+                time_other_backends(spec, run, res.name, backends, fig);
+                run.backend = default_backend_kind();
                 for (std::size_t k = 0; k < tracers.size(); ++k) {
                     throw_if_cancelled(config.cancel, "bench");
                     const double rate = best_rate(rays.size(), 1, config.min_time_s,
@@ -457,6 +482,14 @@ std::string format_throughput_report(const ThroughputReport& report) {
                    millions(f.survey_points_per_s) + " points/s | " +
                    ratio(survey_rays_per_s, single) + " | " + ratio(survey_rays_per_s, limit) +
                    " |\n";
+            for (const BackendSurveyFigure& o : f.other_backends) {
+                const double rays_per_s = o.pulses_per_s * static_cast<double>(s.rays) /
+                                          static_cast<double>(std::max<std::uint64_t>(1, s.pulses));
+                out += "| " + std::to_string(f.threads) + " | **survey end to end, " + o.backend +
+                       "** | " + millions(o.pulses_per_s) + " pulses/s, " +
+                       millions(o.points_per_s) + " points/s | " + ratio(rays_per_s, single) +
+                       " | " + ratio(rays_per_s, limit) + " |\n";
+            }
         }
         out += "\n| threads | scene load + build | survey stage | peak RSS |\n|---|---|---|---|\n";
         for (const auto& f : s.runs) {

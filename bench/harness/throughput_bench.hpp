@@ -43,12 +43,22 @@ struct TraceFigure {
     std::uint64_t missed_hits = 0;
 };
 
+/// The survey end to end with another backend than the default (the benchmark's other
+/// `backends`), best run.
+struct BackendSurveyFigure {
+    std::string backend;
+    double survey_s = 0.0;
+    double pulses_per_s = 0.0;
+    double points_per_s = 0.0;
+};
+
 struct ThreadFigures {
     unsigned threads = 1;
     std::vector<TraceFigure> trace;
     double survey_s = 0.0;  ///< survey stage (trace, physics, encode, write), best run
     double survey_pulses_per_s = 0.0;
     double survey_points_per_s = 0.0;
+    std::vector<BackendSurveyFigure> other_backends;  ///< the same survey with each other backend
     double load_build_s = 0.0;       ///< scene load + build of the default backend, best run
     std::size_t peak_rss_bytes = 0;  ///< highest peak RSS of the end-to-end runs
     [[nodiscard]] double limit_rays_per_s() const;  ///< the fastest direct Embree call
