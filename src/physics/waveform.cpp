@@ -132,7 +132,8 @@ bool fit_gaussian(const Waveform& waveform, const EchoSpan& span, Value v, FitSc
 }
 
 /// The fit of `span` on the samples less the fitted Gaussians of the other echoes (none given:
-/// the samples themselves), or the top sample with the pulse's width when it fails.
+/// the samples themselves), or the top sample with the pulse's width when it fails. `others`,
+/// when given, are the first fits of every span (others[e] the span's own, made on the samples).
 GaussianFit fit_echo(const WaveformConfig& config, const Waveform& waveform,
                      const std::vector<EchoSpan>& spans, const std::vector<GaussianFit>& others,
                      std::size_t e, FitScratch& scratch) {
@@ -148,6 +149,9 @@ GaussianFit fit_echo(const WaveformConfig& config, const Waveform& waveform,
         if (o != e && !others[o].zero_on(lo_ns, hi_ns)) {
             near.push_back(o);
         }
+    }
+    if (!others.empty() && near.empty()) {
+        return others[e];  // the residual is the samples: the fit is the first one, again
     }
     const auto residual = [&](std::size_t m) {
         double v = y[m];
