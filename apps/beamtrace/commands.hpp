@@ -27,5 +27,7 @@ std::function<int()> add_render_command(CLI::App& app);
 std::function<int()> add_bench_command(CLI::App& app);
 /// Registers `convert IN OUT`: LAS <-> LAZ by OUT's extension (see docs/convert.md).
 std::function<int()> add_convert_command(CLI::App& app);
+/// Registers `weather-range`: maximum detection range against fog MOR (see docs/weather.md).
+std::function<int()> add_weather_range_command(CLI::App& app);
 
 }  // namespace beamtrace::cli

@@ -70,7 +70,8 @@ int main(int argc, char** argv) {
         {"view", beamtrace::cli::add_view_command(app)},
         {"render", beamtrace::cli::add_render_command(app)},
         {"bench", beamtrace::cli::add_bench_command(app)},
-        {"convert", beamtrace::cli::add_convert_command(app)}};
+        {"convert", beamtrace::cli::add_convert_command(app)},
+        {"weather-range", beamtrace::cli::add_weather_range_command(app)}};
     if (const int status = parse(app, argc, argv, reports); status >= 0) {
         return status;
     }

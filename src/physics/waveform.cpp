@@ -38,11 +38,18 @@ struct GaussianFit {
     double amplitude = 0.0;
     double sigma_ns = 0.0;
 
+    /// exp(-0.5 d^2) is exactly 0 in doubles beyond 38.6 sigma: at() skips the call there.
+    static constexpr double kUnderflow = 38.7;
+
     [[nodiscard]] double at(double t_ns) const {
         const double d = (t_ns - centre_ns) / sigma_ns;
-        // exp(-0.5 d^2) is exactly 0 in doubles beyond 38.6 sigma: skip the call.
-        constexpr double kUnderflow = 38.7;
         return std::abs(d) > kUnderflow ? 0.0 : amplitude * std::exp(-0.5 * d * d);
+    }
+    /// True when at() is exactly 0 at every time of [lo_ns, hi_ns] (d grows with t, so both
+    /// ends beyond kUnderflow on one side); false for a NaN (at() is NaN there too).
+    [[nodiscard]] bool zero_on(double lo_ns, double hi_ns) const {
+        return (lo_ns - centre_ns) / sigma_ns > kUnderflow ||
+               (hi_ns - centre_ns) / sigma_ns < -kUnderflow;
     }
 };
 
@@ -57,6 +64,7 @@ struct EchoSpan {
 /// Working space of the fits: the values of one fit's samples.
 struct FitScratch {
     std::vector<double> left, right;
+    std::vector<std::size_t> near;  ///< the other fits not 0 on the span being fitted
 };
 
 template <typename Value>
@@ -124,17 +132,32 @@ bool fit_gaussian(const Waveform& waveform, const EchoSpan& span, Value v, FitSc
 }
 
 /// The fit of `span` on the samples less the fitted Gaussians of the other echoes (none given:
-/// the samples themselves), or the top sample with the pulse's width when it fails.
+/// the samples themselves), or the top sample with the pulse's width when it fails. `others`,
+/// when given, are the first fits of every span (others[e] the span's own, made on the samples).
 GaussianFit fit_echo(const WaveformConfig& config, const Waveform& waveform,
                      const std::vector<EchoSpan>& spans, const std::vector<GaussianFit>& others,
                      std::size_t e, FitScratch& scratch) {
     const auto& y = waveform.samples_w;
     const EchoSpan& span = spans[e];
     GaussianFit fit{waveform.time_ns(span.top), y[span.top], config.pulse_fwhm_ns / kFwhmPerSigma};
+    // The others that are not 0 somewhere on the span, in order: subtracting the rest (and the
+    // echo's own) would subtract exactly 0, which leaves every sample as it is.
+    std::vector<std::size_t>& near = scratch.near;
+    near.clear();
+    const double lo_ns = waveform.time_ns(span.lo), hi_ns = waveform.time_ns(span.hi);
+    for (std::size_t o = 0; o < others.size(); ++o) {
+        if (o != e && !others[o].zero_on(lo_ns, hi_ns)) {
+            near.push_back(o);
+        }
+    }
+    if (!others.empty() && near.empty()) {
+        return others[e];  // the residual is the samples: the fit is the first one, again
+    }
     const auto residual = [&](std::size_t m) {
         double v = y[m];
-        for (std::size_t o = 0; o < others.size(); ++o) {
-            v -= o == e ? 0.0 : others[o].at(waveform.time_ns(m));
+        const double t_ns = waveform.time_ns(m);
+        for (const std::size_t o : near) {
+            v -= others[o].at(t_ns);
         }
         return v;
     };
@@ -202,6 +225,13 @@ void find_spans(const WaveformConfig& config, const Waveform& waveform,
         }
     }
 }
+
+/// What detect_echoes works in: the spans, their fits and the first fits of the refit.
+struct DetectScratch {
+    std::vector<EchoSpan> spans;
+    std::vector<GaussianFit> fits, first;
+    FitScratch fit;
+};
 
 }  // namespace
 
@@ -292,17 +322,21 @@ void detect_echoes(const WaveformConfig& config, const Waveform& waveform, doubl
     if (waveform.samples_w.size() < 3) {
         return;
     }
-    std::vector<EchoSpan> spans;
+    // The working space, kept per thread: no allocation per pulse once it has grown.
+    thread_local DetectScratch work;
+    std::vector<EchoSpan>& spans = work.spans;
+    std::vector<GaussianFit>& fits = work.fits;
+    FitScratch& scratch = work.fit;
+    spans.clear();
+    fits.clear();
     find_spans(config, waveform, spans);
-    std::vector<GaussianFit> fits;
-    fits.reserve(spans.size());
-    FitScratch scratch;
     for (std::size_t e = 0; e < spans.size(); ++e) {
         fits.push_back(fit_echo(config, waveform, spans, {}, e, scratch));
     }
     // Separate echoes overlap: refit each on the samples less its neighbours' first fits.
     if (spans.size() > 1) {
-        const std::vector<GaussianFit> first = fits;
+        std::vector<GaussianFit>& first = work.first;
+        first = fits;
         for (std::size_t e = 0; e < spans.size(); ++e) {
             fits[e] = fit_echo(config, waveform, spans, first, e, scratch);
         }

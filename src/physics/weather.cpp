@@ -1,6 +1,11 @@
 #include "beamtrace/physics/weather.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <numbers>
+#include <string>
+
+#include "beamtrace/core/error.hpp"
 
 namespace beamtrace {
 
@@ -48,6 +53,35 @@ double weather_extinction_per_m(const WeatherConfig& weather) {
             drop_size_distribution(weather.precipitation->kind, weather.precipitation->rate_mm_h));
     }
     return alpha;
+}
+
+double max_detection_range_in_fog_m(const RadiometryConfig& radiometry, const AtmosphereConfig& air,
+                                    double reflectance, double mor_m) {
+    if (!(reflectance > 0.0 && reflectance <= 1.0)) {
+        throw ConfigError("reflectance: must be in (0, 1], got " + std::to_string(reflectance));
+    }
+    if (!(mor_m > 0.0) || !std::isfinite(mor_m)) {
+        throw ConfigError("mor_m: must be a positive number of metres, got " +
+                          std::to_string(mor_m));
+    }
+    const double alpha = fog_extinction_per_m(FogConfig{mor_m, {}, {}}) +
+                         extinction_per_m(air, radiometry.wavelength_nm);
+    // ln K with K = R^2 exp(2 alpha R) at the root; in x = ln R: h(x) = 2 x + 2 alpha e^x - ln K,
+    // increasing and convex, so Newton's method from x0 = ln K / 2 (the root without
+    // extinction, never left of the root) falls monotonically onto it.
+    const double log_k = std::log(radiometry.peak_power_w * reflectance *
+                                  aperture_area_m2(radiometry) * radiometry.system_efficiency /
+                                  (std::numbers::pi * radiometry.detection_threshold_w));
+    double x = log_k / 2.0;
+    for (int i = 0; i < 200; ++i) {
+        const double e = alpha * std::exp(x);
+        const double step = (2.0 * x + 2.0 * e - log_k) / (2.0 + 2.0 * e);
+        x -= step;
+        if (!(std::abs(step) > 1e-15 * std::max(1.0, std::abs(x)))) {
+            break;
+        }
+    }
+    return std::exp(x);
 }
 
 WeatherEffect particle_effect(PrecipitationKind kind) {

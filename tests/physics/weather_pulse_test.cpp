@@ -6,7 +6,9 @@
 #include <numbers>
 #include <vector>
 
+#include "beamtrace/core/error.hpp"
 #include "beamtrace/physics/pulse.hpp"
+#include "beamtrace/physics/weather.hpp"
 
 namespace beamtrace {
 namespace {
@@ -77,19 +79,47 @@ TEST(WeatherPulse, MaximumRangeInFogSolvesTheRangeEquation) {
             }
             return false;
         };
-        // P_t rho A_r eta exp(-2 alpha R) / (pi R^2) = threshold, solved here.
-        const RadiometryConfig& q = c.radiometry;
-        const double alpha = std::log(20.0) / mor;
-        const auto analytic = [&](double r) {
-            return q.peak_power_w * rho * std::numbers::pi * q.aperture_diameter_m *
-                       q.aperture_diameter_m / 4.0 * q.system_efficiency *
-                       std::exp(-2 * alpha * r) / (std::numbers::pi * r * r) >=
-                   q.detection_threshold_w;
-        };
-        const double want = last_detected_m(analytic, 3.0, 2000.0);
+        // P_t rho A_r eta exp(-2 alpha R) / (pi R^2) = threshold, solved by the library.
+        const double want = max_detection_range_in_fog_m(c.radiometry, c.atmosphere, rho, mor);
         const double got = last_detected_m(simulated, 3.0, 2000.0);
         EXPECT_NEAR(got, want, 0.02 * want) << "MOR " << mor;
     }
+}
+
+/// P_r of a Lambertian target of albedo `rho` facing the sensor at `range_m` through
+/// exp(-2 alpha R), written out (not range_equation.hpp's).
+double lambertian_power_w(const RadiometryConfig& q, double rho, double alpha, double range_m) {
+    return q.peak_power_w * rho * std::numbers::pi * q.aperture_diameter_m * q.aperture_diameter_m /
+           4.0 * q.system_efficiency * std::exp(-2 * alpha * range_m) /
+           (std::numbers::pi * range_m * range_m);
+}
+
+TEST(WeatherPulse, MaximumRangeSolverMeetsTheThresholdExactly) {
+    RadiometryConfig q;
+    q.wavelength_nm = 905.0;
+    q.peak_power_w = 30.0;
+    q.detection_threshold_w = 2e-8;
+    AtmosphereConfig air;  // 23 km visibility: its extinction adds to the fog's
+    for (const double rho : {0.05, 0.1, 0.5, 1.0}) {
+        for (const double mor : {5.0, 20.0, 50.0, 200.0, 1000.0, 2000.0, 1e5}) {
+            const double r = max_detection_range_in_fog_m(q, air, rho, mor);
+            const double alpha = std::log(20.0) / mor + extinction_per_m(air, q.wavelength_nm);
+            const double p = lambertian_power_w(q, rho, alpha, r);
+            EXPECT_NEAR(p / q.detection_threshold_w, 1.0, 1e-9) << rho << " " << mor;
+            // Closer is detected, farther not (the root is the one the curve crosses).
+            EXPECT_GT(lambertian_power_w(q, rho, alpha, r * (1 - 1e-6)), q.detection_threshold_w);
+            EXPECT_LT(lambertian_power_w(q, rho, alpha, r * (1 + 1e-6)), q.detection_threshold_w);
+        }
+    }
+    // Without extinction the root is sqrt(K).
+    AtmosphereConfig vacuum;
+    vacuum.enabled = false;
+    const double k = q.peak_power_w * 0.5 * q.aperture_diameter_m * q.aperture_diameter_m / 4.0 *
+                     q.system_efficiency / q.detection_threshold_w;
+    EXPECT_NEAR(max_detection_range_in_fog_m(q, vacuum, 0.5, 1e300), std::sqrt(k),
+                1e-9 * std::sqrt(k));
+    EXPECT_THROW((void)max_detection_range_in_fog_m(q, air, 0.0, 50.0), ConfigError);
+    EXPECT_THROW((void)max_detection_range_in_fog_m(q, air, 0.5, -1.0), ConfigError);
 }
 
 TEST(WeatherPulse, ParticleEchoesPerPulseMatchTheExpectedCount) {

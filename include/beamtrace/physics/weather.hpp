@@ -7,8 +7,10 @@
 #include <string>
 #include <vector>
 
+#include "beamtrace/physics/atmosphere.hpp"
 #include "beamtrace/physics/fog.hpp"
 #include "beamtrace/physics/precipitation.hpp"
+#include "beamtrace/physics/range_equation.hpp"
 
 namespace beamtrace {
 
@@ -45,6 +47,23 @@ struct WeatherConfig {
 
 /// The extinction [1/m] the weather adds to the air's: the fog's plus the precipitation's.
 [[nodiscard]] double weather_extinction_per_m(const WeatherConfig& weather);
+
+/// The maximum detection range [m] in fog: the range R at which an extended Lambertian target
+/// of albedo `reflectance` (in (0, 1]) facing the sensor and filling the beam returns exactly
+/// the detection threshold through fog of meteorological optical range `mor_m` (> 0):
+///
+///   P_t rho A_r eta exp(-2 (alpha_fog + alpha_air) R) / (pi R^2) = P_threshold
+///
+/// (range_equation.hpp), with alpha_fog = ln(20) / mor_m (fog.hpp: in fog it does not depend on
+/// the wavelength) and alpha_air the extinction of `air` at `radiometry.wavelength_nm`
+/// (atmosphere.hpp; 0 when disabled). P_t, A_r (from the aperture diameter), eta and the
+/// threshold are `radiometry`'s (the physics config's). The left side falls strictly with R, so
+/// the root is unique: R = W(alpha sqrt(K)) / alpha with K = P_t rho A_r eta / (pi P_threshold),
+/// W the Lambert W function, solved here by Newton's method in ln R to full double precision
+/// (sqrt(K) when alpha is 0). Throws ConfigError on a reflectance or MOR out of range.
+[[nodiscard]] double max_detection_range_in_fog_m(const RadiometryConfig& radiometry,
+                                                  const AtmosphereConfig& air, double reflectance,
+                                                  double mor_m);
 
 /// The effect of the particles of `kind`.
 [[nodiscard]] WeatherEffect particle_effect(PrecipitationKind kind);
