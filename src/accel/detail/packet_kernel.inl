@@ -8,7 +8,7 @@ using Mask = std::uint32_t;
 constexpr Mask kAllLanes = kLanes == 32 ? ~Mask{0} : (Mask{1} << kLanes) - 1;
 
 BT_PK vf splat(float s) {
-    vf r;
+    vf r{};
     for (int l = 0; l < kLanes; ++l) {
         r[l] = s;
     }
@@ -16,7 +16,7 @@ BT_PK vf splat(float s) {
 }
 
 BT_PK vu splat_u(std::uint32_t s) {
-    vu r;
+    vu r{};
     for (int l = 0; l < kLanes; ++l) {
         r[l] = s;
     }
@@ -25,7 +25,7 @@ BT_PK vu splat_u(std::uint32_t s) {
 
 /// All bits set in the lanes of `m` (a comparison's form of a lane mask).
 BT_PK vi lanes_of(Mask m) {
-    vi r;
+    vi r{};
     for (int l = 0; l < kLanes; ++l) {
         r[l] = ((m >> l) & 1u) != 0 ? -1 : 0;
     }
