@@ -10,6 +10,7 @@
 #include <limits>
 #include <new>
 
+#include "core/simd_level.hpp"
 #include "detail/queries.hpp"
 #include "detail/walk_bvh.hpp"
 
@@ -81,23 +82,20 @@ BT_PK std::uint32_t lane_bits(vi m) {
 
 }  // namespace
 
-#if BEAMTRACE_PACKET_LANES
 int widest_packet_lanes() {
-    static const int lanes = [] {
-        __builtin_cpu_init();
-        if (__builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512dq") &&
-            __builtin_cpu_supports("avx512cd")) {
+    if (!BEAMTRACE_PACKET_LANES) {
+        return 1;
+    }
+    switch (cpu_simd_level()) {
+        case SimdLevel::avx512:
             return 16;
-        }
-        return __builtin_cpu_supports("avx2") ? 8 : 1;
-    }();
-    return lanes;
-}
-#else
-int widest_packet_lanes() {
+        case SimdLevel::avx2:
+            return 8;
+        case SimdLevel::scalar:
+            break;
+    }
     return 1;
 }
-#endif
 
 int packet_lanes(const BvhTraceConfig& config) {
     if (config.packets == BvhPackets::off) {

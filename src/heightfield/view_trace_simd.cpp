@@ -10,6 +10,8 @@
 #define BEAMTRACE_VIEW_LANES 0
 #endif
 
+#include "core/simd_level.hpp"
+
 namespace beamtrace::detail {
 
 #if BEAMTRACE_VIEW_LANES
@@ -50,15 +52,15 @@ namespace avx512 {
 }  // namespace
 
 int widest_lanes() {
-    static const int lanes = [] {
-        __builtin_cpu_init();
-        if (__builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512dq") &&
-            __builtin_cpu_supports("avx512cd")) {
+    switch (cpu_simd_level()) {
+        case SimdLevel::avx512:
             return 8;
-        }
-        return __builtin_cpu_supports("avx2") ? 4 : 1;
-    }();
-    return lanes;
+        case SimdLevel::avx2:
+            return 4;
+        case SimdLevel::scalar:
+            break;
+    }
+    return 1;
 }
 
 int trace_rays_lanes(int lanes, const LevelTable& table, const GridRay* rays, std::size_t count,
