@@ -192,6 +192,9 @@ double cell_variance(std::span<const SubRayOffset> pattern) {
 }
 
 double footprint_radius_m(const BeamConfig& config, double range_m) {
+    if (config.exit_diameter_m == 0) {
+        return std::abs(range_m * config.divergence_rad / 2.0);  // hypot(0, y) is |y|, exactly
+    }
     return std::hypot(config.exit_diameter_m / 2.0, range_m * config.divergence_rad / 2.0);
 }
 

@@ -55,8 +55,14 @@ std::pair<std::uint32_t, double> dominant_sample(std::span<const BeamSample> sam
     for (std::size_t j = 0, c = 0; j < powers.size(); ++j) {
         if (powers[j] > 0) {
             const double sigma_m = contributions[c++].sigma_ns / round_trip_ns_per_m();
+            // The share is at most powers[j] / sigma_m (exp <= 1, and the product rounds no
+            // higher): a sample that cannot pass the best needs no exp.
+            const double bound = powers[j] / sigma_m;
+            if (!(bound > best)) {
+                continue;
+            }
             const double d = (samples[j].hit.range_m - range_m) / sigma_m;
-            const double share = powers[j] / sigma_m * std::exp(-0.5 * d * d);
+            const double share = bound * std::exp(-0.5 * d * d);
             if (share > best) {
                 best = share;
                 best_j = static_cast<std::uint32_t>(j);

@@ -13,22 +13,81 @@ namespace {
 const double kFwhmPerSigma = 2.0 * std::sqrt(2.0 * std::log(2.0));
 const double kSqrtTwoPi = std::sqrt(2.0 * std::numbers::pi);
 
-/// Adds amplitude * exp(-(t - t0)^2 / (2 sigma^2)) to the bins [b0, b1] of `out`: along the bins
-/// by recurrence (three exp calls): the ratio of consecutive samples is
-/// exp(-k (2 dt h + h^2)), itself scaled by exp(-2 k h^2) per step.
-void add_gaussian(Waveform& out, std::int64_t b0, std::int64_t b1, double t0, double amplitude,
-                  double sigma_ns) {
-    const double h = out.bin_ns;
+/// amplitude * exp(-(t - t0)^2 / (2 sigma^2)) on the bins [b0, b0 + n), by recurrence (three
+/// exp calls): g is the first sample; the ratio of consecutive samples is
+/// exp(-k (2 dt h + h^2)), itself scaled by `step` = exp(-2 k h^2) per bin.
+struct GaussianRun {
+    double g = 0.0, ratio = 0.0, step = 0.0;
+    std::int64_t b0 = 0;
+    std::size_t n = 0;
+};
+
+/// The run of the bins [b0, b1] (none when b1 < b0) of width h [ns].
+GaussianRun gaussian_run(double h, std::int64_t b0, std::int64_t b1, double t0, double amplitude,
+                         double sigma_ns) {
+    GaussianRun r;
+    r.b0 = b0;
+    if (b1 < b0) {
+        return r;
+    }
     const double inv_two_var = 1.0 / (2.0 * sigma_ns * sigma_ns);
     const double dt0 = static_cast<double>(b0) * h - t0;
-    double g = amplitude * std::exp(-dt0 * dt0 * inv_two_var);
-    double ratio = std::exp(-(2.0 * dt0 * h + h * h) * inv_two_var);
-    const double ratio_step = std::exp(-2.0 * h * h * inv_two_var);
-    double* y = out.samples_w.data() + (b0 - out.first_bin);
-    for (std::int64_t b = b0; b <= b1; ++b) {
-        *y++ += g;
-        g *= ratio;
-        ratio *= ratio_step;
+    r.g = amplitude * std::exp(-dt0 * dt0 * inv_two_var);
+    r.ratio = std::exp(-(2.0 * dt0 * h + h * h) * inv_two_var);
+    r.step = std::exp(-2.0 * h * h * inv_two_var);
+    r.n = static_cast<std::size_t>(b1 - b0 + 1);
+    return r;
+}
+
+/// Runs sampled together: their recurrences are independent, so kLanes of them interleaved
+/// keep the multipliers busy where one alone waits on each product.
+constexpr std::size_t kLanes = 4;
+
+/// The samples of runs[0, count) (count <= kLanes) into rows[l * stride, l * stride + n_l): each
+/// lane's products in the order of its run alone, so each sample rounds as it did alone.
+void sample_runs(const GaussianRun* runs, std::size_t count, double* rows, std::size_t stride) {
+    double g[kLanes] = {}, ratio[kLanes] = {}, step[kLanes] = {};  // unused lanes stay 0
+    std::size_t common = count == 0 ? 0 : runs[0].n;
+    for (std::size_t l = 0; l < count; ++l) {
+        g[l] = runs[l].g;
+        ratio[l] = runs[l].ratio;
+        step[l] = runs[l].step;
+        common = std::min(common, runs[l].n);
+    }
+    for (std::size_t s = 0; s < common; ++s) {
+        for (std::size_t l = 0; l < kLanes; ++l) {
+            rows[l * stride + s] = g[l];
+            g[l] *= ratio[l];
+            ratio[l] *= step[l];
+        }
+    }
+    for (std::size_t l = 0; l < count; ++l) {  // the longer runs' tails, one at a time
+        for (std::size_t s = common; s < runs[l].n; ++s) {
+            rows[l * stride + s] = g[l];
+            g[l] *= ratio[l];
+            ratio[l] *= step[l];
+        }
+    }
+}
+
+/// Adds runs[0, count) to `out`, in order: every bin receives its samples in the order of the
+/// runs, as one run after the other would add them.
+void add_runs(Waveform& out, const GaussianRun* runs, std::size_t count) {
+    thread_local std::vector<double> rows;  // grows once per thread: no allocation per pulse
+    std::size_t stride = 0;
+    for (std::size_t l = 0; l < count; ++l) {
+        stride = std::max(stride, runs[l].n);
+    }
+    if (rows.size() < kLanes * stride) {
+        rows.resize(kLanes * stride);
+    }
+    sample_runs(runs, count, rows.data(), stride);
+    for (std::size_t l = 0; l < count; ++l) {
+        double* y = out.samples_w.data() + (runs[l].b0 - out.first_bin);
+        const double* row = rows.data() + l * stride;
+        for (std::size_t s = 0; s < runs[l].n; ++s) {
+            y[s] += row[s];
+        }
     }
 }
 
@@ -293,6 +352,8 @@ void build_waveform(const WaveformConfig& config, std::span<const EchoContributi
     const auto last = static_cast<std::int64_t>(std::ceil(t_hi / config.bin_ns));
     out.first_bin = first;
     out.samples_w.assign(static_cast<std::size_t>(last - first + 1), 0.0);
+    GaussianRun runs[kLanes];
+    std::size_t count = 0;
     for (const auto& c : contributions) {
         const double t = c.range_m * round_trip_ns_per_m();
         const double sigma = sigma_of(c);
@@ -303,8 +364,13 @@ void build_waveform(const WaveformConfig& config, std::span<const EchoContributi
             std::min(last, static_cast<std::int64_t>(std::ceil((t + reach_ns) / config.bin_ns)));
         // The stretched echo keeps its energy: its peak drops as sigma_p / sigma.
         const double amplitude = c.sigma_ns > 0 ? c.power_w * (sigma_p / sigma) : c.power_w;
-        add_gaussian(out, b0, b1, t, amplitude, sigma);
+        runs[count++] = gaussian_run(out.bin_ns, b0, b1, t, amplitude, sigma);
+        if (count == kLanes) {
+            add_runs(out, runs, count);
+            count = 0;
+        }
     }
+    add_runs(out, runs, count);
     // The binned pulses' bins lie inside: their extent counted above with sigma_p <= sigma_max.
     if (!binned.empty()) {
         const std::int64_t at = binned.first_bin - first;

@@ -8,19 +8,43 @@ SurveyPhysics::SurveyPhysics(const PulseSimulator& sim, const Scene& scene,
                              std::vector<Material> materials, std::uint64_t seed)
     : sim_(&sim), scene_(&scene), materials_(std::move(materials)), seed_(seed) {}
 
+const SurveyPhysics::FaceFacts& SurveyPhysics::face_facts(std::uint32_t face, const Vec3d& point_m,
+                                                          double time_s, FaceCache& cache) const {
+    for (const FaceFacts& f : cache.faces) {
+        if (f.face == face) {
+            return f;
+        }
+    }
+    FaceFacts& f = cache.faces[cache.next];
+    cache.next = (cache.next + 1) % cache.faces.size();
+    const Scene& scene = *scene_;
+    const ScenePart& part = scene.parts[scene.part_of_face(face)];
+    f.face = face;
+    f.material = &materials_[part.material];
+    f.frame = scene.pattern_frame(part, face);
+    // Only a sphere's normal depends on the point (a moving face's on the time: one pulse's).
+    f.flat = scene.geometry.sphere_of_face(face) == nullptr;
+    if (f.flat) {
+        f.normal = scene.normal_at(face, point_m, time_s);
+    }
+    return f;
+}
+
 SubRayHit SurveyPhysics::sub_ray_hit(const RayBatch& rays, const HitBatch& hits, std::size_t h,
-                                     double time_s) const {
+                                     double time_s, FaceCache& cache) const {
     if (!hits.hit(h)) {
         return SubRayHit{};
     }
-    const Scene& scene = *scene_;
+    const std::uint32_t face = hits.face[h];
     const Vec3d d{rays.dx[h], rays.dy[h], rays.dz[h]};
     const double t = hits.t[h];
-    const ScenePart& part = scene.parts[scene.part_of_face(hits.face[h])];
     // The true ray's origin: w.origin is the measured one (georeferencing errors).
     const Vec3d at = Vec3d{rays.ox[h], rays.oy[h], rays.oz[h]} + d * t;
-    return make_sub_ray_hit(materials_[part.material], scene.pattern_frame(part, hits.face[h]), t,
-                            at, scene.normal_at(hits.face[h], at, time_s), d);
+    const FaceFacts& f = face_facts(face, at, time_s, cache);
+    if (f.flat) {
+        return make_sub_ray_hit(*f.material, f.frame, t, at, f.normal, d);
+    }
+    return make_sub_ray_hit(*f.material, f.frame, t, at, scene_->normal_at(face, at, time_s), d);
 }
 
 void SurveyPhysics::find_edges(BlockWork& w) const {
@@ -70,9 +94,10 @@ void SurveyPhysics::simulate(BlockWork& w, std::size_t k) const {
     samples.clear();
     w.sample_face.clear();
     std::uint32_t e = w.edge_start[k];
+    FaceCache cache;  // the faces this pulse met
     for (std::size_t j = 0; j < sub_rays; ++j) {
         const std::size_t h = k * sub_rays + j;
-        const SubRayHit hit = sub_ray_hit(w.rays, w.hits, h, w.pulses.time_s[k]);
+        const SubRayHit hit = sub_ray_hit(w.rays, w.hits, h, w.pulses.time_s[k], cache);
         w.sample_face.push_back(w.hits.face[h]);
         if (e == w.edge_start[k + 1] || w.edge_cell[e] != j) {
             samples.push_back(sim_->cell_sample(hit, j));
@@ -81,7 +106,7 @@ void SurveyPhysics::simulate(BlockWork& w, std::size_t k) const {
         samples.push_back(sim_->edge_sample(hit, j));
         for (std::size_t p = e * probes; p < (e + 1) * probes; ++p) {
             samples.push_back(sim_->edge_sample(
-                sub_ray_hit(w.probe_rays, w.probe_hits, p, w.pulses.time_s[k]), j));
+                sub_ray_hit(w.probe_rays, w.probe_hits, p, w.pulses.time_s[k], cache), j));
             w.sample_face.push_back(w.probe_hits.face[p]);
         }
         ++e;

@@ -2,6 +2,7 @@
 // its sampled waveform), with the scene's materials.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -33,11 +34,29 @@ class SurveyPhysics {
     const MovingInstances* moving = nullptr;
 
   private:
+    /// What the samples of one pulse that meet one face share: its part's material and pattern
+    /// frame, and its normal where that does not vary over the face (not a sphere's). An
+    /// airborne beam's 19 sub-rays meet 1 to 4 triangles.
+    struct FaceFacts {
+        std::uint32_t face = kNoFace;
+        const Material* material = nullptr;
+        PatternFrame frame;
+        bool flat = false;  ///< normal holds for every point of the face
+        Vec3d normal{0, 0, 0};
+    };
+    /// The facts of the last faces one pulse met (at one time: a moving face's normal with it).
+    struct FaceCache {
+        std::array<FaceFacts, 4> faces;
+        std::size_t next = 0;
+    };
+    /// The facts of `face` (hit at `point_m` at `time_s`), from `cache` or computed into it.
+    const FaceFacts& face_facts(std::uint32_t face, const Vec3d& point_m, double time_s,
+                                FaceCache& cache) const;
     /// The edge cells of every pulse of the block and their probe rays (w.edge_*, w.probe_*).
     void find_edges(BlockWork& w) const;
     /// The SubRayHit of ray h of `rays` (hits[h] a hit).
     [[nodiscard]] SubRayHit sub_ray_hit(const RayBatch& rays, const HitBatch& hits, std::size_t h,
-                                        double time_s) const;
+                                        double time_s, FaceCache& cache) const;
     /// Traces the probes on the moving instances too (each at its pulse's time).
     void trace_moving_probes(BlockWork& w) const;
     /// Pulse k's beam samples (w.response.samples, w.sample_face), simulated into w.response.

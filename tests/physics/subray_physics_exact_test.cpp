@@ -1,0 +1,173 @@
+// The sub-ray physics' shortcuts (issue 21) give the results of the plain computations bit for
+// bit: the waveform's Gaussians sampled several at a time, the dominant sample's search, the
+// footprint radius without hypot.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdint>
+#include <random>
+#include <vector>
+
+#include "beamtrace/physics/beam_divergence.hpp"
+#include "beamtrace/physics/pulse.hpp"
+#include "beamtrace/physics/waveform.hpp"
+
+namespace beamtrace {
+namespace {
+
+/// The waveform as build_waveform made it before issue 21: one Gaussian after the other, each
+/// along its bins by the recurrence g *= ratio, ratio *= step (three exp calls).
+Waveform one_gaussian_at_a_time(const WaveformConfig& config,
+                                const std::vector<EchoContribution>& contributions) {
+    Waveform out;
+    out.bin_ns = config.bin_ns;
+    const double sigma_p = config.pulse_fwhm_ns / (2.0 * std::sqrt(2.0 * std::log(2.0)));
+    const auto sigma_of = [&](const EchoContribution& c) {
+        return c.sigma_ns > 0 ? c.sigma_ns : sigma_p;
+    };
+    double t_lo = contributions[0].range_m, t_hi = t_lo, sigma_max = 0.0;
+    for (const auto& c : contributions) {
+        t_lo = std::min(t_lo, c.range_m);
+        t_hi = std::max(t_hi, c.range_m);
+        sigma_max = std::max(sigma_max, sigma_of(c));
+    }
+    t_lo = t_lo * round_trip_ns_per_m() - 5.0 * sigma_max;
+    t_hi = t_hi * round_trip_ns_per_m() + 5.0 * sigma_max;
+    const auto first = static_cast<std::int64_t>(std::floor(t_lo / config.bin_ns));
+    const auto last = static_cast<std::int64_t>(std::ceil(t_hi / config.bin_ns));
+    out.first_bin = first;
+    out.samples_w.assign(static_cast<std::size_t>(last - first + 1), 0.0);
+    const double h = config.bin_ns;
+    for (const auto& c : contributions) {
+        const double t = c.range_m * round_trip_ns_per_m();
+        const double sigma = sigma_of(c);
+        const auto b0 = std::max(
+            first, static_cast<std::int64_t>(std::floor((t - 5.0 * sigma) / config.bin_ns)));
+        const auto b1 =
+            std::min(last, static_cast<std::int64_t>(std::ceil((t + 5.0 * sigma) / config.bin_ns)));
+        const double amplitude = c.sigma_ns > 0 ? c.power_w * (sigma_p / sigma) : c.power_w;
+        const double inv_two_var = 1.0 / (2.0 * sigma * sigma);
+        const double dt0 = static_cast<double>(b0) * h - t;
+        double g = amplitude * std::exp(-dt0 * dt0 * inv_two_var);
+        double ratio = std::exp(-(2.0 * dt0 * h + h * h) * inv_two_var);
+        const double step = std::exp(-2.0 * h * h * inv_two_var);
+        for (std::int64_t b = b0; b <= b1; ++b) {
+            out.samples_w[static_cast<std::size_t>(b - first)] += g;
+            g *= ratio;
+            ratio *= step;
+        }
+    }
+    return out;
+}
+
+TEST(PhysicsSubRayExact, WaveformIsBitIdenticalToOneGaussianAtATime) {
+    std::mt19937_64 rng(21);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    WaveformConfig config;
+    // 1 to 13 contributions: groups of four and every remainder; widths from the pulse's to 20
+    // times it, so the runs of one group differ in length (and the longest's tail runs alone).
+    for (int trial = 0; trial < 400; ++trial) {
+        const std::size_t n = 1 + static_cast<std::size_t>(trial % 13);
+        std::vector<EchoContribution> c;
+        for (std::size_t i = 0; i < n; ++i) {
+            const double sigma = u(rng) < 0.3 ? 0.0 : 1.7 * (1.0 + 19.0 * u(rng) * u(rng));
+            c.push_back({1500.0 + 3.0 * u(rng), 1e-7 * (0.01 + u(rng)), sigma});
+        }
+        Waveform w;
+        build_waveform(config, c, w);
+        const Waveform expected = one_gaussian_at_a_time(config, c);
+        ASSERT_EQ(w.first_bin, expected.first_bin);
+        ASSERT_EQ(w.samples_w.size(), expected.samples_w.size());
+        for (std::size_t k = 0; k < w.samples_w.size(); ++k) {
+            ASSERT_EQ(w.samples_w[k], expected.samples_w[k]) << "trial " << trial << " bin " << k;
+        }
+        // And the samples are the Gaussians' sum (closed form) to rounding.
+        const double sigma_p = config.pulse_fwhm_ns / (2.0 * std::sqrt(2.0 * std::log(2.0)));
+        for (std::size_t k = 0; k < w.samples_w.size(); k += 7) {
+            double sum = 0.0, reach = 0.0;
+            for (const auto& e : c) {
+                const double s = e.sigma_ns > 0 ? e.sigma_ns : sigma_p;
+                const double d = (w.time_ns(k) - e.range_m * round_trip_ns_per_m()) / s;
+                if (std::abs(d) <= 5.0) {  // what the waveform samples (5 sigma each side)
+                    sum += e.power_w * (sigma_p / s) * std::exp(-0.5 * d * d);
+                }
+                reach += e.power_w;
+            }
+            ASSERT_NEAR(w.samples_w[k], sum, 1e-9 * reach) << "trial " << trial << " bin " << k;
+        }
+    }
+}
+
+/// The index of the sample whose echo adds most at `range_m` (the first of equal ones), from
+/// every sample's share (no shortcut).
+std::uint32_t brute_force_dominant(const PulseResponse& r, double range_m) {
+    double best = -1.0;
+    std::uint32_t best_j = 0;
+    for (std::size_t j = 0, c = 0; j < r.sub_ray_power_w.size(); ++j) {
+        const double p = r.sub_ray_power_w[j];
+        if (p > 0) {
+            const double sigma_m = r.contributions[c++].sigma_ns / round_trip_ns_per_m();
+            const double d = (r.samples[j].hit.range_m - range_m) / sigma_m;
+            const double share = p / sigma_m * std::exp(-0.5 * d * d);
+            if (share > best) {
+                best = share;
+                best_j = static_cast<std::uint32_t>(j);
+            }
+        }
+    }
+    return best_j;
+}
+
+TEST(PhysicsSubRayExact, DominantSampleIsTheBruteForceOne) {
+    PhysicsConfig config;
+    config.beam.divergence_rad = 0.003;
+    config.beam.rings = 2;
+    const PulseSimulator sim(config);
+    std::mt19937_64 rng(7);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    std::size_t outer = 0;  // echoes whose dominant sample is on the outer ring
+    PulseResponse r;
+    for (std::uint64_t pulse = 0; pulse < 2000; ++pulse) {
+        // Two or three surfaces a few metres apart, the outer ring's on its own at times: the
+        // faint outer cells then dominate an echo that the centre's bound does not reach.
+        const double near_m = 100.0 + 50.0 * u(rng), far_m = near_m + 2.0 + 6.0 * u(rng);
+        const bool split = u(rng) < 0.5;
+        std::vector<SubRayHit> hits(sim.sub_ray_count());
+        for (std::size_t j = 0; j < hits.size(); ++j) {
+            const bool outer_ring = j >= 7;
+            hits[j].range_m = (outer_ring && split ? far_m : near_m) + 0.3 * u(rng);
+            hits[j].cos_incidence = 0.2 + 0.8 * u(rng);
+            hits[j].albedo = 0.05 + 0.9 * u(rng);
+            if (u(rng) < 0.1) {
+                hits[j] = SubRayHit{};  // a miss
+            }
+        }
+        sim.simulate(1, pulse, hits, r);
+        for (const PulseReturn& ret : r.returns) {
+            const std::size_t e = static_cast<std::size_t>(&ret - r.returns.data());
+            const double range_m = r.echoes[e].range_m;  // mode all: returns are the echoes
+            ASSERT_EQ(ret.sub_ray, brute_force_dominant(r, range_m)) << "pulse " << pulse;
+            outer += ret.sub_ray >= 7 ? 1 : 0;
+        }
+    }
+    EXPECT_GT(outer, 100u);  // the case the shortcut skips most in is exercised
+}
+
+TEST(PhysicsSubRayExact, FootprintRadiusIsHypotBitForBit) {
+    std::mt19937_64 rng(3);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    for (const double exit_m : {0.0, 0.004, 0.05}) {
+        BeamConfig beam;
+        beam.exit_diameter_m = exit_m;
+        for (int i = 0; i < 20000; ++i) {
+            beam.divergence_rad = i % 5 == 0 ? 0.0 : 0.01 * u(rng);
+            const double range_m = std::pow(10.0, 5.0 * u(rng) - 1.0);
+            ASSERT_EQ(footprint_radius_m(beam, range_m),
+                      std::hypot(exit_m / 2.0, range_m * beam.divergence_rad / 2.0))
+                << exit_m << " " << beam.divergence_rad << " " << range_m;
+        }
+    }
+}
+
+}  // namespace
+}  // namespace beamtrace
