@@ -39,6 +39,21 @@ GaussianRun gaussian_run(double h, std::int64_t b0, std::int64_t b1, double t0, 
     return r;
 }
 
+/// static_cast<std::int64_t>(std::floor(x)) and (ceil) without the libm calls (baseline x86-64
+/// has no rounding instruction): the truncation, one step down (up) where it passed x. The
+/// same integer for every x whose floor fits, and 0x8000000000000000 (x86's conversion of NaN
+/// and of what does not fit) where the truncation gives it.
+std::int64_t floor_to_int(double x) {
+    constexpr std::int64_t kIndefinite = std::numeric_limits<std::int64_t>::min();
+    const auto i = static_cast<std::int64_t>(x);
+    return i != kIndefinite && static_cast<double>(i) > x ? i - 1 : i;
+}
+std::int64_t ceil_to_int(double x) {
+    constexpr std::int64_t kIndefinite = std::numeric_limits<std::int64_t>::min();
+    const auto i = static_cast<std::int64_t>(x);
+    return i != kIndefinite && static_cast<double>(i) < x ? i + 1 : i;
+}
+
 /// Runs sampled together: their recurrences are independent, so kLanes of them interleaved
 /// keep the multipliers busy where one alone waits on each product.
 constexpr std::size_t kLanes = 4;
@@ -348,8 +363,8 @@ void build_waveform(const WaveformConfig& config, std::span<const EchoContributi
     }
     t_lo = t_lo * round_trip_ns_per_m() - 5.0 * sigma_max;
     t_hi = t_hi * round_trip_ns_per_m() + 5.0 * sigma_max;
-    const auto first = static_cast<std::int64_t>(std::floor(t_lo / config.bin_ns));
-    const auto last = static_cast<std::int64_t>(std::ceil(t_hi / config.bin_ns));
+    const std::int64_t first = floor_to_int(t_lo / config.bin_ns);
+    const std::int64_t last = ceil_to_int(t_hi / config.bin_ns);
     out.first_bin = first;
     out.samples_w.assign(static_cast<std::size_t>(last - first + 1), 0.0);
     GaussianRun runs[kLanes];
@@ -358,10 +373,8 @@ void build_waveform(const WaveformConfig& config, std::span<const EchoContributi
         const double t = c.range_m * round_trip_ns_per_m();
         const double sigma = sigma_of(c);
         const double reach_ns = 5.0 * sigma;
-        const auto b0 =
-            std::max(first, static_cast<std::int64_t>(std::floor((t - reach_ns) / config.bin_ns)));
-        const auto b1 =
-            std::min(last, static_cast<std::int64_t>(std::ceil((t + reach_ns) / config.bin_ns)));
+        const std::int64_t b0 = std::max(first, floor_to_int((t - reach_ns) / config.bin_ns));
+        const std::int64_t b1 = std::min(last, ceil_to_int((t + reach_ns) / config.bin_ns));
         // The stretched echo keeps its energy: its peak drops as sigma_p / sigma.
         const double amplitude = c.sigma_ns > 0 ? c.power_w * (sigma_p / sigma) : c.power_w;
         runs[count++] = gaussian_run(out.bin_ns, b0, b1, t, amplitude, sigma);
