@@ -87,8 +87,12 @@ TEST(PhysicsSubRayExact, WaveformIsBitIdenticalToOneGaussianAtATime) {
             double sum = 0.0, reach = 0.0;
             for (const auto& e : c) {
                 const double s = e.sigma_ns > 0 ? e.sigma_ns : sigma_p;
-                const double d = (w.time_ns(k) - e.range_m * round_trip_ns_per_m()) / s;
-                if (std::abs(d) <= 5.0) {  // what the waveform samples (5 sigma each side)
+                const double t = e.range_m * round_trip_ns_per_m();
+                const double d = (w.time_ns(k) - t) / s;
+                // The bins the waveform samples: those reaching 5 sigma each side.
+                const auto b = static_cast<double>(w.first_bin + static_cast<std::int64_t>(k));
+                if (b >= std::floor((t - 5.0 * s) / config.bin_ns) &&
+                    b <= std::ceil((t + 5.0 * s) / config.bin_ns)) {
                     sum += e.power_w * (sigma_p / s) * std::exp(-0.5 * d * d);
                 }
                 reach += e.power_w;
