@@ -3,6 +3,12 @@
 #include <algorithm>
 
 namespace beamtrace::detail {
+namespace {
+
+/// The pattern frame of a uniform albedo, which does not read it.
+const PatternFrame kUnread{};
+
+}  // namespace
 
 SurveyPhysics::SurveyPhysics(const PulseSimulator& sim, const Scene& scene,
                              std::vector<Material> materials, std::uint64_t seed)
@@ -20,8 +26,8 @@ const SurveyPhysics::FaceFacts& SurveyPhysics::face_facts(std::uint32_t face, co
     const Scene& scene = *scene_;
     const ScenePart& part = scene.parts[scene.part_of_face(face)];
     f.face = face;
+    f.part = &part;
     f.material = &materials_[part.material];
-    f.frame = scene.pattern_frame(part, face);
     // Only a sphere's normal depends on the point (a moving face's on the time: one pulse's).
     f.flat = scene.geometry.sphere_of_face(face) == nullptr;
     if (f.flat) {
@@ -41,10 +47,11 @@ SubRayHit SurveyPhysics::sub_ray_hit(const RayBatch& rays, const HitBatch& hits,
     // The true ray's origin: w.origin is the measured one (georeferencing errors).
     const Vec3d at = Vec3d{rays.ox[h], rays.oy[h], rays.oz[h]} + d * t;
     const FaceFacts& f = face_facts(face, at, time_s, cache);
-    if (f.flat) {
-        return make_sub_ray_hit(*f.material, f.frame, t, at, f.normal, d);
+    const Vec3d normal = f.flat ? f.normal : scene_->normal_at(face, at, time_s);
+    if (f.material->pattern.kind == AlbedoPatternKind::uniform) {
+        return make_sub_ray_hit(*f.material, kUnread, t, at, normal, d);
     }
-    return make_sub_ray_hit(*f.material, f.frame, t, at, scene_->normal_at(face, at, time_s), d);
+    return make_sub_ray_hit(*f.material, scene_->pattern_frame(*f.part, face), t, at, normal, d);
 }
 
 void SurveyPhysics::find_edges(BlockWork& w) const {

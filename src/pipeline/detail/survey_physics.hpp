@@ -34,13 +34,13 @@ class SurveyPhysics {
     const MovingInstances* moving = nullptr;
 
   private:
-    /// What the samples of one pulse that meet one face share: its part's material and pattern
-    /// frame, and its normal where that does not vary over the face (not a sphere's). An
+    /// What the samples of one pulse that meet one face share: its part and the part's
+    /// material, and its normal where that does not vary over the face (not a sphere's). An
     /// airborne beam's 19 sub-rays meet 1 to 4 triangles.
     struct FaceFacts {
         std::uint32_t face = kNoFace;
+        const ScenePart* part = nullptr;
         const Material* material = nullptr;
-        PatternFrame frame;
         bool flat = false;  ///< normal holds for every point of the face
         Vec3d normal{0, 0, 0};
     };
