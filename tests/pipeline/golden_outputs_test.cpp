@@ -68,6 +68,29 @@ physics:
 output: {point_format: 8, ply: true, csv: true, trajectory_rate_hz: 10}
 )";
 
+/// A panorama of coarse steps with a wide 19-sub-ray beam, so that some pulses meet the
+/// sphere targets with part of their sub-rays (the scene line is added before it).
+constexpr const char* kDivergentPanorama =
+    R"(scanner: {type: scan, width: 720, height: 120, hfov_deg: 360, vfov_deg: 60,
+          pulse_rate_hz: 1000000, range_max_m: 60}
+platform: {type: static, position_m: [0, 0, 1.5]}
+physics:
+  beam: {divergence_mrad: 12, rings: 2}
+  returns: {mode: all, max: 5}
+output: {csv: true, trajectory_rate_hz: 0}
+)";
+
+/// The beach ball seen from 6 m with a 19-sub-ray beam: each sub-ray reads the stripe or the
+/// sand's checker at its own hit point.
+constexpr const char* kDivergentBallView =
+    R"(scanner: {type: scan, width: 160, height: 120, hfov_deg: 40, vfov_deg: 30}
+platform: {type: static, position_m: [-6, 0, 1.2]}
+physics:
+  beam: {divergence_mrad: 20, rings: 2}
+  returns: {mode: all, max: 5}
+output: {csv: true, trajectory_rate_hz: 0}
+)";
+
 std::vector<Job> jobs() {
     const std::string ex = BEAMTRACE_EXAMPLES_DIR;
     std::vector<Job> all;
@@ -89,6 +112,13 @@ std::vector<Job> jobs() {
         all.push_back({"survey/" + s, "survey " + ex + "/surveys/" + s + " --output OUT", ""});
     }
     all.push_back({"survey/all_outputs", "survey DIR/survey.yaml --output OUT", kAllOutputs});
+    // Divergent beams over exact spheres (a normal per sub-ray hit point) and over a patterned
+    // albedo (a reflectance per sub-ray hit point): the sub-rays' per-face shortcuts must not
+    // share what differs between the sub-rays of one face.
+    all.push_back({"survey/divergent_spheres", "survey DIR/survey.yaml --output OUT",
+                   "scene: " + ex + "/scenes/sphere_targets.yaml\n" + kDivergentPanorama});
+    all.push_back({"survey/divergent_ball", "survey DIR/survey.yaml --output OUT",
+                   "scene: " + ex + "/scenes/beach_ball.yaml\n" + kDivergentBallView});
     all.push_back({"scan/demo", "scan --demo --output OUT", ""});
     all.push_back({"render/beach_ball",
                    "render " + ex +
