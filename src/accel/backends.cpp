@@ -244,8 +244,38 @@ std::unique_ptr<Backend> make_bvh_backend(const TriangleMesh& mesh, ThreadPool& 
                      packet_lanes(config.bvh_trace)});
 }
 
+/// The meshes of `geometry` in one, vertices copied bit for bit, when every instance is placed
+/// with the identity and there are no exact spheres (face IDs stay the same: instances are
+/// sorted by first face and their ranges follow one another); nullptr otherwise. The one-mesh
+/// walk then meets the same world ray and the same float corners as the two-level walk, so
+/// its hits are the same bits, and it traces coherent rays in packets.
+std::shared_ptr<const TriangleMesh> identity_meshes_in_one(const SceneGeometry& geometry) {
+    if (!geometry.spheres.empty() || geometry.instances.size() < 2) {
+        return nullptr;
+    }
+    auto flat = std::make_shared<TriangleMesh>();
+    for (const MeshInstance& inst : geometry.instances) {
+        if (!inst.to_world.is_identity() || inst.first_face != flat->faces.size()) {
+            return nullptr;
+        }
+        const TriangleMesh& m = geometry.meshes[inst.mesh];
+        if (flat->vertices.size() + m.vertices.size() >= kNoFace) {
+            return nullptr;
+        }
+        flat->append(m);
+    }
+    return flat;
+}
+
 std::unique_ptr<Backend> make_bvh_backend(const SceneGeometry& geometry, ThreadPool& pool,
                                           const BackendConfig& config) {
+    if (auto flat = identity_meshes_in_one(geometry)) {
+        const TriangleMesh& mesh = *flat;
+        return std::make_unique<QueryBackend<BvhTraverser, BackendKind::bvh>>(
+            BvhTraverser{&mesh, build_bvh(mesh, config.bvh, pool), config.bvh_trace,
+                         packet_lanes(config.bvh_trace)},
+            std::move(flat));
+    }
     return std::make_unique<QueryBackend<TwoLevelTraverser, BackendKind::bvh>>(
         build_two_level(geometry, config.bvh, pool));
 }

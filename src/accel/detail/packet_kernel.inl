@@ -275,22 +275,79 @@ BT_PK void flush(Groups& g, int key, const Bvh& bvh, const TriangleMesh& mesh, H
     store_packet(p, g.slots[key], hits);
 }
 
+/// A coordinate in [-1, 1] in 12 bits (NaN and outside: the nearest end).
+BT_PK std::uint32_t quantise(float s) {
+    const float q = (s + 1.0f) * 2048.0f;
+    return q > 0.0f ? (q < 4095.0f ? static_cast<std::uint32_t>(q) : 4095u) : 0u;
+}
+
+/// The packet group of a ray (its watertight axis order: kz and whether kx, ky swap).
+BT_PK int group_of(const TraceRay& r) {
+    return 2 * r.wt.kz + (r.wt.kx == (r.wt.kz + 1) % 3 ? 0 : 1);
+}
+
+/// Where a ray goes in the order packets are made in: its group, then its direction as two
+/// coordinates in [-1, 1] over the dominant axis: the sine of its elevation (when it is mostly
+/// horizontal) or its x slope (mostly vertical), then the other horizontal slope.
+BT_PK std::uint32_t order_key(const TraceRay& r) {
+    const auto kz = static_cast<std::size_t>(r.wt.kz);
+    const Vec3f d = r.dir;
+    float u = 0.0f, v = 0.0f;
+    if (kz == 2) {
+        u = d.x / std::fabs(d.z);
+        v = d.y / std::fabs(d.z);
+    } else {
+        u = d.z / std::sqrt(dot(d, d));
+        v = d[1 - kz] / std::fabs(d[kz]);
+    }
+    const auto g = static_cast<std::uint32_t>(group_of(r));
+    return (g << 24) | (quantise(u) << 12) | quantise(v);
+}
+
+/// order[0..n) = 0..n-1 sorted by keys (stable LSD radix sort, 3 passes of 9 bits; 27-bit keys).
+BT_PK void sort_by_key(const std::uint32_t* keys, std::size_t n, std::uint16_t* order,
+                       std::uint16_t* scratch) {
+    for (std::size_t j = 0; j < n; ++j) {
+        order[j] = static_cast<std::uint16_t>(j);
+    }
+    for (int shift = 0; shift < 27; shift += 9) {
+        std::uint32_t count[513] = {};
+        for (std::size_t j = 0; j < n; ++j) {
+            ++count[((keys[order[j]] >> shift) & 511u) + 1];
+        }
+        for (int b = 0; b < 512; ++b) {
+            count[b + 1] += count[b];
+        }
+        for (std::size_t j = 0; j < n; ++j) {
+            scratch[count[(keys[order[j]] >> shift) & 511u]++] = order[j];
+        }
+        std::copy(scratch, scratch + n, order);
+    }
+}
+
 BT_PK_ENTRY void trace_range(const Bvh& bvh, const TriangleMesh& mesh, const RayBatch& rays,
                              std::size_t begin, std::size_t end, HitBatch& hits, bool only_coherent,
                              float min_cos) {
     // The rays of a stage are made in place (copying them whole into their group stalls on
-    // store forwarding) and every group is traced before the next stage overwrites them.
-    constexpr std::size_t kStage = 256;
+    // store forwarding), put in the order of their direction within their group (a spinning
+    // scanner's fan of beams then gives packets of one beam's neighbouring pulses), and every
+    // group is traced before the next stage overwrites them.
+    constexpr std::size_t kStage = 1024;
     TraceRay staged[kStage];
+    std::uint32_t keys[kStage];
+    std::uint16_t order[kStage], scratch[kStage];
     Groups g;
     for (std::size_t first = begin; first < end; first += kStage) {
         const std::size_t n = std::min(kStage, end - first);
         for (std::size_t j = 0; j < n; ++j) {
             ::new (static_cast<void*>(&staged[j])) TraceRay(make_trace_ray(rays, first + j));
+            keys[j] = order_key(staged[j]);
         }
-        for (std::size_t j = 0; j < n; ++j) {
+        sort_by_key(keys, n, order, scratch);
+        for (std::size_t o = 0; o < n; ++o) {
+            const std::size_t j = order[o];
             const TraceRay& r = staged[j];
-            const int key = 2 * r.wt.kz + (r.wt.kx == (r.wt.kz + 1) % 3 ? 0 : 1);
+            const int key = group_of(r);
             const int k = g.fill[key]++;
             g.rays[key][k] = &r;
             g.slots[key][k] = first + j;
