@@ -58,6 +58,40 @@ struct EchoSpan {
     std::size_t lo = 0, hi = 0, top = 0;
 };
 
+/// The samples [lo, hi] whose values a fit kept (lo > hi: it kept none).
+struct FitSamples {
+    std::size_t lo = 1, hi = 0;
+};
+
+/// Subtracting x >= 0 leaves v > 0 unchanged when x < v 2^-54 (below half an ulp, also for a
+/// power of 2). The bound below asks x < v 2^-55 e^-1: room for exp's and log's last bits.
+const double kNegligibleLog = 55.0 * std::numbers::ln2 + 1.0;
+/// ln(amplitude / floor) is below this for every ratio under 2^64; beyond this d^2 / 2 no log
+/// is needed to see the bound met.
+const double kNegligibleNoLog = 64.0 * std::numbers::ln2 + kNegligibleLog;
+
+/// True when |f.at(t)| < floor_w 2^-55 e^-1 at every time of [lo_ns, hi_ns] (floor_w > 0), so
+/// that subtracting it from a value of at least floor_w leaves that value as it is; false for a
+/// fit with a NaN. |d| grows away from the centre (rounding is monotonic), so the nearer end
+/// bounds every at() of the interval.
+bool negligible_on(const GaussianFit& f, double lo_ns, double hi_ns, double floor_w) {
+    double d = (lo_ns - f.centre_ns) / f.sigma_ns;
+    if (!(d > 0)) {
+        d = (f.centre_ns - hi_ns) / f.sigma_ns;
+        if (!(d > 0)) {
+            return false;
+        }
+    }
+    if (d > GaussianFit::kUnderflow) {
+        return true;  // at() is exactly 0 there
+    }
+    const double half_d2 = 0.5 * d * d, amplitude = std::abs(f.amplitude);
+    if (half_d2 > kNegligibleNoLog && amplitude < floor_w * 0x1p64) {
+        return true;
+    }
+    return half_d2 > std::log(amplitude / floor_w) + kNegligibleLog;
+}
+
 /// The weighted least-squares Gaussian (Caruana's parabola through ln v, Guo's weights v^2) over
 /// the samples v(m) of the span, contiguous around its top, of at least kEchoFitFraction of
 /// v(top); false when fewer than 3 samples or no downward parabola (the caller falls back).
@@ -69,7 +103,8 @@ struct FitScratch {
 
 template <typename Value>
 bool fit_gaussian(const Waveform& waveform, const EchoSpan& span, Value v, FitScratch& scratch,
-                  GaussianFit& fit) {
+                  GaussianFit& fit, FitSamples& kept) {
+    kept = {};
     const double peak = v(span.top);
     const double floor_w = kEchoFitFraction * peak;
     if (!(peak > 0)) {
@@ -88,6 +123,7 @@ bool fit_gaussian(const Waveform& waveform, const EchoSpan& span, Value v, FitSc
     for (double x = 0; b < span.hi && (x = v(b + 1)) >= floor_w; ++b) {
         right.push_back(x);
     }
+    kept = {a, b};
     if (b - a < 2) {
         return false;
     }
@@ -131,14 +167,40 @@ bool fit_gaussian(const Waveform& waveform, const EchoSpan& span, Value v, FitSc
     return true;
 }
 
+/// True when subtracting the other fits leaves every sample that the first fit of span e kept
+/// (`kept`, each of at least kEchoFitFraction of its top) as it is: the refit then reads the same
+/// values, keeps the same samples, and is the first fit again, bit for bit. (The samples where
+/// the first fit stopped stay below its floor: the fits are not negative.)
+bool others_negligible(const Waveform& waveform, const EchoSpan& span,
+                       const std::vector<GaussianFit>& others, std::size_t e,
+                       const FitSamples& kept) {
+    const double floor_w = kEchoFitFraction * waveform.samples_w[span.top];
+    if (kept.lo > kept.hi || !(floor_w > 0)) {
+        return false;
+    }
+    const double lo_ns = waveform.time_ns(kept.lo), hi_ns = waveform.time_ns(kept.hi);
+    for (std::size_t o = 0; o < others.size(); ++o) {
+        if (o != e && !negligible_on(others[o], lo_ns, hi_ns, floor_w)) {
+            return false;
+        }
+    }
+    return true;
+}
+
 /// The fit of `span` on the samples less the fitted Gaussians of the other echoes (none given:
 /// the samples themselves), or the top sample with the pulse's width when it fails. `others`,
-/// when given, are the first fits of every span (others[e] the span's own, made on the samples).
+/// when given, are the first fits of every span (others[e] the span's own, made on the samples)
+/// and `kept` the samples each kept; `kept_out` receives the samples this fit kept.
 GaussianFit fit_echo(const WaveformConfig& config, const Waveform& waveform,
                      const std::vector<EchoSpan>& spans, const std::vector<GaussianFit>& others,
-                     std::size_t e, FitScratch& scratch) {
+                     const std::vector<FitSamples>& kept, std::size_t e, FitScratch& scratch,
+                     FitSamples& kept_out) {
     const auto& y = waveform.samples_w;
     const EchoSpan& span = spans[e];
+    if (!others.empty() && others_negligible(waveform, span, others, e, kept[e])) {
+        kept_out = kept[e];
+        return others[e];
+    }
     GaussianFit fit{waveform.time_ns(span.top), y[span.top], config.pulse_fwhm_ns / kFwhmPerSigma};
     // The others that are not 0 somewhere on the span, in order: subtracting the rest (and the
     // echo's own) would subtract exactly 0, which leaves every sample as it is.
@@ -151,6 +213,7 @@ GaussianFit fit_echo(const WaveformConfig& config, const Waveform& waveform,
         }
     }
     if (!others.empty() && near.empty()) {
+        kept_out = kept[e];
         return others[e];  // the residual is the samples: the fit is the first one, again
     }
     const auto residual = [&](std::size_t m) {
@@ -161,7 +224,7 @@ GaussianFit fit_echo(const WaveformConfig& config, const Waveform& waveform,
         }
         return v;
     };
-    if (!fit_gaussian(waveform, span, residual, scratch, fit)) {
+    if (!fit_gaussian(waveform, span, residual, scratch, fit, kept_out)) {
         fit = GaussianFit{waveform.time_ns(span.top), y[span.top],
                           config.pulse_fwhm_ns / kFwhmPerSigma};
     }
@@ -230,6 +293,7 @@ void find_spans(const WaveformConfig& config, const Waveform& waveform,
 struct DetectScratch {
     std::vector<EchoSpan> spans;
     std::vector<GaussianFit> fits, first;
+    std::vector<FitSamples> kept;  ///< the samples each first fit kept
     FitScratch fit;
 };
 
@@ -327,18 +391,21 @@ void detect_echoes(const WaveformConfig& config, const Waveform& waveform, doubl
     std::vector<EchoSpan>& spans = work.spans;
     std::vector<GaussianFit>& fits = work.fits;
     FitScratch& scratch = work.fit;
+    std::vector<FitSamples>& kept = work.kept;
     spans.clear();
     fits.clear();
     find_spans(config, waveform, spans);
+    kept.resize(spans.size());
     for (std::size_t e = 0; e < spans.size(); ++e) {
-        fits.push_back(fit_echo(config, waveform, spans, {}, e, scratch));
+        fits.push_back(fit_echo(config, waveform, spans, {}, {}, e, scratch, kept[e]));
     }
     // Separate echoes overlap: refit each on the samples less its neighbours' first fits.
     if (spans.size() > 1) {
         std::vector<GaussianFit>& first = work.first;
         first = fits;
+        FitSamples unused;
         for (std::size_t e = 0; e < spans.size(); ++e) {
-            fits[e] = fit_echo(config, waveform, spans, first, e, scratch);
+            fits[e] = fit_echo(config, waveform, spans, first, kept, e, scratch, unused);
         }
     }
     for (std::size_t e = 0; e < spans.size(); ++e) {
