@@ -147,8 +147,8 @@ void ParticleSampler::sample(CounterRng& rng, double end_m, std::vector<Particle
         const double d_m =
             least_diameter_m(at) - std::log(rng.uniform_open()) / dsd_.slope_per_mm / kMmPerM;
         const double cross_section = std::numbers::pi * d_m * d_m / 4.0;
-        out.push_back({at.range_m, d_m, echo_power_w(d_m, at),
-                       std::min(1.0, cross_section / at.area_m2)});
+        out.push_back(
+            {at.range_m, d_m, echo_power_w(d_m, at), std::min(1.0, cross_section / at.area_m2)});
     }
 }
 

@@ -1,8 +1,10 @@
 #include "beamtrace/physics/waveform.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cassert>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <numbers>
 
@@ -90,6 +92,29 @@ bool negligible_on(const GaussianFit& f, double lo_ns, double hi_ns, double floo
         return true;
     }
     return half_d2 > std::log(amplitude / floor_w) + kNegligibleLog;
+}
+
+/// The binary exponent of a finite x > 0: x < 2^(exponent + 1) (also for a subnormal).
+int exponent_of(double x) {
+    return static_cast<int>((std::bit_cast<std::uint64_t>(x) >> 52) & 0x7ff) - 1023;
+}
+
+/// v - f.at(t_ns), bit for bit, without the exp where f.at(t_ns) is 0 or provably below half
+/// an ulp of v: v a positive normal number and |f.at(t_ns)| < v 2^-55 e^-1 (|amplitude| below
+/// 2^(its exponent + 1), v at least 2^(its exponent)).
+double minus_fit(double v, const GaussianFit& f, double t_ns) {
+    const double d = (t_ns - f.centre_ns) / f.sigma_ns;  // as at() computes it
+    if (std::abs(d) > GaussianFit::kUnderflow) {
+        return v;  // at() is exactly 0
+    }
+    if (v >= std::numeric_limits<double>::min() && std::abs(f.amplitude) > 0 &&
+        std::isfinite(f.amplitude)) {
+        const int octaves = exponent_of(std::abs(f.amplitude)) - exponent_of(v) + 1;
+        if (0.5 * d * d > static_cast<double>(octaves) * std::numbers::ln2 + kNegligibleLog) {
+            return v;
+        }
+    }
+    return v - f.amplitude * std::exp(-0.5 * d * d);
 }
 
 /// The weighted least-squares Gaussian (Caruana's parabola through ln v, Guo's weights v^2) over
@@ -220,7 +245,7 @@ GaussianFit fit_echo(const WaveformConfig& config, const Waveform& waveform,
         double v = y[m];
         const double t_ns = waveform.time_ns(m);
         for (const std::size_t o : near) {
-            v -= others[o].at(t_ns);
+            v = minus_fit(v, others[o], t_ns);
         }
         return v;
     };
@@ -252,7 +277,8 @@ Echo make_echo(const WaveformConfig& config, const Waveform& waveform, const Ech
 /// The echoes' spans: local maxima merged unless min_separation apart with a min_dip dip.
 void find_spans(const WaveformConfig& config, const Waveform& waveform,
                 std::vector<EchoSpan>& spans) {
-    const auto& y = waveform.samples_w;
+    const double* const y = waveform.samples_w.data();
+    const std::size_t n = waveform.samples_w.size();
     const double min_sep_bins =
         config.min_separation_or_default_m() * round_trip_ns_per_m() / waveform.bin_ns;
     const double keep = 1.0 - config.min_dip;
@@ -260,25 +286,26 @@ void find_spans(const WaveformConfig& config, const Waveform& waveform,
     // itself when none is lower), kept as k advances.
     std::size_t valley = 0;
     double valley_w = std::numeric_limits<double>::infinity();  // y[valley] once a span exists
-    for (std::size_t k = 1; k + 1 < y.size(); ++k) {
-        if (y[k] < valley_w) {
+    for (std::size_t k = 1; k + 1 < n; ++k) {
+        const double yk = y[k];
+        if (yk < valley_w) {
             valley = k;
-            valley_w = y[k];
+            valley_w = yk;
         }
-        if (!(y[k] > y[k - 1] && y[k] >= y[k + 1])) {
+        if (!(yk > y[k - 1] && yk >= y[k + 1])) {
             continue;
         }
         if (spans.empty()) {
-            spans.push_back({0, y.size() - 1, k});
+            spans.push_back({0, n - 1, k});
             valley = k;
-            valley_w = y[k];
+            valley_w = yk;
             continue;
         }
         EchoSpan& last = spans.back();
         const bool far = static_cast<double>(k - last.top) >= min_sep_bins;
-        if (far && y[valley] < keep * std::min(y[last.top], y[k])) {
+        if (far && valley_w < keep * std::min(y[last.top], yk)) {
             last.hi = valley;
-            spans.push_back({valley, y.size() - 1, k});
+            spans.push_back({valley, n - 1, k});
             valley = k;
             valley_w = y[k];
         } else if (y[k] > y[last.top]) {
