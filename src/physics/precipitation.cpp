@@ -51,7 +51,11 @@ double default_particle_albedo(PrecipitationKind kind) {
 ParticleSampler::ParticleSampler(const DropSizeDistribution& dsd, double albedo,
                                  const ParticleBeam& beam, const ParticleCell& cell,
                                  std::size_t table_size)
-    : dsd_(dsd), albedo_(albedo), beam_(beam), cell_(cell) {
+    : dsd_(dsd),
+      albedo_(albedo),
+      beam_(beam),
+      cell_(cell),
+      tan_half_angle_(std::tan(beam.half_angle_rad)) {
     if (table_size < 2 || !(beam.max_range_m > beam.start_m) || !(beam.start_m > 0.0) ||
         !(beam.floor_w > 0.0)) {
         throw std::invalid_argument(
@@ -71,29 +75,41 @@ ParticleSampler::ParticleSampler(const DropSizeDistribution& dsd, double albedo,
 }
 
 double ParticleSampler::cell_area_m2(double range_m) const {
-    const double radius = beam_.exit_radius_m + range_m * std::tan(beam_.half_angle_rad);
+    const double radius = beam_.exit_radius_m + range_m * tan_half_angle_;
     return cell_.area_fraction * std::numbers::pi * radius * radius;
 }
 
-double ParticleSampler::echo_power_w(double diameter_m, double range_m) const {
-    const double cross_section = std::numbers::pi * diameter_m * diameter_m / 4.0;
-    const double blocked = std::min(1.0, cross_section / cell_area_m2(range_m));
-    return 2.0 / 3.0 * albedo_ / std::numbers::pi * blocked * cell_.energy_fraction *
-           beam_.emitted_power_w * beam_.receiver_gain_m2 *
-           overlap_fraction(beam_.overlap, range_m) *
-           std::exp(-2.0 * beam_.extinction_per_m * range_m) / (range_m * range_m);
+ParticleSampler::AtRange ParticleSampler::at_range(double range_m) const {
+    return {range_m, cell_area_m2(range_m), overlap_fraction(beam_.overlap, range_m),
+            std::exp(-2.0 * beam_.extinction_per_m * range_m)};
 }
 
-double ParticleSampler::least_diameter_m(double range_m) const {
+double ParticleSampler::echo_power_w(double diameter_m, const AtRange& at) const {
+    const double cross_section = std::numbers::pi * diameter_m * diameter_m / 4.0;
+    const double blocked = std::min(1.0, cross_section / at.area_m2);
+    return 2.0 / 3.0 * albedo_ / std::numbers::pi * blocked * cell_.energy_fraction *
+           beam_.emitted_power_w * beam_.receiver_gain_m2 * at.overlap * at.transmission /
+           (at.range_m * at.range_m);
+}
+
+double ParticleSampler::echo_power_w(double diameter_m, double range_m) const {
+    return echo_power_w(diameter_m, at_range(range_m));
+}
+
+double ParticleSampler::least_diameter_m(const AtRange& at) const {
     // The strongest echo at this range: a particle filling the cell (blocked fraction 1).
-    const double area = cell_area_m2(range_m);
-    const double full_cell = echo_power_w(std::sqrt(4.0 * area / std::numbers::pi), range_m);
+    const double area = at.area_m2;
+    const double full_cell = echo_power_w(std::sqrt(4.0 * area / std::numbers::pi), at);
     if (!(full_cell >= beam_.floor_w)) {
         return std::numeric_limits<double>::infinity();
     }
     // echo_power_w grows as D^2 below a full cell: solve it for the floor.
     const double d2 = beam_.floor_w / full_cell * (4.0 * area / std::numbers::pi);
     return std::sqrt(d2);
+}
+
+double ParticleSampler::least_diameter_m(double range_m) const {
+    return least_diameter_m(at_range(range_m));
 }
 
 double ParticleSampler::density_per_m(double range_m) const {
@@ -126,12 +142,13 @@ void ParticleSampler::sample(CounterRng& rng, double end_m, std::vector<Particle
     const double mean = expected_count(end_m);
     const std::uint64_t n = poisson_count(rng, mean);
     for (std::uint64_t i = 0; i < n; ++i) {
-        const double r = range_at(rng.uniform() * mean);
+        // The range's terms once for the particle's least diameter, echo and blocked fraction.
+        const AtRange at = at_range(range_at(rng.uniform() * mean));
         const double d_m =
-            least_diameter_m(r) - std::log(rng.uniform_open()) / dsd_.slope_per_mm / kMmPerM;
+            least_diameter_m(at) - std::log(rng.uniform_open()) / dsd_.slope_per_mm / kMmPerM;
         const double cross_section = std::numbers::pi * d_m * d_m / 4.0;
         out.push_back(
-            {r, d_m, echo_power_w(d_m, r), std::min(1.0, cross_section / cell_area_m2(r))});
+            {at.range_m, d_m, echo_power_w(d_m, at), std::min(1.0, cross_section / at.area_m2)});
     }
 }
 

@@ -1,8 +1,10 @@
 #include "beamtrace/physics/waveform.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cassert>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <numbers>
 
@@ -145,6 +147,63 @@ struct EchoSpan {
     std::size_t lo = 0, hi = 0, top = 0;
 };
 
+/// The samples [lo, hi] whose values a fit kept (lo > hi: it kept none).
+struct FitSamples {
+    std::size_t lo = 1, hi = 0;
+};
+
+/// Subtracting x >= 0 leaves v > 0 unchanged when x < v 2^-54 (below half an ulp, also for a
+/// power of 2). The bound below asks x < v 2^-55 e^-1: room for exp's and log's last bits.
+const double kNegligibleLog = 55.0 * std::numbers::ln2 + 1.0;
+/// ln(amplitude / floor) is below this for every ratio under 2^64; beyond this d^2 / 2 no log
+/// is needed to see the bound met.
+const double kNegligibleNoLog = 64.0 * std::numbers::ln2 + kNegligibleLog;
+
+/// True when |f.at(t)| < floor_w 2^-55 e^-1 at every time of [lo_ns, hi_ns] (floor_w > 0), so
+/// that subtracting it from a value of at least floor_w leaves that value as it is; false for a
+/// fit with a NaN. |d| grows away from the centre (rounding is monotonic), so the nearer end
+/// bounds every at() of the interval.
+bool negligible_on(const GaussianFit& f, double lo_ns, double hi_ns, double floor_w) {
+    double d = (lo_ns - f.centre_ns) / f.sigma_ns;
+    if (!(d > 0)) {
+        d = (f.centre_ns - hi_ns) / f.sigma_ns;
+        if (!(d > 0)) {
+            return false;
+        }
+    }
+    if (d > GaussianFit::kUnderflow) {
+        return true;  // at() is exactly 0 there
+    }
+    const double half_d2 = 0.5 * d * d, amplitude = std::abs(f.amplitude);
+    if (half_d2 > kNegligibleNoLog && amplitude < floor_w * 0x1p64) {
+        return true;
+    }
+    return half_d2 > std::log(amplitude / floor_w) + kNegligibleLog;
+}
+
+/// The binary exponent of a finite x > 0: x < 2^(exponent + 1) (also for a subnormal).
+int exponent_of(double x) {
+    return static_cast<int>((std::bit_cast<std::uint64_t>(x) >> 52) & 0x7ff) - 1023;
+}
+
+/// v - f.at(t_ns), bit for bit, without the exp where f.at(t_ns) is 0 or provably below half
+/// an ulp of v: v a positive normal number and |f.at(t_ns)| < v 2^-55 e^-1 (|amplitude| below
+/// 2^(its exponent + 1), v at least 2^(its exponent)).
+double minus_fit(double v, const GaussianFit& f, double t_ns) {
+    const double d = (t_ns - f.centre_ns) / f.sigma_ns;  // as at() computes it
+    if (std::abs(d) > GaussianFit::kUnderflow) {
+        return v;  // at() is exactly 0
+    }
+    if (v >= std::numeric_limits<double>::min() && std::abs(f.amplitude) > 0 &&
+        std::isfinite(f.amplitude)) {
+        const int octaves = exponent_of(std::abs(f.amplitude)) - exponent_of(v) + 1;
+        if (0.5 * d * d > static_cast<double>(octaves) * std::numbers::ln2 + kNegligibleLog) {
+            return v;
+        }
+    }
+    return v - f.amplitude * std::exp(-0.5 * d * d);
+}
+
 /// The weighted least-squares Gaussian (Caruana's parabola through ln v, Guo's weights v^2) over
 /// the samples v(m) of the span, contiguous around its top, of at least kEchoFitFraction of
 /// v(top); false when fewer than 3 samples or no downward parabola (the caller falls back).
@@ -156,7 +215,8 @@ struct FitScratch {
 
 template <typename Value>
 bool fit_gaussian(const Waveform& waveform, const EchoSpan& span, Value v, FitScratch& scratch,
-                  GaussianFit& fit) {
+                  GaussianFit& fit, FitSamples& kept) {
+    kept = {};
     const double peak = v(span.top);
     const double floor_w = kEchoFitFraction * peak;
     if (!(peak > 0)) {
@@ -175,6 +235,7 @@ bool fit_gaussian(const Waveform& waveform, const EchoSpan& span, Value v, FitSc
     for (double x = 0; b < span.hi && (x = v(b + 1)) >= floor_w; ++b) {
         right.push_back(x);
     }
+    kept = {a, b};
     if (b - a < 2) {
         return false;
     }
@@ -218,14 +279,40 @@ bool fit_gaussian(const Waveform& waveform, const EchoSpan& span, Value v, FitSc
     return true;
 }
 
+/// True when subtracting the other fits leaves every sample that the first fit of span e kept
+/// (`kept`, each of at least kEchoFitFraction of its top) as it is: the refit then reads the same
+/// values, keeps the same samples, and is the first fit again, bit for bit. (The samples where
+/// the first fit stopped stay below its floor: the fits are not negative.)
+bool others_negligible(const Waveform& waveform, const EchoSpan& span,
+                       const std::vector<GaussianFit>& others, std::size_t e,
+                       const FitSamples& kept) {
+    const double floor_w = kEchoFitFraction * waveform.samples_w[span.top];
+    if (kept.lo > kept.hi || !(floor_w > 0)) {
+        return false;
+    }
+    const double lo_ns = waveform.time_ns(kept.lo), hi_ns = waveform.time_ns(kept.hi);
+    for (std::size_t o = 0; o < others.size(); ++o) {
+        if (o != e && !negligible_on(others[o], lo_ns, hi_ns, floor_w)) {
+            return false;
+        }
+    }
+    return true;
+}
+
 /// The fit of `span` on the samples less the fitted Gaussians of the other echoes (none given:
 /// the samples themselves), or the top sample with the pulse's width when it fails. `others`,
-/// when given, are the first fits of every span (others[e] the span's own, made on the samples).
+/// when given, are the first fits of every span (others[e] the span's own, made on the samples)
+/// and `kept` the samples each kept; `kept_out` receives the samples this fit kept.
 GaussianFit fit_echo(const WaveformConfig& config, const Waveform& waveform,
                      const std::vector<EchoSpan>& spans, const std::vector<GaussianFit>& others,
-                     std::size_t e, FitScratch& scratch) {
+                     const std::vector<FitSamples>& kept, std::size_t e, FitScratch& scratch,
+                     FitSamples& kept_out) {
     const auto& y = waveform.samples_w;
     const EchoSpan& span = spans[e];
+    if (!others.empty() && others_negligible(waveform, span, others, e, kept[e])) {
+        kept_out = kept[e];
+        return others[e];
+    }
     GaussianFit fit{waveform.time_ns(span.top), y[span.top], config.pulse_fwhm_ns / kFwhmPerSigma};
     // The others that are not 0 somewhere on the span, in order: subtracting the rest (and the
     // echo's own) would subtract exactly 0, which leaves every sample as it is.
@@ -238,17 +325,18 @@ GaussianFit fit_echo(const WaveformConfig& config, const Waveform& waveform,
         }
     }
     if (!others.empty() && near.empty()) {
+        kept_out = kept[e];
         return others[e];  // the residual is the samples: the fit is the first one, again
     }
     const auto residual = [&](std::size_t m) {
         double v = y[m];
         const double t_ns = waveform.time_ns(m);
         for (const std::size_t o : near) {
-            v -= others[o].at(t_ns);
+            v = minus_fit(v, others[o], t_ns);
         }
         return v;
     };
-    if (!fit_gaussian(waveform, span, residual, scratch, fit)) {
+    if (!fit_gaussian(waveform, span, residual, scratch, fit, kept_out)) {
         fit = GaussianFit{waveform.time_ns(span.top), y[span.top],
                           config.pulse_fwhm_ns / kFwhmPerSigma};
     }
@@ -276,7 +364,8 @@ Echo make_echo(const WaveformConfig& config, const Waveform& waveform, const Ech
 /// The echoes' spans: local maxima merged unless min_separation apart with a min_dip dip.
 void find_spans(const WaveformConfig& config, const Waveform& waveform,
                 std::vector<EchoSpan>& spans) {
-    const auto& y = waveform.samples_w;
+    const double* const y = waveform.samples_w.data();
+    const std::size_t n = waveform.samples_w.size();
     const double min_sep_bins =
         config.min_separation_or_default_m() * round_trip_ns_per_m() / waveform.bin_ns;
     const double keep = 1.0 - config.min_dip;
@@ -284,25 +373,26 @@ void find_spans(const WaveformConfig& config, const Waveform& waveform,
     // itself when none is lower), kept as k advances.
     std::size_t valley = 0;
     double valley_w = std::numeric_limits<double>::infinity();  // y[valley] once a span exists
-    for (std::size_t k = 1; k + 1 < y.size(); ++k) {
-        if (y[k] < valley_w) {
+    for (std::size_t k = 1; k + 1 < n; ++k) {
+        const double yk = y[k];
+        if (yk < valley_w) {
             valley = k;
-            valley_w = y[k];
+            valley_w = yk;
         }
-        if (!(y[k] > y[k - 1] && y[k] >= y[k + 1])) {
+        if (!(yk > y[k - 1] && yk >= y[k + 1])) {
             continue;
         }
         if (spans.empty()) {
-            spans.push_back({0, y.size() - 1, k});
+            spans.push_back({0, n - 1, k});
             valley = k;
-            valley_w = y[k];
+            valley_w = yk;
             continue;
         }
         EchoSpan& last = spans.back();
         const bool far = static_cast<double>(k - last.top) >= min_sep_bins;
-        if (far && y[valley] < keep * std::min(y[last.top], y[k])) {
+        if (far && valley_w < keep * std::min(y[last.top], yk)) {
             last.hi = valley;
-            spans.push_back({valley, y.size() - 1, k});
+            spans.push_back({valley, n - 1, k});
             valley = k;
             valley_w = y[k];
         } else if (y[k] > y[last.top]) {
@@ -317,6 +407,7 @@ void find_spans(const WaveformConfig& config, const Waveform& waveform,
 struct DetectScratch {
     std::vector<EchoSpan> spans;
     std::vector<GaussianFit> fits, first;
+    std::vector<FitSamples> kept;  ///< the samples each first fit kept
     FitScratch fit;
 };
 
@@ -419,18 +510,21 @@ void detect_echoes(const WaveformConfig& config, const Waveform& waveform, doubl
     std::vector<EchoSpan>& spans = work.spans;
     std::vector<GaussianFit>& fits = work.fits;
     FitScratch& scratch = work.fit;
+    std::vector<FitSamples>& kept = work.kept;
     spans.clear();
     fits.clear();
     find_spans(config, waveform, spans);
+    kept.resize(spans.size());
     for (std::size_t e = 0; e < spans.size(); ++e) {
-        fits.push_back(fit_echo(config, waveform, spans, {}, e, scratch));
+        fits.push_back(fit_echo(config, waveform, spans, {}, {}, e, scratch, kept[e]));
     }
     // Separate echoes overlap: refit each on the samples less its neighbours' first fits.
     if (spans.size() > 1) {
         std::vector<GaussianFit>& first = work.first;
         first = fits;
+        FitSamples unused;
         for (std::size_t e = 0; e < spans.size(); ++e) {
-            fits[e] = fit_echo(config, waveform, spans, first, e, scratch);
+            fits[e] = fit_echo(config, waveform, spans, first, kept, e, scratch, unused);
         }
     }
     for (std::size_t e = 0; e < spans.size(); ++e) {

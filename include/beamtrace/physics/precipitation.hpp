@@ -105,6 +105,13 @@ class ParticleSampler {
     void sample(CounterRng& rng, double end_m, std::vector<Particle>& out) const;
 
   private:
+    /// What a particle's echo needs of its range: A(r), xi(r) and exp(-2 alpha r).
+    struct AtRange {
+        double range_m, area_m2, overlap, transmission;
+    };
+    [[nodiscard]] AtRange at_range(double range_m) const;
+    [[nodiscard]] double echo_power_w(double diameter_m, const AtRange& at) const;
+    [[nodiscard]] double least_diameter_m(const AtRange& at) const;
     [[nodiscard]] double density_per_m(double range_m) const;  ///< A(r) n(r)
     [[nodiscard]] double range_at(double count) const;         ///< inverse of mu
 
@@ -112,6 +119,7 @@ class ParticleSampler {
     double albedo_;
     ParticleBeam beam_;
     ParticleCell cell_;
+    double tan_half_angle_;  ///< tan(beam_.half_angle_rad)
     double step_m_ = 0.0;
     std::vector<double> cumulative_;  ///< mu at start_m + k * step_m_
 };
