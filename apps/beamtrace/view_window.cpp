@@ -427,7 +427,6 @@ void run_view_window(ViewSession& session, ViewCamera camera, const RenderOption
             const auto start = Clock::now();
             session.render(stepped_camera(camera, step), render, image);
             const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
-            flight.scaler.record(image.depth.size(), seconds);
             frame_ms = seconds * 1e3;
             records.push_back({moving, step, image.width, image.height, frame_ms, 0.0});
             flight.shown_step = step;
@@ -439,8 +438,11 @@ void run_view_window(ViewSession& session, ViewCamera camera, const RenderOption
         set_title(w, frame_ms, camera, status);
         glfwSwapBuffers(w);
         if (rendered) {
-            records.back().frame_ms =
-                std::chrono::duration<double, std::milli>(Clock::now() - now).count();
+            FrameRecord& r = records.back();
+            r.frame_ms = std::chrono::duration<double, std::milli>(Clock::now() - now).count();
+            flight.scaler.record(
+                static_cast<std::size_t>(r.width) * static_cast<std::size_t>(r.height),
+                r.render_ms * 1e-3, r.frame_ms * 1e-3);
         }
         if (!dirty && !status.loading && options.frames <= 0 && flight.shown_step == 1 &&
             flight.next_pose >= options.path.size()) {

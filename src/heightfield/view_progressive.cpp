@@ -22,22 +22,26 @@ int ProgressiveScaler::step(bool moving, int width, int height) const {
     if (!moving || config_.moving_frame_s <= 0.0 || per_pixel_s_ <= 0.0) {
         return 1;
     }
+    const double budget = config_.moving_frame_s - overhead_s_;
     for (int s = 1; s < config_.max_step; ++s) {
         const auto pixels =
             static_cast<double>((width + s - 1) / s) * static_cast<double>((height + s - 1) / s);
-        if (pixels * per_pixel_s_ <= config_.moving_frame_s) {
+        if (pixels * per_pixel_s_ <= budget) {
             return s;
         }
     }
     return config_.max_step;
 }
 
-void ProgressiveScaler::record(std::size_t pixels, double render_s) {
-    if (pixels == 0 || !(render_s > 0.0)) {
+void ProgressiveScaler::record(std::size_t pixels, double render_s, double frame_s) {
+    if (pixels == 0 || !(render_s > 0.0) || !std::isfinite(render_s) || !std::isfinite(frame_s)) {
         return;
     }
     const double now = render_s / static_cast<double>(pixels);
-    per_pixel_s_ = per_pixel_s_ > 0.0 ? 0.5 * (per_pixel_s_ + now) : now;
+    const double outside = std::max(0.0, frame_s - render_s);
+    const bool first = per_pixel_s_ <= 0.0;
+    per_pixel_s_ = first ? now : 0.5 * (per_pixel_s_ + now);
+    overhead_s_ = first ? outside : 0.5 * (overhead_s_ + outside);
 }
 
 ViewCamera stepped_camera(const ViewCamera& camera, int step) {

@@ -13,36 +13,49 @@ TEST(ViewProgressive, StepIsTheSmallestThatFitsTheMovingFrameTime) {
     ProgressiveConfig config;  // 33 ms, steps up to 4
     ProgressiveScaler scaler(config);
     EXPECT_EQ(scaler.step(true, 1280, 720), 1) << "no estimate yet";
-    // 66 ms for the full frame: 921 600 pixels. Step 2 has 230 400 pixels: 16.5 ms, fits;
-    // step 1 (66 ms) does not.
-    scaler.record(1280 * 720, 0.066);
+    // 66 ms to render the full frame (921 600 pixels), 4 ms more to draw it. Step 2 has
+    // 230 400 pixels: 16.5 + 4 ms, fits; step 1 (70 ms) does not.
+    scaler.record(1280 * 720, 0.066, 0.070);
     EXPECT_DOUBLE_EQ(scaler.seconds_per_pixel(), 0.066 / (1280.0 * 720.0));
+    EXPECT_DOUBLE_EQ(scaler.overhead_seconds(), 0.004);
     EXPECT_EQ(scaler.step(true, 1280, 720), 2);
     EXPECT_EQ(scaler.step(false, 1280, 720), 1) << "a still camera gets the full frame";
-    // A frame of step 2 took 40 ms (173.6 ns a pixel): the estimate is the mean of the two,
-    // 123.6 ns: step 2 needs 28.5 ms, fits.
-    scaler.record(640 * 360, 0.040);
+    // A frame of step 2 took 40 ms to render (173.6 ns a pixel) and 48 ms in all: the
+    // estimates are the means, 123.6 ns a pixel and 6 ms: step 2 needs 28.5 + 6 ms, too much;
+    // step 3 (427 x 240 = 102 480 pixels) 12.7 + 6 ms fits.
+    scaler.record(640 * 360, 0.040, 0.048);
     const double per_pixel = 0.5 * (0.066 / (1280.0 * 720.0) + 0.040 / (640.0 * 360.0));
     EXPECT_DOUBLE_EQ(scaler.seconds_per_pixel(), per_pixel);
-    EXPECT_EQ(scaler.step(true, 1280, 720), 2);
-    // Far too slow: even step 3 (427 x 240 = 102 480 pixels) exceeds 33 ms; the coarsest is 4.
-    scaler.record(1280 * 720, 10.0);
+    EXPECT_DOUBLE_EQ(scaler.overhead_seconds(), 0.006);
+    EXPECT_EQ(scaler.step(true, 1280, 720), 3);
+    // Without the time outside the render, step 2 would have fitted.
+    ProgressiveScaler render_only(config);
+    render_only.record(1280 * 720, 0.066, 0.066);
+    render_only.record(640 * 360, 0.040, 0.040);
+    EXPECT_EQ(render_only.step(true, 1280, 720), 2);
+    // Far too slow: even step 3 exceeds 33 ms; the coarsest is 4.
+    scaler.record(1280 * 720, 10.0, 10.0);
     EXPECT_EQ(scaler.step(true, 1280, 720), 4);
+    // Drawing alone takes longer than the aim: the coarsest step.
+    ProgressiveScaler slow_draw(config);
+    slow_draw.record(1280 * 720, 0.001, 0.101);
+    EXPECT_EQ(slow_draw.step(true, 1280, 720), 4);
     // Fast: full resolution while moving too.
     ProgressiveScaler fast(config);
-    fast.record(1280 * 720, 0.010);
+    fast.record(1280 * 720, 0.010, 0.012);
     EXPECT_EQ(fast.step(true, 1280, 720), 1);
     // Ignored: empty frames and zero times.
-    fast.record(0, 1.0);
-    fast.record(100, 0.0);
+    fast.record(0, 1.0, 1.0);
+    fast.record(100, 0.0, 1.0);
     EXPECT_DOUBLE_EQ(fast.seconds_per_pixel(), 0.010 / (1280.0 * 720.0));
+    EXPECT_DOUBLE_EQ(fast.overhead_seconds(), 0.002);
 }
 
 TEST(ViewProgressive, ZeroMovingFrameTimeKeepsFullResolution) {
     ProgressiveConfig config;
     config.moving_frame_s = 0.0;
     ProgressiveScaler scaler(config);
-    scaler.record(1280 * 720, 10.0);
+    scaler.record(1280 * 720, 10.0, 10.0);
     EXPECT_EQ(scaler.step(true, 1280, 720), 1);
 }
 
