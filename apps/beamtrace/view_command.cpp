@@ -243,7 +243,7 @@ void add_window_options(CLI::App* cmd, ViewJobConfig& job) {
                     "--interactive: write one CSV line per frame here on close (frame, moving, "
                     "step, width, height, render_ms, frame_ms)");
     cmd->add_option("--moving-frame-s", job.progressive.moving_frame_s,
-                    "--interactive: render time aimed at while the camera moves, in seconds "
+                    "--interactive: frame time aimed at while the camera moves, in seconds "
                     "(coarser pixels; the full frame once it stops); 0 = always full resolution")
         ->capture_default_str();
     cmd->add_option("--max-pixel-step", job.progressive.max_step,
