@@ -23,23 +23,22 @@ namespace beamtrace {
 struct ViewJobConfig {
     std::vector<std::filesystem::path> inputs;  ///< LAS files or folders of .las files
     ViewSessionConfig session;                  ///< height field, memory budget, threads
-    ViewCamera camera;               ///< field of view and image size (the pose comes from below)
-    RenderOptions render;            ///< shading, fog, sky
-    std::optional<CameraPose> pose;  ///< one view from here (docs/camera.md)
-    std::filesystem::path path;      ///< or a fly-through: camera path CSV, one frame per row
-    std::filesystem::path output;    ///< PNG (pose) or folder of frame_NNNNN.png (path)
-    /// A window instead; starts at `pose` when given, or flies `path` (one pose per frame)
-    /// and stays at its last pose.
-    bool interactive = false;
+    ViewCamera camera;                 ///< field of view and image size (the pose comes from below)
+    RenderOptions render;              ///< shading, fog, sky
+    std::optional<CameraPose> pose;    ///< one view from here (docs/camera.md)
+    std::filesystem::path path;        ///< or a fly-through: camera path CSV, one frame per row
+    std::filesystem::path output;      ///< PNG (pose) or folder of frame_NNNNN.png (path)
+    bool interactive = false;          ///< a window instead; starts at `pose` when given
     std::filesystem::path screenshot;  ///< interactive: write the last frame here and close
     int frames = 0;                    ///< interactive: close after this many (0: never)
+    std::filesystem::path mp4;         ///< path: also encode the frames into this MP4
+    double fps = 25.0;                 ///< frame rate of the MP4
+    bool prefetch = true;  ///< path: load the next frame's sections while this one renders
     /// interactive: one CSV line per frame (index, moving, pixel step, size, render and frame
     /// time) written here on close; "" = none.
     std::filesystem::path frame_log;
-    ProgressiveConfig progressive;  ///< interactive: coarser pixels while the camera moves
-    std::filesystem::path mp4;      ///< path: also encode the frames into this MP4
-    double fps = 25.0;              ///< frame rate of the MP4
-    bool prefetch = true;           ///< path: load the next frame's sections while this one renders
+    /// interactive: coarser pixels while the camera moves, the full frame once it stops.
+    ProgressiveConfig progressive;
     /// Checked before each frame loads, renders and is written: once requested,
     /// run_view_frames removes the frames it wrote and the MP4's temporary file and throws
     /// Interrupted. Null: runs to the end. The token must outlive the call.
@@ -49,7 +48,8 @@ struct ViewJobConfig {
     /// when valid (the camera and height field are checked by their own validate()).
     [[nodiscard]] std::vector<std::string> validate() const;
     /// The poses to render: `pose`, or the camera path's (read from the file; InputError);
-    /// empty without either (run_view_frames: the overview; interactive: starts there).
+    /// empty without either (run_view_frames: the overview; interactive: starts there). An
+    /// interactive window flies a path's poses one a frame, then stays at the last.
     [[nodiscard]] std::vector<CameraPose> poses() const;
 };
 
