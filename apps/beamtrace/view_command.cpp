@@ -87,15 +87,20 @@ void check_cameras(const ViewJobConfig& job, const std::vector<CameraPose>& pose
 void run_interactive(const ViewCommand& c, ViewSession& session,
                      const std::vector<CameraPose>& poses) {
     ViewCamera camera = c.job.camera;
+    WindowOptions window;
+    if (!c.job.path.empty()) {
+        window.path = poses;  // flown one pose a frame
+    }
     if (poses.empty()) {
         const PointsBox box = points_box(session.sources());
         camera = overview_camera(box.lo, box.hi, camera);
     } else {
         camera.set_pose(poses.front());
     }
-    WindowOptions window;
     window.screenshot = c.job.screenshot.string();
     window.frames = c.job.frames;
+    window.frame_log = c.job.frame_log.string();
+    window.progressive = c.job.progressive;
     window.quiet = c.quiet;
     run_view_window(session, camera, c.job.render, window);
 }
@@ -224,6 +229,28 @@ void add_field_options(CLI::App* cmd, ViewSessionConfig& session) {
         ->capture_default_str();
 }
 
+/// The window: --interactive and its options.
+void add_window_options(CLI::App* cmd, ViewJobConfig& job) {
+    cmd->add_flag("--interactive", job.interactive,
+                  "Open a window (GLFW/OpenGL): WASD/arrows/Q/E and mouse drag to fly, frame time "
+                  "in the title; starts at --camera when given, or flies --path (a pose a frame)");
+    cmd->add_option("--screenshot", job.screenshot,
+                    "--interactive: write the window's last frame (read back from OpenGL) to "
+                    "this PNG and close");
+    cmd->add_option("--frames", job.frames,
+                    "--interactive: close after this many frames (0 = when the window is closed)");
+    cmd->add_option("--frame-log", job.frame_log,
+                    "--interactive: write one CSV line per frame here on close (frame, moving, "
+                    "step, width, height, render_ms, frame_ms)");
+    cmd->add_option("--moving-frame-s", job.progressive.moving_frame_s,
+                    "--interactive: frame time aimed at while the camera moves, in seconds "
+                    "(coarser pixels; the full frame once it stops); 0 = always full resolution")
+        ->capture_default_str();
+    cmd->add_option("--max-pixel-step", job.progressive.max_step,
+                    "--interactive: coarsest pixel step while moving (1-8)")
+        ->capture_default_str();
+}
+
 /// Fog, shading, the fly-through's video and prefetching, the window, the output.
 void add_mode_options(CLI::App* cmd, ViewCommand& c) {
     ViewJobConfig& job = c.job;
@@ -242,14 +269,6 @@ void add_mode_options(CLI::App* cmd, ViewCommand& c) {
     cmd->add_option("--mp4", job.mp4,
                     "--path: also encode the frames into this MP4 (needs ffmpeg on PATH)");
     cmd->add_option("--fps", job.fps, "Frame rate of the --mp4 video")->capture_default_str();
-    cmd->add_flag("--interactive", job.interactive,
-                  "Open a window (GLFW/OpenGL): WASD/arrows/Q/E and mouse drag to fly, frame time "
-                  "in the title; starts at --camera when given");
-    cmd->add_option("--screenshot", job.screenshot,
-                    "--interactive: write the window's last frame (read back from OpenGL) to "
-                    "this PNG and close");
-    cmd->add_option("--frames", job.frames,
-                    "--interactive: close after this many frames (0 = when the window is closed)");
     cmd->add_flag("--quiet", c.quiet, "No progress bar and no summary");
     cmd->add_flag("--progress", c.progress, "Show the progress bar even when not on a terminal");
 }
@@ -264,6 +283,7 @@ std::function<int()> add_view_command(CLI::App& app) {
     add_camera_options(cmd, c->job);
     add_field_options(cmd, c->job.session);
     add_mode_options(cmd, *c);
+    add_window_options(cmd, c->job);
     return [c] { return run(*c); };
 }
 

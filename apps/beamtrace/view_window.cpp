@@ -286,63 +286,172 @@ void write_screenshot(GLFWwindow* w, ViewSession& session, const ViewCamera& cam
 
 }  // namespace
 
+namespace {
+
+/// One rendered frame of the window: for the log and the summary.
+struct FrameRecord {
+    bool moving = false;
+    int step = 1;
+    int width = 0, height = 0;
+    double render_ms = 0.0;
+    double frame_ms = 0.0;  ///< the whole loop iteration: input, loading, render, draw, swap
+};
+
+/// The --frame-log CSV, written at once (OutputError when it cannot be).
+void write_frame_log(const std::string& path, const std::vector<FrameRecord>& records) {
+    std::FILE* f = std::fopen(path.c_str(), "w");
+    if (f == nullptr) {
+        throw OutputError(path + ": cannot write the frame log");
+    }
+    std::fprintf(f, "frame,moving,step,width,height,render_ms,frame_ms\n");
+    for (std::size_t i = 0; i < records.size(); ++i) {
+        const FrameRecord& r = records[i];
+        std::fprintf(f, "%zu,%d,%d,%d,%d,%.3f,%.3f\n", i, r.moving ? 1 : 0, r.step, r.width,
+                     r.height, r.render_ms, r.frame_ms);
+    }
+    if (std::fclose(f) != 0) {
+        throw OutputError(path + ": cannot write the frame log");
+    }
+}
+
+/// "moving: N frames, frame time median X ms (F fps), 95th Y ms; render median R ms; pixel
+/// step a-b" for the frames that moved (or did not).
+void print_frame_summary(const char* what, const std::vector<FrameRecord>& records, bool moving) {
+    std::vector<double> frame_ms, render_ms;
+    int lo = 0, hi = 0;
+    for (const FrameRecord& r : records) {
+        if (r.moving == moving) {
+            frame_ms.push_back(r.frame_ms);
+            render_ms.push_back(r.render_ms);
+            lo = lo == 0 ? r.step : std::min(lo, r.step);
+            hi = std::max(hi, r.step);
+        }
+    }
+    const FrameTimeSummary f = summarize_frame_times(frame_ms);
+    const FrameTimeSummary r = summarize_frame_times(render_ms);
+    std::printf(
+        "%s: %zu frames, frame time median %.1f ms (%.1f fps), 95th %.1f ms; render median %.1f "
+        "ms; pixel step %d-%d\n",
+        what, f.frames, f.median_ms, f.fps(), f.p95_ms, r.median_ms, lo, hi);
+}
+
+/// The camera's state in the frame loop: the scripted path, the input, the progressive step.
+struct Flight {
+    const WindowOptions& options;
+    Input input;
+    double base_speed = 0.0;
+    std::size_t next_pose = 0;
+    ProgressiveScaler scaler;
+    int shown_step = 1;  ///< the pixel step of the frame on screen
+
+    /// Advances the camera by the path or the input over `dt`; returns whether it moved.
+    bool move(GLFWwindow* w, double dt, ViewCamera& camera, Vec3d& ahead) {
+        if (next_pose < options.path.size()) {
+            const Vec3d from = camera.position;
+            camera.set_pose(options.path[next_pose++]);
+            const Vec3d to = next_pose < options.path.size() ? options.path[next_pose].position
+                                                             : camera.position;
+            ahead = camera.position + (to - from) * 30.0;  // about a second ahead
+            return true;
+        }
+        return steer(w, input, base_speed, dt, camera, ahead);
+    }
+};
+
+/// After the loop: the screenshot (full resolution, every section loaded), the frame log and
+/// the summary.
+void finish_window(GLFWwindow* w, ViewSession& session, const ViewCamera& camera,
+                   const RenderOptions& render, const WindowOptions& options, ViewImage& image,
+                   const std::vector<FrameRecord>& records) {
+    if (!options.screenshot.empty()) {
+        write_screenshot(w, session, camera, render, options.screenshot, image);
+    }
+    if (!options.frame_log.empty()) {
+        write_frame_log(options.frame_log, records);
+    }
+    if (options.quiet) {
+        return;
+    }
+    double render_ms = 0.0;
+    for (const FrameRecord& r : records) {
+        render_ms += r.render_ms;
+    }
+    std::printf("%zu frames, %.1f ms per frame%s%s\n", records.size(),
+                records.empty() ? 0.0 : render_ms / static_cast<double>(records.size()),
+                options.screenshot.empty() ? "" : "; wrote ", options.screenshot.c_str());
+    std::printf("window %dx%d, moving frames at most %.0f ms (pixel steps up to %d)\n",
+                camera.width, camera.height, options.progressive.moving_frame_s * 1e3,
+                options.progressive.max_step);
+    print_frame_summary("moving", records, true);
+    print_frame_summary("still", records, false);
+}
+
+}  // namespace
+
 void run_view_window(ViewSession& session, ViewCamera camera, const RenderOptions& render,
                      const WindowOptions& options) {
     camera.validate();
     GlfwWindow window(camera.width, camera.height);
     GLFWwindow* w = window.get();
-    Input input;
-    glfwSetWindowUserPointer(w, &input);
+    Flight flight{options, {}, 0.0, 0, ProgressiveScaler(options.progressive), 1};
+    glfwSetWindowUserPointer(w, &flight.input);
     glfwSetMouseButtonCallback(w, on_mouse_button);
     glfwSetCursorPosCallback(w, on_cursor);
     glfwSetKeyCallback(w, on_key);
 
     const Vec3d extent = session.sources().max() - session.sources().min();
-    const double base_speed = std::max(0.15 * std::max(extent.x, extent.y),
-                                       20.0 * session.grid().config().cell_size);  // per second
+    flight.base_speed = std::max(0.15 * std::max(extent.x, extent.y),
+                                 20.0 * session.grid().config().cell_size);  // per second
     using Clock = std::chrono::steady_clock;
     ViewImage image;
     auto last = Clock::now();
-    double frame_ms = 0.0, render_ms_total = 0.0;
-    int frames = 0;
+    double frame_ms = 0.0;
+    std::vector<FrameRecord> records;
     bool dirty = true;
     while (glfwWindowShouldClose(w) == GLFW_FALSE &&
-           (options.frames <= 0 || frames < options.frames)) {
+           (options.frames <= 0 || static_cast<int>(records.size()) < options.frames)) {
         const auto now = Clock::now();
         const double dt = std::min(0.25, std::chrono::duration<double>(now - last).count());
         last = now;
         Vec3d ahead;
-        dirty = steer(w, input, base_speed, dt, camera, ahead) || dirty;
+        const bool moving = flight.move(w, dt, camera, ahead);
         // Never waits for sections: adopts finished loads and starts new ones, for the
-        // camera's window first, then for the window ahead.
-        dirty = session.update(camera.position, ahead) || dirty;
+        // camera's window first, then for the window ahead. A coarse frame on screen is
+        // refined once the camera stops.
+        dirty = session.update(camera.position, ahead) || moving || dirty ||
+                (!moving && flight.shown_step > 1);
         const LoadStatus status = session.load_status();
+        bool rendered = false;
         if (dirty || status.loading || options.frames > 0) {
+            const int step = flight.scaler.step(moving, camera.width, camera.height);
             const auto start = Clock::now();
-            session.render(camera, render, image);
-            frame_ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-            render_ms_total += frame_ms;
-            ++frames;
+            session.render(stepped_camera(camera, step), render, image);
+            const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
+            frame_ms = seconds * 1e3;
+            records.push_back({moving, step, image.width, image.height, frame_ms, 0.0});
+            flight.shown_step = step;
+            rendered = true;
             dirty = false;
         }
         draw(w, image);
         draw_overlay(w, frame_ms, status);
         set_title(w, frame_ms, camera, status);
         glfwSwapBuffers(w);
-        if (!dirty && !status.loading && options.frames <= 0) {
+        if (rendered) {
+            FrameRecord& r = records.back();
+            r.frame_ms = std::chrono::duration<double, std::milli>(Clock::now() - now).count();
+            flight.scaler.record(
+                static_cast<std::size_t>(r.width) * static_cast<std::size_t>(r.height),
+                r.render_ms * 1e-3, r.frame_ms * 1e-3);
+        }
+        if (!dirty && !status.loading && options.frames <= 0 && flight.shown_step == 1 &&
+            flight.next_pose >= options.path.size()) {
             glfwWaitEventsTimeout(0.1);
         } else {
             glfwPollEvents();
         }
     }
-    if (!options.screenshot.empty()) {
-        write_screenshot(w, session, camera, render, options.screenshot, image);
-    }
-    if (!options.quiet) {
-        std::printf("%d frames, %.1f ms per frame%s%s\n", frames,
-                    frames > 0 ? render_ms_total / frames : 0.0,
-                    options.screenshot.empty() ? "" : "; wrote ", options.screenshot.c_str());
-    }
+    finish_window(w, session, camera, render, options, image, records);
 }
 
 }  // namespace beamtrace::cli

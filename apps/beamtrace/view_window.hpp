@@ -3,7 +3,10 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
+#include "beamtrace/core/camera_pose.hpp"
+#include "beamtrace/heightfield/view_progressive.hpp"
 #include "beamtrace/heightfield/view_session.hpp"
 
 namespace beamtrace::cli {
@@ -15,6 +18,14 @@ struct WindowOptions {
     /// drawn after every section the camera's window admits has loaded, so it equals the offline
     /// render of the same camera.
     int frames = 0;
+    /// A scripted flight: one pose a frame (the camera moves), then the last pose stays (the
+    /// camera is still and the frame refines); the keys and mouse take over after it.
+    std::vector<CameraPose> path;
+    /// CSV of every rendered frame, written on close ("" = none): frame, moving, step, width,
+    /// height, render_ms, frame_ms.
+    std::string frame_log;
+    /// Coarser pixels while the camera moves, the full frame once it stops.
+    ProgressiveConfig progressive;
     bool quiet = false;
 };
 
@@ -26,7 +37,10 @@ void require_view_window();
 /// Opens a window of the camera's size and runs the frame loop: sections load in the
 /// background (ViewSession::update) and never stall a frame. Keys: W/S forward/back, A/D
 /// sideways, Q/E (or Page Down/Up) down/up, arrows turn and tilt, Shift moves 4x faster, +/-
-/// change the speed, Esc closes; dragging with the left mouse button turns the view. Throws
+/// change the speed, Esc closes; dragging with the left mouse button turns the view. While the
+/// camera moves, frames render with the pixel step of options.progressive; once it stops, the
+/// full-resolution frame follows. Prints the frame-time summary (moving and still) on close
+/// unless quiet. Throws
 /// Error when no window can be opened (no display, or built without GLFW).
 void run_view_window(ViewSession& session, ViewCamera camera, const RenderOptions& render,
                      const WindowOptions& options);

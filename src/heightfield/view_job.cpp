@@ -55,8 +55,8 @@ void check_offline(const ViewJobConfig& c, std::vector<std::string>& problems) {
     if (c.output.empty()) {
         problems.emplace_back("view: --output is required (a PNG file, or a folder with --path)");
     }
-    if (!c.screenshot.empty() || c.frames != 0) {
-        problems.emplace_back("view: --screenshot and --frames go with --interactive");
+    if (!c.screenshot.empty() || c.frames != 0 || !c.frame_log.empty()) {
+        problems.emplace_back("view: --screenshot, --frames and --frame-log go with --interactive");
     }
 }
 
@@ -65,15 +65,19 @@ void check_offline(const ViewJobConfig& c, std::vector<std::string>& problems) {
 std::vector<std::string> ViewJobConfig::validate() const {
     std::vector<std::string> problems;
     if (interactive) {
-        if (!path.empty()) {
-            problems.emplace_back("view: --interactive starts at --camera (optional), not --path");
+        if (pose.has_value() && !path.empty()) {
+            problems.emplace_back(
+                "view: --interactive starts at --camera or flies --path, not both");
         }
+        const auto more = progressive.validate();
+        problems.insert(problems.end(), more.begin(), more.end());
     } else {
         check_offline(*this, problems);
     }
     if (!mp4.empty()) {
-        if (path.empty()) {
-            problems.emplace_back("view: --mp4 goes with --path (a fly-through)");
+        if (path.empty() || interactive) {
+            problems.emplace_back(
+                "view: --mp4 goes with --path (a fly-through), not --interactive");
         }
         if (!(fps > 0) || !std::isfinite(fps)) {
             problems.push_back("view: --fps " + std::to_string(fps) + " is not positive");

@@ -324,6 +324,23 @@ void set_up_rays(const Tile& tile, const PixelDirections& directions, const deta
     }
 }
 
+/// Reads the attribute (colour) of every hit cell once before shading: independent loads in a
+/// short loop, so that their cache misses overlap (the shading of one pixel is too long for the
+/// processor to reach the next pixel's attribute while the first waits), and the shading then
+/// finds them in cache. The image is the same.
+void touch_attributes(const SectionGrid& grid, const GridHit* hits, const std::uint8_t* found,
+                      std::size_t count) {
+    if (!color_mode_has_attribute(grid.config().color)) {
+        return;
+    }
+    std::uint32_t all = 0;
+    for (std::size_t j = 0; j < count; ++j) {
+        all |= found[j] != 0 ? grid.attribute(hits[j].x, hits[j].y) : 0u;
+    }
+    // Keeps the loads (their values are not needed here).
+    asm volatile("" : : "r"(all));
+}
+
 /// Renders the pixels of tiles [begin, end) (of `tiles_x` a row, `tile` pixels a side): their
 /// rays set up by set_up_rays, traced in `lanes` SIMD lanes (or one at a time by `trace`),
 /// shaded by `sink`. Returns the lanes of the kernel that ran.
@@ -356,6 +373,7 @@ int render_tiles(const SectionGrid& grid, const LevelTable& table, const PixelDi
                 buffers.found[j] = trace(grid, table, buffers.rays[j], buffers.hits[j]) ? 1 : 0;
             }
         }
+        touch_attributes(grid, buffers.hits.data(), buffers.found.data(), count);
         for (std::size_t j = 0; j < count; ++j) {
             if (buffers.found[j] != 0) {
                 sink.hit(buffers.pixels[j], buffers.rays[j], buffers.hits[j]);

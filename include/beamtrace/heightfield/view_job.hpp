@@ -14,6 +14,7 @@
 #include "beamtrace/core/camera_pose.hpp"
 #include "beamtrace/core/cancel.hpp"
 #include "beamtrace/heightfield/view_camera.hpp"
+#include "beamtrace/heightfield/view_progressive.hpp"
 #include "beamtrace/heightfield/view_renderer.hpp"
 #include "beamtrace/heightfield/view_session.hpp"
 
@@ -33,6 +34,11 @@ struct ViewJobConfig {
     std::filesystem::path mp4;         ///< path: also encode the frames into this MP4
     double fps = 25.0;                 ///< frame rate of the MP4
     bool prefetch = true;  ///< path: load the next frame's sections while this one renders
+    /// interactive: one CSV line per frame (index, moving, pixel step, size, render and frame
+    /// time) written here on close; "" = none.
+    std::filesystem::path frame_log;
+    /// interactive: coarser pixels while the camera moves, the full frame once it stops.
+    ProgressiveConfig progressive;
     /// Checked before each frame loads, renders and is written: once requested,
     /// run_view_frames removes the frames it wrote and the MP4's temporary file and throws
     /// Interrupted. Null: runs to the end. The token must outlive the call.
@@ -42,7 +48,8 @@ struct ViewJobConfig {
     /// when valid (the camera and height field are checked by their own validate()).
     [[nodiscard]] std::vector<std::string> validate() const;
     /// The poses to render: `pose`, or the camera path's (read from the file; InputError);
-    /// empty without either (run_view_frames: the overview; interactive: starts there).
+    /// empty without either (run_view_frames: the overview; interactive: starts there). An
+    /// interactive window flies a path's poses one a frame, then stays at the last.
     [[nodiscard]] std::vector<CameraPose> poses() const;
 };
 
