@@ -98,9 +98,7 @@ class LasSink final : public PointSink {
         if (waves_) {
             waves_->encode(block, *writer_, las, static_cast<LasBuffer&>(out).packets);
         } else {
-            for (const BlockPoint& p : block.points) {
-                writer_->encode(static_cast<const LasSimplePoint&>(p), las);
-            }
+            writer_->encode(std::span<const BlockPoint>(block.points), las);
         }
         encode_las_extra_bytes(extra_, block.points, *writer_, las);
     }

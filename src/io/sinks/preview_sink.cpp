@@ -3,7 +3,10 @@
 // kPreviewPixels across; points beyond it are left out) coloured by height (jet,
 // blue low) and hill-shaded from the north-west, short gaps between scan lines closed, cropped
 // to the data, with a scale bar. Written at commit; the summary names its scale and heights.
+// The pool threads raise the pixels' heights as they encode their blocks (an atomic maximum,
+// the same whatever the order): nothing is left for the writer thread.
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -23,14 +26,9 @@ constexpr int kPreviewPixels = 1024;  ///< the footprint's longer side, before c
 constexpr int kGapPixels = 2;         ///< runs of empty pixels closed between two hits
 constexpr float kEmpty = -std::numeric_limits<float>::infinity();
 
-struct PreviewHit {
-    std::uint32_t index;
-    float z;
-};
-
+/// Nothing goes through the writer: encode() raises the raster's pixels itself.
 struct PreviewBuffer final : SinkBuffer {
-    std::vector<PreviewHit> hits;
-    void clear() override { hits.clear(); }
+    void clear() override {}
 };
 
 /// Heights of pixels, rows from the north edge down.
@@ -206,23 +204,23 @@ class PreviewSink final : public PointSink {
     [[nodiscard]] std::unique_ptr<SinkBuffer> make_buffer() const override {
         return std::make_unique<PreviewBuffer>();
     }
-    void encode(const PointBlock& block, SinkBuffer& out) const override {
-        auto& hits = static_cast<PreviewBuffer&>(out).hits;
+    /// Raises each point's pixel to its height; any thread, blocks in any order: the maximum
+    /// does not depend on the order (-0 is taken as +0, so not even its sign does).
+    void encode(const PointBlock& block, SinkBuffer& /*out*/) const override {
+        float* z = raster_.z.data();
         for (const BlockPoint& p : block.points) {
             const double u = std::floor((p.x - raster_.west) / raster_.cell_m);
             const double v = std::floor((raster_.north - p.y) / raster_.cell_m);
             if (u >= 0 && v >= 0 && u < raster_.width && v < raster_.height) {
-                hits.push_back(
-                    {static_cast<std::uint32_t>(v * raster_.width + u), static_cast<float>(p.z)});
+                const float h = static_cast<float>(p.z) + 0.0f;
+                std::atomic_ref<float> pixel(z[static_cast<std::size_t>(v * raster_.width + u)]);
+                float now = pixel.load(std::memory_order_relaxed);
+                while (h > now && !pixel.compare_exchange_weak(now, h, std::memory_order_relaxed)) {
+                }
             }
         }
     }
-    void write(const SinkBuffer& encoded) override {
-        for (const PreviewHit& h : static_cast<const PreviewBuffer&>(encoded).hits) {
-            float& z = raster_.z[h.index];
-            z = std::max(z, h.z);
-        }
-    }
+    void write(const SinkBuffer& /*encoded*/) override {}
     std::vector<std::filesystem::path> commit() override {
         close_gaps(raster_, true);
         close_gaps(raster_, false);
@@ -246,7 +244,8 @@ class PreviewSink final : public PointSink {
 
   private:
     std::filesystem::path path_;
-    Raster raster_;
+    /// Mutable: encode() raises its heights (atomically; commit() reads them after the last).
+    mutable Raster raster_;
     std::vector<std::string> notes_;
 };
 
