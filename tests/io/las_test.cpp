@@ -326,6 +326,82 @@ TEST_F(LasWriterTest, SimplePointsEncodeLikeTheSameLasPointsEvenInReusedBlocks) 
               std::vector<std::int32_t>(fresh.lo, fresh.lo + 3));
 }
 
+/// A point type derived from LasSimplePoint with fields of its own around the base's.
+struct WiderPoint : LasSimplePoint {
+    double range = 0.0;
+    std::uint32_t face = 0xDEADBEEF;
+};
+
+TEST_F(LasWriterTest, SpansOfDerivedPointsEncodeLikePointByPoint) {
+    for (const int format : {6, 7, 8}) {
+        LasWriterConfig config =
+            las_config_for_extent({634000, 4849000, 0}, {636000, 4851000, 200});
+        config.point_format = format;
+        config.extra_bytes_per_point = 3;  // zero: encode() leaves them to the caller
+        LasWriter writer(dir_ / "x.las", config);
+        std::vector<WiderPoint> points;
+        for (const LasPoint& p : make_points(500, format)) {
+            WiderPoint& w = points.emplace_back();
+            static_cast<LasSimplePoint&>(w) = {p.x,
+                                               p.y,
+                                               p.z,
+                                               p.gps_time,
+                                               p.scan_angle_deg,
+                                               p.intensity,
+                                               p.point_source_id,
+                                               p.return_number,
+                                               p.number_of_returns,
+                                               p.classification,
+                                               p.user_data,
+                                               p.red,
+                                               p.green,
+                                               p.blue,
+                                               p.nir,
+                                               p.scanner_channel};
+            w.range = p.x;
+        }
+        // Both blocks start with points of before and reuse bytes full of 0xFF.
+        LasRecordBlock one, span;
+        for (LasRecordBlock* b : {&one, &span}) {
+            b->bytes.assign(600 * writer.header().point_record_length, 0xFF);
+            writer.encode(static_cast<const LasSimplePoint&>(points[499]), *b);
+        }
+        for (const WiderPoint& p : std::span(points).first(499)) {
+            writer.encode(static_cast<const LasSimplePoint&>(p), one);
+        }
+        writer.encode(std::span<const WiderPoint>(points).first(499), span);
+        writer.encode(std::span<const WiderPoint>(), span);  // nothing
+        ASSERT_EQ(span.count, 500u);
+        ASSERT_EQ(one.count, 500u);
+        EXPECT_TRUE(std::equal(one.bytes.begin(),
+                               one.bytes.begin() + static_cast<std::ptrdiff_t>(
+                                                       500 * writer.header().point_record_length),
+                               span.bytes.begin()))
+            << "format " << format;
+        EXPECT_EQ(span.by_return, one.by_return);
+        EXPECT_EQ(std::vector<std::int32_t>(span.lo, span.lo + 3),
+                  std::vector<std::int32_t>(one.lo, one.lo + 3));
+        EXPECT_EQ(std::vector<std::int32_t>(span.hi, span.hi + 3),
+                  std::vector<std::int32_t>(one.hi, one.hi + 3));
+    }
+    // A bad point is named by its index in the block.
+    LasWriter writer(dir_ / "y.las", {});
+    std::vector<WiderPoint> points(3);
+    for (WiderPoint& p : points) {
+        p.return_number = p.number_of_returns = 1;
+    }
+    points[2].z = -3e6;
+    LasRecordBlock block;
+    writer.encode(std::span<const WiderPoint>(points).first(1), block);
+    try {
+        writer.encode(std::span<const WiderPoint>(points), block);
+        FAIL() << "expected OutputError";
+    } catch (const OutputError& e) {
+        EXPECT_NE(std::string(e.what()).find("point 3: z = -3000000"), std::string::npos)
+            << e.what();
+    }
+}
+
 TEST_F(LasWriterTest, BlockEncodingRejectsBadPointsWithoutHarmingTheWriter) {
     LasWriter writer(dir_ / "x.las", {});
     LasRecordBlock block;
