@@ -548,40 +548,6 @@ void LasWriter::encode(const LasPoint& point, LasRecordBlock& block) const {
     encode_into(point, block);
 }
 
-void LasWriter::encode_strided(const LasSimplePoint* first, std::size_t stride, std::size_t count,
-                               LasRecordBlock& block) const {
-    if (count == 0) {
-        return;
-    }
-    const std::size_t size = header_.point_record_length;
-    const std::size_t need = (block.count + count) * size;
-    if (block.bytes.size() < need) {
-        block.bytes.resize(std::max(need, 2 * block.bytes.size()));
-    }
-    std::int32_t lo[3], hi[3];
-    for (std::size_t k = 0; k < 3; ++k) {
-        lo[k] = block.count == 0 ? std::numeric_limits<std::int32_t>::max() : block.lo[k];
-        hi[k] = block.count == 0 ? std::numeric_limits<std::int32_t>::min() : block.hi[k];
-    }
-    const auto* at = reinterpret_cast<const unsigned char*>(first);
-    std::uint8_t* r = block.bytes.data() + block.count * size;
-    for (std::size_t i = 0; i < count; ++i, at += stride, r += size) {
-        const auto& p = *reinterpret_cast<const LasSimplePoint*>(at);
-        std::int32_t q[3];
-        encode_record(p, block.count + i, r, q);
-        for (std::size_t k = 0; k < 3; ++k) {
-            lo[k] = std::min(lo[k], q[k]);
-            hi[k] = std::max(hi[k], q[k]);
-        }
-        if (p.return_number >= 1) {
-            ++block.by_return[p.return_number - 1u];
-        }
-    }
-    std::copy_n(lo, 3, block.lo);
-    std::copy_n(hi, 3, block.hi);
-    block.count += count;
-}
-
 void LasWriter::encode(const LasSimplePoint& point, LasRecordBlock& block) const {
     encode_into(point, block);
 }

@@ -2,7 +2,6 @@
 #pragma once
 
 #include <array>
-#include <concepts>
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
@@ -167,13 +166,6 @@ class LasWriter {
     /// block) for a point the file cannot hold; the writer is unaffected.
     void encode(const LasPoint& point, LasRecordBlock& block) const;
     void encode(const LasSimplePoint& point, LasRecordBlock& block) const;
-    /// encode(point, block) for each of `points` (of LasSimplePoint or a type derived from
-    /// it), in one loop: the same bytes, without a call per point.
-    template <class Point>
-    requires std::derived_from<Point, LasSimplePoint>
-    void encode(std::span<const Point> points, LasRecordBlock& block) const {
-        encode_strided(points.data(), sizeof(Point), points.size(), block);
-    }
     /// The same with the wave packet fields (formats 9, 10).
     void encode(const LasSimplePoint& point, const LasWavePacket& packet,
                 LasRecordBlock& block) const;
@@ -213,10 +205,6 @@ class LasWriter {
                      std::uint8_t* record, std::int32_t q[3]) const;
     template <class Point>
     void encode_into(const Point& p, LasRecordBlock& block) const;
-    /// encode(span, block): `count` points, the first at `first`, each `stride` bytes after the
-    /// one before.
-    void encode_strided(const LasSimplePoint* first, std::size_t stride, std::size_t count,
-                        LasRecordBlock& block) const;
     void flush_chunk();
     void write_waveform_evlr();
     // compression laz (src/io/las_writer_laz.cpp); the plain path where there is no laz_.

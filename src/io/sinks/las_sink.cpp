@@ -98,7 +98,9 @@ class LasSink final : public PointSink {
         if (waves_) {
             waves_->encode(block, *writer_, las, static_cast<LasBuffer&>(out).packets);
         } else {
-            writer_->encode(std::span<const BlockPoint>(block.points), las);
+            for (const BlockPoint& p : block.points) {
+                writer_->encode(static_cast<const LasSimplePoint&>(p), las);
+            }
         }
         encode_las_extra_bytes(extra_, block.points, *writer_, las);
     }
