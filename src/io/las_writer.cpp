@@ -372,32 +372,59 @@ void LasRecordBlock::clear() {
     by_return.fill(0);
 }
 
+namespace {
+
+/// The OutputError of a point the file cannot hold (out of the encoders' hot loops).
+[[noreturn, gnu::cold, gnu::noinline]] void reject_point(const std::filesystem::path& path,
+                                                         std::uint64_t index,
+                                                         const std::string& what) {
+    throw OutputError(path.string() + ": point " + std::to_string(index) + ": " + what);
+}
+
+[[noreturn, gnu::cold, gnu::noinline]] void reject_coordinate(const std::filesystem::path& path,
+                                                              std::uint64_t index, std::size_t k,
+                                                              double value, double scale,
+                                                              double offset) {
+    reject_point(path, index,
+                 std::string(1, "xyz"[k]) + " = " + number(value) +
+                     " does not fit in a 32-bit LAS coordinate with scale " + number(scale) +
+                     " and offset " + number(offset) + " (see las_config_for_extent)");
+}
+
+[[noreturn, gnu::cold, gnu::noinline]] void reject_returns(const std::filesystem::path& path,
+                                                           std::uint64_t index,
+                                                           const LasSimplePoint& p) {
+    reject_point(path, index,
+                 "return " + std::to_string(p.return_number) + " of " +
+                     std::to_string(p.number_of_returns) + " exceeds 15");
+}
+
+[[noreturn, gnu::cold, gnu::noinline]] void reject_angle(const std::filesystem::path& path,
+                                                         std::uint64_t index, float angle_deg) {
+    reject_point(path, index, "scan angle " + number(angle_deg) + " deg is outside [-180, 180]");
+}
+
+}  // namespace
+
 void LasWriter::encode_base(const LasSimplePoint& p, std::uint8_t flags, std::uint64_t index,
                             std::uint8_t* r, std::int32_t q[3]) const {
-    const auto reject = [&](const std::string& what) {
-        throw OutputError(path_.string() + ": point " + std::to_string(index) + ": " + what);
-    };
     const double xyz[3] = {p.x, p.y, p.z};
     for (std::size_t k = 0; k < 3; ++k) {
         // A multiplication, not a division (a quarter of the encoding time): the same steps
         // except where (x - offset) / scale falls within an ulp of a half step.
         const double steps = (xyz[k] - header_.offset[k]) * steps_per_unit_[k];
-        if (!rounds_into_int32(steps)) {
-            reject(std::string(1, "xyz"[k]) + " = " + number(xyz[k]) +
-                   " does not fit in a 32-bit LAS coordinate with scale " +
-                   number(header_.scale[k]) + " and offset " + number(header_.offset[k]) +
-                   " (see las_config_for_extent)");
+        if (!rounds_into_int32(steps)) [[unlikely]] {
+            reject_coordinate(path_, index, k, xyz[k], header_.scale[k], header_.offset[k]);
         }
         q[k] = round_to_int32(steps);
     }
-    if (p.return_number > 15 || p.number_of_returns > 15) {
-        reject("return " + std::to_string(p.return_number) + " of " +
-               std::to_string(p.number_of_returns) + " exceeds 15");
+    if (p.return_number > 15 || p.number_of_returns > 15) [[unlikely]] {
+        reject_returns(path_, index, p);
     }
     const double angle = static_cast<double>(p.scan_angle_deg) * (1.0 / kScanAngleStepDeg);
     const std::int32_t angle_steps = rounds_into_int32(angle) ? round_to_int32(angle) : 1 << 30;
-    if (!(angle_steps >= -30000 && angle_steps <= 30000)) {
-        reject("scan angle " + number(p.scan_angle_deg) + " deg is outside [-180, 180]");
+    if (!(angle_steps >= -30000 && angle_steps <= 30000)) [[unlikely]] {
+        reject_angle(path_, index, p.scan_angle_deg);
     }
     // Each value from its register (a 12-byte copy of q read back just-stored 4-byte values
     // as 8 bytes, which stalls store forwarding).
@@ -457,13 +484,15 @@ void LasWriter::encode_record(const LasPoint& p, std::uint64_t index, std::uint8
 
 void LasWriter::encode_record(const LasSimplePoint& p, std::uint64_t index, std::uint8_t* r,
                               std::int32_t q[3]) const {
-    if (p.scanner_channel > 3) {
-        throw OutputError(path_.string() + ": point " + std::to_string(index) +
-                          ": scanner channel " + std::to_string(p.scanner_channel) + " exceeds 3");
+    if (p.scanner_channel > 3) [[unlikely]] {
+        reject_point(path_, index,
+                     "scanner channel " + std::to_string(p.scanner_channel) + " exceeds 3");
     }
     encode_base(p, static_cast<std::uint8_t>(p.scanner_channel << 4), index, r, q);
     // Extra bytes (and wave packet fields, written after) are zero: block bytes are reused.
-    std::memset(r + 30, 0, header_.point_record_length - 30u);
+    if (header_.point_record_length > 30u) {
+        std::memset(r + 30, 0, header_.point_record_length - 30u);
+    }
     if (las_format_has_rgb(header_.point_format)) {
         store<std::uint16_t>(r + 30, p.red);
         store<std::uint16_t>(r + 32, p.green);

@@ -2,7 +2,11 @@
 // scale bar at the bottom left, and a note with its scale.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <random>
 #include <string>
+#include <thread>
+#include <vector>
 
 #include "beamtrace/io/png_reader.hpp"
 #include "beamtrace/io/point_sink_registry.hpp"
@@ -64,6 +68,65 @@ TEST(PreviewSink, NorthUpHeightsInColourCroppedWithAScaleBar) {
     // The scale bar (1 m: a quarter of the width, 1-2-5 below) is white at the bottom left.
     EXPECT_NE(note.find("scale bar 2 m"), std::string::npos) << note;
     EXPECT_EQ(px(10, img.height - 8), (std::array<int, 3>{255, 255, 255}));
+}
+
+/// preview.png of `blocks` (points of one footprint), each encoded on its own thread when
+/// `threads`, else in the order given; the file's bytes.
+std::string preview_of(const std::vector<PointBlock>& blocks, bool threads) {
+    test::TempDir dir;
+    SinkFacts facts;
+    facts.output_dir = dir.path();
+    facts.lo_m = {-1, -1, -1};
+    facts.hi_m = {11, 11, 6};
+    facts.pulses = 40000;
+    auto sink = point_sink("preview").make(facts);
+    std::vector<std::unique_ptr<SinkBuffer>> buffers;
+    for (std::size_t k = 0; k < blocks.size(); ++k) {
+        buffers.push_back(sink->make_buffer());
+    }
+    if (threads) {
+        std::vector<std::thread> pool;
+        for (std::size_t k = 0; k < blocks.size(); ++k) {
+            pool.emplace_back([&, k] { sink->encode(blocks[k], *buffers[k]); });
+        }
+        for (auto& t : pool) {
+            t.join();
+        }
+    } else {
+        for (std::size_t k = 0; k < blocks.size(); ++k) {
+            sink->encode(blocks[k], *buffers[k]);
+        }
+    }
+    for (const auto& b : buffers) {
+        sink->write(*b);
+    }
+    const auto files = sink->commit();
+    return files.empty() ? std::string() : test::read_file(files[0]);
+}
+
+TEST(PreviewSink, TheSameImageForBlocksEncodedInAnyOrderOnAnyThreads) {
+    // The ground and block, each pixel hit many times at heights shuffled across 8 blocks
+    // (and a -0 beside +0): the highest of each pixel wins whoever encodes it.
+    PointBlock all = ground_with_block();
+    std::mt19937 rng(7);
+    for (BlockPoint& p : all.points) {
+        p.z += std::uniform_real_distribution<double>(-0.5, 0.5)(rng);
+    }
+    all.points[0].z = -0.0;
+    all.points[1].z = 0.0;
+    std::shuffle(all.points.begin(), all.points.end(), rng);
+    std::vector<PointBlock> blocks(8);
+    for (std::size_t i = 0; i < all.points.size(); ++i) {
+        blocks[i % blocks.size()].points.push_back(all.points[i]);
+    }
+    const std::string one = preview_of({all}, false);
+    ASSERT_FALSE(one.empty());
+    EXPECT_EQ(preview_of(blocks, false), one);
+    std::reverse(blocks.begin(), blocks.end());
+    EXPECT_EQ(preview_of(blocks, false), one);
+    for (int round = 0; round < 4; ++round) {
+        EXPECT_EQ(preview_of(blocks, true), one) << "round " << round;
+    }
 }
 
 TEST(PreviewSink, NoPointsNoFile) {

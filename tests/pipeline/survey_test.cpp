@@ -154,6 +154,8 @@ platform: {type: legs, speed_mps: 10, waypoints_m: [[-10, -10, 2], [10, -10, 3]]
               "x,y,z,gps_time,range_m,classification,point_source_id,beam,scan_angle_deg");
     EXPECT_EQ(test::read_file(a / "out" / "trajectory.csv"),
               test::read_file(b / "out" / "trajectory.csv"));
+    EXPECT_EQ(test::read_file(a / "out" / "preview.png"),
+              test::read_file(b / "out" / "preview.png"));
 }
 
 TEST(Survey, SurveyRaysAreTheRaysItTracesAndMaxPulsesStopsEarly) {

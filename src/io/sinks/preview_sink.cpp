@@ -3,10 +3,15 @@
 // kPreviewPixels across; points beyond it are left out) coloured by height (jet,
 // blue low) and hill-shaded from the north-west, short gaps between scan lines closed, cropped
 // to the data, with a scale bar. Written at commit; the summary names its scale and heights.
+// The pool threads raise the pixels' heights as they encode their blocks, each in a layer of
+// its own (the maximum of the layers, merged at commit, does not depend on the order): nothing is
+// left for the writer thread.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <memory>
+#include <mutex>
 #include <string>
 
 #include "beamtrace/io/colormap.hpp"
@@ -23,14 +28,9 @@ constexpr int kPreviewPixels = 1024;  ///< the footprint's longer side, before c
 constexpr int kGapPixels = 2;         ///< runs of empty pixels closed between two hits
 constexpr float kEmpty = -std::numeric_limits<float>::infinity();
 
-struct PreviewHit {
-    std::uint32_t index;
-    float z;
-};
-
+/// Nothing goes through the writer: encode() raises the pixels of a layer itself.
 struct PreviewBuffer final : SinkBuffer {
-    std::vector<PreviewHit> hits;
-    void clear() override { hits.clear(); }
+    void clear() override {}
 };
 
 /// Heights of pixels, rows from the north edge down.
@@ -201,29 +201,34 @@ class PreviewSink final : public PointSink {
         : path_(facts.output_dir / "preview.png"),
           raster_(facts.footprint_m ? raster_for(facts.footprint_m->first,
                                                  facts.footprint_m->second, facts.pulses)
-                                    : raster_for(facts.lo_m, facts.hi_m, facts.pulses)) {}
+                                    : raster_for(facts.lo_m, facts.hi_m, facts.pulses)) {
+        // The raster's own heights are the first layer (touched now, not during the survey).
+        layers_.push_back(std::make_unique<std::vector<float>>(std::move(raster_.z)));
+    }
 
     [[nodiscard]] std::unique_ptr<SinkBuffer> make_buffer() const override {
         return std::make_unique<PreviewBuffer>();
     }
-    void encode(const PointBlock& block, SinkBuffer& out) const override {
-        auto& hits = static_cast<PreviewBuffer&>(out).hits;
+    /// Raises each point's pixel to its height in a layer no other thread uses meanwhile; any
+    /// thread, blocks in any order (-0 is taken as +0, so not even its sign depends on it).
+    void encode(const PointBlock& block, SinkBuffer& /*out*/) const override {
+        std::unique_ptr<std::vector<float>> layer = take_layer();
+        float* z = layer->data();
         for (const BlockPoint& p : block.points) {
             const double u = std::floor((p.x - raster_.west) / raster_.cell_m);
             const double v = std::floor((raster_.north - p.y) / raster_.cell_m);
             if (u >= 0 && v >= 0 && u < raster_.width && v < raster_.height) {
-                hits.push_back(
-                    {static_cast<std::uint32_t>(v * raster_.width + u), static_cast<float>(p.z)});
+                const float h = static_cast<float>(p.z) + 0.0f;
+                float& pixel = z[static_cast<std::size_t>(v * raster_.width + u)];
+                pixel = h > pixel ? h : pixel;
             }
         }
+        const std::lock_guard lock(mutex_);
+        layers_.push_back(std::move(layer));
     }
-    void write(const SinkBuffer& encoded) override {
-        for (const PreviewHit& h : static_cast<const PreviewBuffer&>(encoded).hits) {
-            float& z = raster_.z[h.index];
-            z = std::max(z, h.z);
-        }
-    }
+    void write(const SinkBuffer& /*encoded*/) override {}
     std::vector<std::filesystem::path> commit() override {
+        merge_layers();
         close_gaps(raster_, true);
         close_gaps(raster_, false);
         const auto crop = crop_of(raster_);
@@ -245,8 +250,40 @@ class PreviewSink final : public PointSink {
     [[nodiscard]] std::vector<std::string> notes() const override { return notes_; }
 
   private:
+    /// A spare layer, or a new empty one.
+    [[nodiscard]] std::unique_ptr<std::vector<float>> take_layer() const {
+        {
+            const std::lock_guard lock(mutex_);
+            if (!layers_.empty()) {
+                auto layer = std::move(layers_.back());
+                layers_.pop_back();
+                return layer;
+            }
+        }
+        return std::make_unique<std::vector<float>>(
+            static_cast<std::size_t>(raster_.width) * static_cast<std::size_t>(raster_.height),
+            kEmpty);
+    }
+    /// The raster's heights: the highest of every layer's.
+    void merge_layers() {
+        if (layers_.empty()) {  // never: the first one is back once every encode() returned
+            layers_.push_back(take_layer());
+        }
+        raster_.z = std::move(*layers_.front());
+        for (std::size_t l = 1; l < layers_.size(); ++l) {
+            const float* z = layers_[l]->data();
+            for (std::size_t i = 0; i < raster_.z.size(); ++i) {
+                raster_.z[i] = std::max(raster_.z[i], z[i]);
+            }
+        }
+        layers_.clear();
+    }
+
     std::filesystem::path path_;
     Raster raster_;
+    /// Layers of heights, as many as blocks were ever encoded at once: encode() takes one.
+    mutable std::vector<std::unique_ptr<std::vector<float>>> layers_;
+    mutable std::mutex mutex_;
     std::vector<std::string> notes_;
 };
 

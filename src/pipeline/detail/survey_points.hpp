@@ -52,6 +52,12 @@ struct SurveyPoints {
     [[nodiscard]] std::uint16_t pulse_source_id(const BlockWork& w, std::size_t k) const;
     /// The point of a return the weather's medium made (no part of the scene was hit).
     void medium_point(BlockPoint& p, const PulseReturn& ret) const;
+    /// The fields of pulse k's return r that come from the hit part (face, class, point source
+    /// ID unless `by_pulse`, incidence, instance, velocity, colour); `last_part`: the part of
+    /// the previous hit, updated.
+    void part_fields(BlockPoint& p, const BlockWork& w, std::size_t k, std::size_t r,
+                     std::uint32_t face, const Vec3d& xyz, bool by_pulse,
+                     std::size_t& last_part) const;
     /// The incidence angle of pulse k's return r (physics: of the sample that dominated it;
     /// else of the pulse's ray and the hit face's normal), degrees.
     [[nodiscard]] float incidence_deg(const BlockWork& w, std::size_t k, std::size_t r) const;
