@@ -89,7 +89,7 @@ std::vector<Job> jobs() {
         all.push_back({"survey/" + s, "survey " + ex + "/surveys/" + s + " --output OUT", ""});
     }
     all.push_back({"survey/all_outputs", "survey DIR/survey.yaml --output OUT", kAllOutputs});
-    all.push_back({"scan/demo", "scan --demo --output OUT", ""});
+    all.push_back({"scan/demo", "scan --demo --outputs ply,npy,png,csv --output OUT", ""});
     all.push_back({"render/beach_ball",
                    "render " + ex +
                        "/scenes/beach_ball.yaml --camera -6,-4,3,0,0,40 --look-at "
