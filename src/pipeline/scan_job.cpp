@@ -12,6 +12,7 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <span>
 #include <system_error>
 
 #include "beamtrace/core/atomic_file.hpp"
@@ -172,50 +173,90 @@ struct ScanTally {
     std::vector<std::size_t> hits;  ///< per chunk
     std::vector<std::size_t> kept;  ///< per chunk: hits not on excluded faces (points.ply)
     /// Row-major width x height metres (misses 0), when an image output is wanted; else empty.
-    std::vector<float> range;
+    std::span<const float> range;
+    std::unique_ptr<float[]> range_storage;
 };
 
-/// Counts each chunk's hits and points and fills the range image (pixel (v, u) of ray u * H + v),
-/// chunks on the pool's threads.
+/// The range image of `hits`: pixel (v, u) is ray u * height + v. Bands of rows on the pool's
+/// threads, so that the reads (down a column of rays) and the writes (along the rows) both stay
+/// within a few cache lines.
+std::unique_ptr<float[]> range_image(const HitBatch& hits, std::size_t w, std::size_t h,
+                                     ThreadPool& pool) {
+    auto image = std::make_unique_for_overwrite<float[]>(w * h);
+    constexpr std::size_t kBand = 16;
+    pool.parallel_for(h, kBand, [&](std::size_t vb, std::size_t ve) {
+        for (std::size_t u = 0; u < w; ++u) {
+            for (std::size_t v = vb, i = u * h + vb; v < ve; ++v, ++i) {
+                image[v * w + u] = hits.hit(i) ? hits.t[i] : 0.0f;
+            }
+        }
+    });
+    return image;
+}
+
+/// Counts each chunk's hits and points (chunks on the pool's threads) and, with `image`, makes
+/// the range image.
 ScanTally tally_scan(const ScanJobConfig& config, const HitBatch& hits, int width, int height,
                      bool image, ThreadPool& pool) {
     const std::size_t n = hits.size();
     const std::size_t chunks = (n + kTraceChunk - 1) / kTraceChunk;
-    ScanTally tally{std::vector<std::size_t>(chunks), std::vector<std::size_t>(chunks), {}};
-    if (image) {
-        tally.range.assign(static_cast<std::size_t>(width) * static_cast<std::size_t>(height),
-                           0.0f);
-    }
-    const auto h = static_cast<std::size_t>(height);
-    const auto w = static_cast<std::size_t>(width);
+    ScanTally tally{std::vector<std::size_t>(chunks), std::vector<std::size_t>(chunks), {}, {}};
     const std::vector<FaceRange>& exclude = config.exclude_faces;
     pool.parallel_for(chunks, 1, [&](std::size_t cb, std::size_t ce) {
         for (std::size_t c = cb; c < ce; ++c) {
             std::size_t hit = 0, kept = 0;
             for (std::size_t i = c * kTraceChunk; i < std::min(n, (c + 1) * kTraceChunk); ++i) {
-                if (!hits.hit(i)) {
-                    continue;
-                }
-                ++hit;
-                kept += exclude.empty() || !in_ranges(exclude, hits.face[i]) ? 1 : 0;
-                if (image) {
-                    tally.range[(i % h) * w + i / h] = hits.t[i];
+                if (hits.hit(i)) {
+                    ++hit;
+                    kept += exclude.empty() || !in_ranges(exclude, hits.face[i]) ? 1 : 0;
                 }
             }
             tally.hits[c] = hit;
             tally.kept[c] = kept;
         }
     });
+    if (image) {
+        const auto w = static_cast<std::size_t>(width), h = static_cast<std::size_t>(height);
+        tally.range_storage = range_image(hits, w, h, pool);
+        tally.range = std::span<const float>(tally.range_storage.get(), w * h);
+    }
     return tally;
 }
+
+/// Encoding buffers of one size handed from task to task, so that a thread touches the pages
+/// of its buffer once rather than the allocator's fresh pages for every chunk.
+class BufferStack {
+  public:
+    explicit BufferStack(std::size_t bytes) : bytes_(std::max<std::size_t>(bytes, 1)) {}
+    [[nodiscard]] std::unique_ptr<char[]> take() {
+        {
+            const std::lock_guard lock(mutex_);
+            if (!free_.empty()) {
+                auto b = std::move(free_.back());
+                free_.pop_back();
+                return b;
+            }
+        }
+        return std::make_unique_for_overwrite<char[]>(bytes_);
+    }
+    void give(std::unique_ptr<char[]> buffer) {
+        const std::lock_guard lock(mutex_);
+        free_.push_back(std::move(buffer));
+    }
+
+  private:
+    std::size_t bytes_;
+    std::mutex mutex_;
+    std::vector<std::unique_ptr<char[]>> free_;
+};
 
 /// Encodes the points of chunk `c` (rays [c, c + 1) x kTraceChunk, without the excluded faces)
 /// as points.ply records and writes them at `offset`.
 void write_ply_chunk(const ScanJobConfig& config, const RayBatch& rays, const HitBatch& hits,
                      std::size_t c, std::size_t points, std::uint64_t offset,
-                     const ParallelFile& file) {
+                     const ParallelFile& file, BufferStack& buffers) {
     const std::size_t bytes = points * kPlyRecordBytes;
-    const auto buffer = std::make_unique_for_overwrite<char[]>(std::max<std::size_t>(bytes, 1));
+    std::unique_ptr<char[]> buffer = buffers.take();
     char* p = buffer.get();
     const std::vector<FaceRange>& exclude = config.exclude_faces;
     const std::size_t end = std::min(rays.size(), (c + 1) * kTraceChunk);
@@ -229,6 +270,7 @@ void write_ply_chunk(const ScanJobConfig& config, const RayBatch& rays, const Hi
                               static_cast<std::uint32_t>(i), p);
     }
     file.write_at(std::string_view(buffer.get(), bytes), offset);
+    buffers.give(std::move(buffer));
 }
 
 /// The outputs of one scan being written. points.ply, range.npy and hits.csv are written by
@@ -358,13 +400,13 @@ class ScanWriter {
                                                           static_cast<std::size_t>(width_));
                 npy_->write_at(header, 0);
                 npy_->write_at(std::string_view(reinterpret_cast<const char*>(tally_.range.data()),
-                                                tally_.range.size() * sizeof(float)),
+                                                tally_.range.size_bytes()),
                                header.size());
                 break;
             }
             case Kind::ply:
                 write_ply_chunk(config_, rays_, hits_, t.chunk, tally_.kept[t.chunk],
-                                ply_at_[t.chunk], *ply_);
+                                ply_at_[t.chunk], *ply_, ply_buffers_);
                 break;
             case Kind::csv:
                 append_hits_csv_rows(hits_, t.chunk * kTraceChunk,
@@ -407,6 +449,7 @@ class ScanWriter {
     ScanTally tally_;
     std::vector<Task> tasks_;
     std::optional<ParallelFile> ply_, npy_, csv_;
+    BufferStack ply_buffers_{kTraceChunk * kPlyRecordBytes};
     std::vector<std::uint64_t> ply_at_;  ///< per chunk: offset of its first record
     std::vector<std::string> csv_rows_;  ///< per chunk: its formatted rows
     std::mutex mutex_;                   ///< guards committed_ and notes_ during the tasks
