@@ -1,6 +1,6 @@
 // `beamtrace scan` as one library call: load the scene, cast the sensor's rays, trace them and
 // write the outputs chosen (ScanOutputs): by default points.ply and, for image patterns,
-// range.npy and range.png; hits.csv and points.laz on request.
+// range.npy; range.png, hits.csv and points.laz on request.
 #pragma once
 
 #include <cstddef>
@@ -40,12 +40,13 @@ struct ScanSensorOptions {
 [[nodiscard]] KdTreeBuildConfig parse_kdtree_rules(std::string_view name);
 
 /// What `beamtrace scan` writes (`--outputs`). The default is the data a LiDAR user reads back:
-/// the point cloud and the range image, plus its quick look; the per-ray CSV table (the largest
-/// and slowest to write) and the compressed LAZ copy are on request.
+/// the point cloud and the range image. The quick look (range.png: its colour map and zlib cost
+/// as much as both), the per-ray CSV table (the largest and slowest to write) and the compressed
+/// LAZ copy are on request.
 struct ScanOutputs {
     bool ply = true;   ///< points.ply: the hits, binary little-endian
     bool npy = true;   ///< range.npy: the range image (image grids only)
-    bool png = true;   ///< range.png: the range image colour-mapped (image grids only)
+    bool png = false;  ///< range.png: the range image colour-mapped (image grids only)
     bool csv = false;  ///< hits.csv: one text row per ray, misses too
     bool laz = false;  ///< points.laz: the points of points.ply as LAS 1.4, LASzip-compressed
     bool operator==(const ScanOutputs&) const = default;
@@ -54,7 +55,7 @@ struct ScanOutputs {
 /// Parses `--outputs`: a comma-separated list of ply, npy, png, csv, laz (each at most once, at
 /// least one). Throws ConfigError naming the bad item and the choices.
 [[nodiscard]] ScanOutputs parse_scan_outputs(std::string_view list);
-/// The list form of `outputs` ("ply,npy,png" for the default), in the order of the choices.
+/// The list form of `outputs` ("ply,npy" for the default), in the order of the choices.
 [[nodiscard]] std::string to_string(const ScanOutputs& outputs);
 /// "ply, npy, png, csv, laz": the names parse_scan_outputs takes, for help texts.
 [[nodiscard]] std::string scan_output_choices();
