@@ -160,9 +160,21 @@ std::function<int()> add_scan_command(CLI::App& app) {
         "Face IDs to leave out of points.ply, e.g. 5804-5805,12");
     cmd->add_flag("--allow-empty", cmd_state->allow_empty,
                   "Exit 0 even when no ray hits (else: the reasons, and exit 3)");
-    cmd->add_flag("--laz", job.laz,
-                  "Also write points.laz: the points of points.ply as LAS 1.4 (format 6), "
-                  "LASzip-compressed");
+    cmd->add_option_function<std::string>(
+           "--outputs",
+           [&job](const std::string& s) {
+               try {
+                   job.outputs = parse_scan_outputs(s);
+               } catch (const ConfigError& e) {
+                   throw ConfigError(std::string("--outputs: ") + e.what());
+               }
+           },
+           "Files to write, comma-separated: ply (points.ply), npy (range.npy), png (range.png), "
+           "csv (hits.csv), laz (points.laz)")
+        ->default_str(to_string(job.outputs));
+    cmd->add_flag_callback(
+        "--laz", [&job] { job.outputs.laz = true; },
+        "Also write points.laz (the same as adding laz to --outputs)");
     cmd->add_flag("--quiet", cmd_state->quiet, "No progress bar and no summary");
     cmd->add_flag("--progress", cmd_state->progress,
                   "Show the progress bar even when not on a terminal");

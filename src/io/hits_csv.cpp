@@ -15,7 +15,7 @@ namespace beamtrace {
 
 namespace {
 
-constexpr std::string_view kHeader = "ray,range_m,face_id";
+constexpr std::string_view kHeader = kHitsCsvHeader.substr(0, kHitsCsvHeader.size() - 1);
 constexpr std::size_t kMaxRowBytes = 64;  // 20 + 1 + 15 + 1 + 10 + 1 at most
 
 /// Parses all of `field` as a number of type T.
@@ -26,7 +26,36 @@ bool parse_field(std::string_view field, T& value) {
     return ec == std::errc{} && ptr == end && !field.empty();
 }
 
+/// Writes the row of ray `i` at `p` (room for kMaxRowBytes); returns its end.
+char* put_row(const HitBatch& hits, std::size_t i, char* p, char* end) {
+    p = std::to_chars(p, end, i).ptr;
+    *p++ = ',';
+    if (hits.hit(i)) {
+        p = std::to_chars(p, end, hits.t[i]).ptr;
+        *p++ = ',';
+        p = std::to_chars(p, end, hits.face[i]).ptr;
+        *p++ = '\n';
+    } else {
+        constexpr std::string_view kMiss = "inf,-1\n";
+        std::memcpy(p, kMiss.data(), kMiss.size());
+        p += kMiss.size();
+    }
+    return p;
+}
+
 }  // namespace
+
+void append_hits_csv_rows(const HitBatch& hits, std::size_t begin, std::size_t end,
+                          std::string& out) {
+    const std::size_t start = out.size();
+    out.resize(start + (end - begin) * kMaxRowBytes);
+    char* p = out.data() + start;
+    char* const limit = out.data() + out.size();
+    for (std::size_t i = begin; i < end; ++i) {
+        p = put_row(hits, i, p, limit);
+    }
+    out.resize(static_cast<std::size_t>(p - out.data()));
+}
 
 void write_hits_csv(const std::filesystem::path& path, const HitBatch& hits) {
     const std::size_t n = hits.size();
@@ -37,20 +66,7 @@ void write_hits_csv(const std::filesystem::path& path, const HitBatch& hits) {
     detail::RowWriter rows(path, kHeader, kMaxRowBytes);
     char* const end = rows.end();
     for (std::size_t i = 0; i < n; ++i) {
-        char* p = rows.row();
-        p = std::to_chars(p, end, i).ptr;
-        *p++ = ',';
-        if (hits.hit(i)) {
-            p = std::to_chars(p, end, hits.t[i]).ptr;
-            *p++ = ',';
-            p = std::to_chars(p, end, hits.face[i]).ptr;
-            *p++ = '\n';
-        } else {
-            constexpr std::string_view kMiss = "inf,-1\n";
-            std::memcpy(p, kMiss.data(), kMiss.size());
-            p += kMiss.size();
-        }
-        rows.end_row(p);
+        rows.end_row(put_row(hits, i, rows.row(), end));
     }
     rows.commit();
 }

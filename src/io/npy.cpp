@@ -83,6 +83,17 @@ std::vector<std::size_t> parse_shape(const std::string& file, std::string_view v
 
 }  // namespace
 
+std::string npy_f32_header(std::size_t rows, std::size_t cols) {
+    const std::string dict = header_text(rows, cols);
+    // The dict of a 2-D shape is far below the 64 KiB of a version 1.0 header.
+    const auto dict_len = static_cast<std::uint16_t>(dict.size());
+    const char preamble[4] = {'\x01', '\x00', static_cast<char>(dict_len & 0xffu),
+                              static_cast<char>(dict_len >> 8)};
+    std::string header(kMagic);
+    header.append(preamble, sizeof preamble);
+    return header + dict;
+}
+
 void write_npy_f32(const std::filesystem::path& path, std::size_t rows, std::size_t cols,
                    std::span<const float> data) {
     if (cols != 0 && rows > std::numeric_limits<std::size_t>::max() / cols) {
@@ -93,17 +104,8 @@ void write_npy_f32(const std::filesystem::path& path, std::size_t rows, std::siz
                           std::to_string(cols) + ") needs " + std::to_string(rows * cols) +
                           " values, got " + std::to_string(data.size()));
     }
-    const std::string header = header_text(rows, cols);
-    if (header.size() > std::numeric_limits<std::uint16_t>::max()) {
-        throw OutputError(path.string() + ": npy header too long");
-    }
-    const auto header_len = static_cast<std::uint16_t>(header.size());
-    const char preamble[4] = {'\x01', '\x00', static_cast<char>(header_len & 0xffu),
-                              static_cast<char>(header_len >> 8)};
     AtomicFile out(path);
-    out.write(kMagic);
-    out.write(preamble, sizeof preamble);
-    out.write(header);
+    out.write(npy_f32_header(rows, cols));
     out.write(data.data(), data.size_bytes());
     out.commit();
 }

@@ -9,6 +9,8 @@
 
 #include "beamtrace/core/atomic_file.hpp"
 #include "beamtrace/core/error.hpp"
+#include "beamtrace/io/colormap.hpp"
+#include "io/sinks/colour_bar.hpp"
 
 #ifndef BEAMTRACE_VERSION
 #define BEAMTRACE_VERSION "unknown"
@@ -121,6 +123,25 @@ void write_png_rgb8(const std::filesystem::path& path, int width, int height,
                     std::span<const std::uint8_t> rgb) {
     check_dimensions(path, width, height, rgb.size(), 3);
     write_png(path, width, height, 8, PNG_COLOR_TYPE_RGB, rgb.data(), std::size_t(width) * 3);
+}
+
+std::string write_range_png(const std::filesystem::path& path, std::span<const float> range_m,
+                            int width, int height) {
+    const auto span = valid_range_span(range_m);
+    std::vector<std::uint8_t> rgb = range_image_rgb(range_m, width, height);
+    const int bar = span ? detail::colour_bar_rows(width) : 0;
+    if (bar > 0) {
+        detail::append_colour_bar(rgb, width, span->first, span->second);
+    }
+    write_png_rgb8(path, width, height + bar, rgb);
+    const std::string name = path.filename().string();
+    if (!span) {
+        return name + ": no hit (all black)";
+    }
+    char line[200];
+    std::snprintf(line, sizeof line, "%s: jet from %.3f m (blue) to %.3f m (red); misses black%s",
+                  name.c_str(), span->first, span->second, bar > 0 ? "; the colour bar below" : "");
+    return line;
 }
 
 void write_png_gray16(const std::filesystem::path& path, int width, int height,

@@ -59,12 +59,6 @@ std::string points_ply_header(std::size_t count, std::string_view comment) {
 namespace {
 
 template <typename T>
-char* put(char* out, const T& value) {
-    std::memcpy(out, &value, sizeof value);
-    return out + sizeof value;
-}
-
-template <typename T>
 const char* get(const char* in, T& value) {
     std::memcpy(&value, in, sizeof value);
     return in + sizeof value;
@@ -74,12 +68,8 @@ const char* get(const char* in, T& value) {
 
 char* encode_ply_records(std::span<const PointRecord> points, char* p) {
     for (const PointRecord& point : points) {
-        p = put(p, point.x);
-        p = put(p, point.y);
-        p = put(p, point.z);
-        p = put(p, point.range_m);
-        p = put(p, static_cast<std::int32_t>(point.face_id));  // kNoFace -> -1
-        p = put(p, point.ray_index);
+        p = encode_ply_record(point.x, point.y, point.z, point.range_m, point.face_id,
+                              point.ray_index, p);
     }
     return p;
 }

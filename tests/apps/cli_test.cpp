@@ -30,7 +30,7 @@ std::size_t count_lines(const std::string& s) {
 
 TEST(Cli, DemoScanWritesAllOutputsConsistently) {
     test::TempDir dir;
-    const auto r = run("scan --demo --output " + dir.path().string());
+    const auto r = run("scan --demo --outputs ply,npy,png,csv --output " + dir.path().string());
     ASSERT_EQ(r.exit_code, 0) << r.out;
     const ImageSensorConfig cam = demo_sensor();
     const auto n = static_cast<std::size_t>(cam.width * cam.height);
@@ -76,7 +76,8 @@ TEST(Cli, DemoScanWritesAllOutputsConsistently) {
 
 TEST(Cli, OutputsAreIdenticalForAnyThreadCountAndBackend) {
     test::TempDir dir;
-    const std::string common = "scan --demo --quiet --width 96 --height 48 ";
+    const std::string common =
+        "scan --demo --quiet --width 96 --height 48 --outputs ply,npy,png,csv ";
     // The default backend (Embree where built) at 1 and 3 threads; our own backends, which
     // agree bit for bit (ties to the lowest face ID), at their defaults.
     ASSERT_EQ(run(common + "--threads 1 --output " + (dir / "t1").string()).exit_code, 0);
@@ -203,7 +204,7 @@ TEST(Cli, BadInputsGiveOneLineErrorExitCode2AndNoOutputs) {
         EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.out;
         EXPECT_NE(r.out.find(needle), std::string::npos) << args << "\n" << r.out;
         EXPECT_EQ(count_lines(r.out), 1u) << args << "\n" << r.out;
-        EXPECT_FALSE(std::filesystem::exists(dir / "out" / "hits.csv")) << args;
+        EXPECT_FALSE(std::filesystem::exists(dir / "out" / "points.ply")) << args;
     }
 }
 
@@ -229,8 +230,9 @@ TEST(Cli, RaysFileWithImageShape) {
         }
     }
     const std::string rays = (dir / "rays.csv").string();
-    auto r = run("scan --demo --pattern rays --rays " + rays + " --width 3 --height 2 --output " +
-                 (dir / "ok").string());
+    auto r =
+        run("scan --demo --pattern rays --rays " + rays +
+            " --width 3 --height 2 --outputs ply,npy,png,csv --output " + (dir / "ok").string());
     ASSERT_EQ(r.exit_code, 0) << r.out;
     const HitsCsv hits = read_hits_csv(dir / "ok" / "hits.csv");
     ASSERT_EQ(hits.size(), 6u);
@@ -245,7 +247,7 @@ TEST(Cli, RaysFileWithImageShape) {
             (dir / "bad").string());
     EXPECT_EQ(r.exit_code, 2);
     EXPECT_NE(r.out.find("6 rays"), std::string::npos) << r.out;
-    EXPECT_FALSE(std::filesystem::exists(dir / "bad" / "hits.csv"));
+    EXPECT_FALSE(std::filesystem::exists(dir / "bad" / "points.ply"));
 }
 
 TEST(Cli, ScanTakesGltfMeshesAndSaysSo) {
@@ -258,8 +260,9 @@ TEST(Cli, ScanTakesGltfMeshesAndSaysSo) {
         std::ofstream f(dir / "rays.csv");
         f << "ox,oy,oz,dx,dy,dz\n0,0,5,0,0,-1\n0.4,-0.3,5,0,0,-1\n2,0,5,0,0,-1\n";
     }
-    const auto r = run("scan --mesh " + glb.string() + " --pattern rays --rays " +
-                       (dir / "rays.csv").string() + " --output " + (dir / "out").string());
+    const auto r =
+        run("scan --mesh " + glb.string() + " --pattern rays --rays " +
+            (dir / "rays.csv").string() + " --outputs csv --output " + (dir / "out").string());
     ASSERT_EQ(r.exit_code, 0) << r.out;
     const HitsCsv hits = read_hits_csv(dir / "out" / "hits.csv");
     ASSERT_EQ(hits.size(), 3u);
@@ -268,11 +271,12 @@ TEST(Cli, ScanTakesGltfMeshesAndSaysSo) {
     EXPECT_FALSE(std::isfinite(hits.range_m[2]));  // beside the box
 }
 
-int run_example(const std::string& name, const std::filesystem::path& out) {
+int run_example(const std::string& name, const std::filesystem::path& out,
+                const std::string& args = "") {
     const std::string cmd = "BEAMTRACE=" + std::string(BEAMTRACE_CLI_PATH) +
                             " PUSHBROOM_RAYS=" + std::string(BEAMTRACE_PUSHBROOM_PATH) +
                             " OUT=" + out.string() + " bash " + BEAMTRACE_EXAMPLES_DIR + "/" +
-                            name + " --quiet > /dev/null 2>&1";
+                            name + " --quiet " + args + " > /dev/null 2>&1";
     const int status = std::system(cmd.c_str());
     return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
@@ -295,7 +299,7 @@ TEST(Examples, Panorama360) {
 
 TEST(Examples, OcclusionDropsOnlyTheOccluderPoints) {
     test::TempDir dir;
-    ASSERT_EQ(run_example("occlusion.sh", dir.path()), 0);
+    ASSERT_EQ(run_example("occlusion.sh", dir.path(), "--outputs ply,csv"), 0);
     const HitsCsv hits = read_hits_csv(dir / "hits.csv");
     const auto points = read_points_ply(dir / "points.ply");
     const Scene scene = make_demo_scene();

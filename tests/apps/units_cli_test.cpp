@@ -30,7 +30,7 @@ TEST(UnitsCli, ScanTakesDegreesWhenSaidAndWarnsAboutDegreesInRadians) {
         cli(common + "'" + (dir / "r").string() +
             "' --orientation 0,-0.5235987755982988,0 --hfov 1.0471975511965976 2>&1"));
     ASSERT_EQ(rad.exit_code, 0) << rad.out;
-    EXPECT_EQ(test::read_file(dir / "d" / "hits.csv"), test::read_file(dir / "r" / "hits.csv"));
+    EXPECT_EQ(test::read_file(dir / "d" / "points.ply"), test::read_file(dir / "r" / "points.ply"));
 
     const auto big = test::run_command(
         cli(common + "'" + (dir / "b").string() + "' --orientation 0,-90,0 2>&1"));

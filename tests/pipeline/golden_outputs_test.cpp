@@ -119,7 +119,7 @@ std::vector<Job> jobs() {
                    "scene: " + ex + "/scenes/sphere_targets.yaml\n" + kDivergentPanorama});
     all.push_back({"survey/divergent_ball", "survey DIR/survey.yaml --output OUT",
                    "scene: " + ex + "/scenes/beach_ball.yaml\n" + kDivergentBallView});
-    all.push_back({"scan/demo", "scan --demo --output OUT", ""});
+    all.push_back({"scan/demo", "scan --demo --outputs ply,npy,png,csv --output OUT", ""});
     all.push_back({"render/beach_ball",
                    "render " + ex +
                        "/scenes/beach_ball.yaml --camera -6,-4,3,0,0,40 --look-at "

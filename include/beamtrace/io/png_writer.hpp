@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <span>
+#include <string>
 
 namespace beamtrace {
 
@@ -16,6 +17,14 @@ void write_png_rgb8(const std::filesystem::path& path, int width, int height,
 
 /// Writes a 16-bit greyscale PNG. `gray` holds width * height samples, row-major, top row first
 /// (native integers; the big-endian byte order of PNG is handled here).
+/// Writes a range image (`range_m`: width * height metres, row-major, top row first; a pixel
+/// without a hit is 0 or not finite) as an 8-bit RGB PNG: jet from the nearest hit (blue) to the
+/// farthest (red), misses black, and, when the image is at least 64 pixels wide and has a hit, a
+/// colour bar below it that names both ranges. Returns the line for a summary, e.g.
+/// "range.png: jet from 5.000 m (blue) to 9.000 m (red); misses black; the colour bar below".
+[[nodiscard]] std::string write_range_png(const std::filesystem::path& path,
+                                          std::span<const float> range_m, int width, int height);
+
 void write_png_gray16(const std::filesystem::path& path, int width, int height,
                       std::span<const std::uint16_t> gray);
 

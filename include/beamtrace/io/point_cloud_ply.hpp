@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstdint>
+#include <cstring>
 #include <filesystem>
 #include <span>
 #include <string>
@@ -32,6 +33,19 @@ inline constexpr std::size_t kPlyRecordBytes = 36;
 /// The header write_points_ply writes for `count` points (also for writers that stream the
 /// records, such as the PLY point sink, and write the header once the count is known).
 [[nodiscard]] std::string points_ply_header(std::size_t count, std::string_view comment);
+
+/// Writes one record of write_points_ply's layout at `out` (kPlyRecordBytes: x, y, z, range,
+/// face_id as `int`, ray); returns the end. Inline: writers encode millions of points with it.
+inline char* encode_ply_record(double x, double y, double z, float range_m, std::uint32_t face_id,
+                               std::uint32_t ray_index, char* out) {
+    const double xyz[3] = {x, y, z};
+    const auto face = static_cast<std::int32_t>(face_id);  // kNoFace -> -1
+    std::memcpy(out, xyz, sizeof xyz);
+    std::memcpy(out + 24, &range_m, 4);
+    std::memcpy(out + 28, &face, 4);
+    std::memcpy(out + 32, &ray_index, 4);
+    return out + 36;
+}
 
 /// Writes the records of `points` (kPlyRecordBytes each) at `out`; returns the end.
 char* encode_ply_records(std::span<const PointRecord> points, char* out);

@@ -1,11 +1,13 @@
 // `beamtrace scan` as one library call: load the scene, cast the sensor's rays, trace them and
-// write hits.csv, points.ply and (for image patterns) range.png and range.npy.
+// write the outputs chosen (ScanOutputs): by default points.ply and, for image patterns,
+// range.npy; range.png, hits.csv and points.laz on request.
 #pragma once
 
 #include <cstddef>
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "beamtrace/accel/backend.hpp"
@@ -37,6 +39,27 @@ struct ScanSensorOptions {
 /// settings; throws ConfigError listing the two otherwise.
 [[nodiscard]] KdTreeBuildConfig parse_kdtree_rules(std::string_view name);
 
+/// What `beamtrace scan` writes (`--outputs`). The default is the data a LiDAR user reads back:
+/// the point cloud and the range image. The quick look (range.png: its colour map and zlib cost
+/// as much as both), the per-ray CSV table (the largest and slowest to write) and the compressed
+/// LAZ copy are on request.
+struct ScanOutputs {
+    bool ply = true;   ///< points.ply: the hits, binary little-endian
+    bool npy = true;   ///< range.npy: the range image (image grids only)
+    bool png = false;  ///< range.png: the range image colour-mapped (image grids only)
+    bool csv = false;  ///< hits.csv: one text row per ray, misses too
+    bool laz = false;  ///< points.laz: the points of points.ply as LAS 1.4, LASzip-compressed
+    bool operator==(const ScanOutputs&) const = default;
+};
+
+/// Parses `--outputs`: a comma-separated list of ply, npy, png, csv, laz (each at most once, at
+/// least one). Throws ConfigError naming the bad item and the choices.
+[[nodiscard]] ScanOutputs parse_scan_outputs(std::string_view list);
+/// The list form of `outputs` ("ply,npy" for the default), in the order of the choices.
+[[nodiscard]] std::string to_string(const ScanOutputs& outputs);
+/// "ply, npy, png, csv, laz": the names parse_scan_outputs takes, for help texts.
+[[nodiscard]] std::string scan_output_choices();
+
 struct ScanJobConfig {
     std::vector<std::filesystem::path> meshes;  ///< OBJ/PLY/STL files, concatenated in order
     bool demo = false;                          ///< use the embedded demo scene instead
@@ -51,9 +74,10 @@ struct ScanJobConfig {
     unsigned threads = 0;          ///< 0 = all hardware threads
     std::filesystem::path output_dir;
     std::vector<FaceRange> exclude_faces;  ///< hits on these faces are left out of points.ply
-    /// Also write points.laz: the points of points.ply as LAS 1.4 format 6, LASzip-compressed
-    /// (coordinates to 1 mm around the centre of the hits).
-    bool laz = false;
+    /// The files to write. range.npy and range.png need an image grid (pinhole, scan, or rays
+    /// with image_width x image_height); without one they are skipped. points.laz holds the
+    /// points of points.ply as LAS 1.4 format 6 (coordinates to 1 mm around the hits' centre).
+    ScanOutputs outputs;
     /// Checked between chunks of rays (tracing and writing): once requested, run_scan stops,
     /// removes its temporary files and throws Interrupted. Null: runs to the end.
     const CancelToken* cancel = nullptr;

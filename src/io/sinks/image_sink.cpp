@@ -13,7 +13,6 @@
 #include "beamtrace/io/npy.hpp"
 #include "beamtrace/io/png_writer.hpp"
 #include "beamtrace/io/point_sink.hpp"
-#include "io/sinks/colour_bar.hpp"
 
 namespace beamtrace {
 
@@ -77,25 +76,9 @@ class ImageSink final : public PointSink {
         }
         // The PNGs beside the .npy (PNG compression is most of it: 40 ms of a 110 ms panorama
         // survey when written one after the other).
-        const auto span = valid_range_span(range_);
-        if (span) {
-            char line[200];
-            std::snprintf(line, sizeof line,
-                          "range.png: jet from %.3f m (blue) to %.3f m (red); misses black%s",
-                          span->first, span->second,
-                          detail::colour_bar_rows(w) > 0 ? "; the colour bar below" : "");
-            notes_.emplace_back(line);
-        } else {
-            notes_.emplace_back("range.png: no hit (all black)");
-        }
-        auto png = std::async(std::launch::async, [&] {
-            std::vector<std::uint8_t> rgb = range_image_rgb(range_, w, h);
-            const int bar = span ? detail::colour_bar_rows(w) : 0;
-            if (bar > 0) {
-                detail::append_colour_bar(rgb, w, span->first, span->second);
-            }
-            write_png_rgb8(files[1], w, h + bar, rgb);
-        });
+        std::string note;
+        auto png =
+            std::async(std::launch::async, [&] { note = write_range_png(files[1], range_, w, h); });
         auto labels = std::async(std::launch::async, [&] {
             if (labels_) {
                 write_png_rgb8(files[2], w, h, class_image_rgb(label_, range_, w, h));
@@ -118,6 +101,7 @@ class ImageSink final : public PointSink {
             remove(files);
             throw;
         }
+        notes_.push_back(std::move(note));
         return files;
     }
     void abort() noexcept override {}  // nothing is written before commit()
