@@ -85,6 +85,41 @@ int run(ScanCommand& cmd) {
     return 0;
 }
 
+/// The image sensor's pose and field of view (the defaults are ImageSensorConfig's; the demo
+/// scene brings its own sensor).
+void add_sensor_options(CLI::App& app, ScanSensorOptions& sensor) {
+    CLI::App* cmd = &app;
+    cmd->add_option_function<std::string>(
+        "--position",
+        [&sensor](const std::string& s) { sensor.position_m = parse_vec3(s, "--position"); },
+        "Sensor position x,y,z in metres");
+    cmd->add_option_function<std::string>(
+        "--orientation",
+        [&sensor](const std::string& s) {
+            const Vec3d rpy = parse_angle_vec3(s, "--orientation", AngleUnit::rad);
+            for (int k = 0; k < 3; ++k) {
+                warn_if_beyond_turn(rpy[k], "--orientation");
+            }
+            sensor.orientation_rad = rpy;
+        },
+        "Sensor roll,pitch,yaw in radians (each may carry its unit: 0,-90deg,0)");
+    const ImageSensorConfig dflt_sensor;
+    const auto dflt = [](auto v) {
+        std::ostringstream s;
+        s << " (default " << v << ")";
+        return s.str();
+    };
+    cmd->add_option("--width", sensor.width, "Image width in pixels" + dflt(dflt_sensor.width));
+    cmd->add_option("--height", sensor.height, "Image height in pixels" + dflt(dflt_sensor.height));
+    cmd->add_option_function<std::string>(
+        "--hfov", [&sensor](const std::string& s) { sensor.hfov_rad = angle_rad(s, "--hfov"); },
+        "Horizontal field of view in radians, or with its unit (60deg)" +
+            dflt(dflt_sensor.hfov_rad));
+    cmd->add_option_function<std::string>(
+        "--vfov", [&sensor](const std::string& s) { sensor.vfov_rad = angle_rad(s, "--vfov"); },
+        "Vertical field of view in radians, or with its unit (45deg)" + dflt(dflt_sensor.vfov_rad));
+}
+
 }  // namespace
 
 std::function<int()> add_scan_command(CLI::App& app) {
@@ -104,36 +139,7 @@ std::function<int()> add_scan_command(CLI::App& app) {
            "--pattern", [&job](const std::string& s) { job.pattern = parse_pattern_kind(s); },
            static_scan_pattern_choices())
         ->default_str(job.pattern);
-    cmd->add_option_function<std::string>(
-        "--position",
-        [&sensor](const std::string& s) { sensor.position_m = parse_vec3(s, "--position"); },
-        "Sensor position x,y,z in metres");
-    cmd->add_option_function<std::string>(
-        "--orientation",
-        [&sensor](const std::string& s) {
-            const Vec3d rpy = parse_angle_vec3(s, "--orientation", AngleUnit::rad);
-            for (int k = 0; k < 3; ++k) {
-                warn_if_beyond_turn(rpy[k], "--orientation");
-            }
-            sensor.orientation_rad = rpy;
-        },
-        "Sensor roll,pitch,yaw in radians (each may carry its unit: 0,-90deg,0)");
-    // The defaults are ImageSensorConfig's (the demo scene brings its own sensor).
-    const ImageSensorConfig dflt_sensor;
-    const auto dflt = [](auto v) {
-        std::ostringstream s;
-        s << " (default " << v << ")";
-        return s.str();
-    };
-    cmd->add_option("--width", sensor.width, "Image width in pixels" + dflt(dflt_sensor.width));
-    cmd->add_option("--height", sensor.height, "Image height in pixels" + dflt(dflt_sensor.height));
-    cmd->add_option_function<std::string>(
-        "--hfov", [&sensor](const std::string& s) { sensor.hfov_rad = angle_rad(s, "--hfov"); },
-        "Horizontal field of view in radians, or with its unit (60deg)" +
-            dflt(dflt_sensor.hfov_rad));
-    cmd->add_option_function<std::string>(
-        "--vfov", [&sensor](const std::string& s) { sensor.vfov_rad = angle_rad(s, "--vfov"); },
-        "Vertical field of view in radians, or with its unit (45deg)" + dflt(dflt_sensor.vfov_rad));
+    add_sensor_options(*cmd, sensor);
     cmd->add_option("--rays", job.rays_file, "Rays file for --pattern rays: CSV ox,oy,oz,dx,dy,dz")
         ->check(CLI::ExistingFile);
     cmd->add_option_function<std::string>(
