@@ -51,6 +51,9 @@ struct Job {
     std::string name;
     std::string args;  ///< CLI arguments; OUT stands for the output folder, DIR for its parent
     std::string yaml;  ///< when set, written as DIR/survey.yaml first
+    /// When set, copied to DIR/scene.yaml first (the survey names it by a relative path, as the
+    /// LAS file records the scene's path and the digests must not depend on the checkout's).
+    std::string scene_copy;
 };
 
 /// The outputs no example writes: PLY, format 8, waveforms.bin (a short physics line survey of
@@ -109,23 +112,25 @@ std::vector<Job> jobs() {
     }
     std::sort(surveys.begin(), surveys.end());
     for (const auto& s : surveys) {
-        all.push_back({"survey/" + s, "survey " + ex + "/surveys/" + s + " --output OUT", ""});
+        all.push_back({"survey/" + s, "survey " + ex + "/surveys/" + s + " --output OUT", "", ""});
     }
-    all.push_back({"survey/all_outputs", "survey DIR/survey.yaml --output OUT", kAllOutputs});
+    all.push_back({"survey/all_outputs", "survey DIR/survey.yaml --output OUT", kAllOutputs, ""});
     // Divergent beams over exact spheres (a normal per sub-ray hit point) and over a patterned
     // albedo (a reflectance per sub-ray hit point): the sub-rays' per-face shortcuts must not
     // share what differs between the sub-rays of one face.
     all.push_back({"survey/divergent_spheres", "survey DIR/survey.yaml --output OUT",
-                   "scene: " + ex + "/scenes/sphere_targets.yaml\n" + kDivergentPanorama});
+                   std::string("scene: scene.yaml\n") + kDivergentPanorama,
+                   ex + "/scenes/sphere_targets.yaml"});
     all.push_back({"survey/divergent_ball", "survey DIR/survey.yaml --output OUT",
-                   "scene: " + ex + "/scenes/beach_ball.yaml\n" + kDivergentBallView});
-    all.push_back({"scan/demo", "scan --demo --outputs ply,npy,png,csv --output OUT", ""});
+                   std::string("scene: scene.yaml\n") + kDivergentBallView,
+                   ex + "/scenes/beach_ball.yaml"});
+    all.push_back({"scan/demo", "scan --demo --outputs ply,npy,png,csv --output OUT", "", ""});
     all.push_back({"render/beach_ball",
                    "render " + ex +
                        "/scenes/beach_ball.yaml --camera -6,-4,3,0,0,40 --look-at "
                        "0,0,0.8 --light dir:-60,45,0.9 --ambient 0.15 --size 320x240 "
                        "--gamma 2.2 --output OUT/beach_ball.png",
-                   ""});
+                   "", ""});
     return all;
 }
 
@@ -142,6 +147,10 @@ std::vector<std::string> run_job(const Job& job, unsigned threads, const fs::pat
     }
     if (!job.yaml.empty()) {
         test::write_file(out.parent_path() / "survey.yaml", job.yaml);
+    }
+    if (!job.scene_copy.empty()) {
+        fs::copy_file(job.scene_copy, out.parent_path() / "scene.yaml",
+                      fs::copy_options::overwrite_existing);
     }
     const auto r = test::run_command(std::string(BEAMTRACE_CLI_PATH) + " " + args +
                                      " --backend bvh --quiet --threads " + std::to_string(threads));
