@@ -61,8 +61,10 @@ std::int64_t ceil_to_int(double x) {
 constexpr std::size_t kLanes = 4;
 
 // The two loops below are compiled for AVX2 too (4 doubles a step), chosen at run time: the
-// same products and sums, IEEE-rounded alike (no FMA: AVX2 does not imply it).
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+// same products and sums, IEEE-rounded alike (no FMA: AVX2 does not imply it). Not under
+// ThreadSanitizer: the clones' ifunc resolver runs while the program is relocated, before the
+// TSan runtime is up, and its instrumented code crashes there.
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(__SANITIZE_THREAD__)
 #define BEAMTRACE_WAVEFORM_CLONES __attribute__((target_clones("avx2", "default")))
 #else
 #define BEAMTRACE_WAVEFORM_CLONES
