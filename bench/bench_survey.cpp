@@ -90,6 +90,25 @@ BENCHMARK_CAPTURE(BM_Survey, car_hdl64_bvh, std::string("car_hdl64.yaml"), bt::B
 
 namespace {
 
+/// Runs every survey of `specs` once per iteration, in turn (so that the machine's load falls on
+/// each alike), and returns each one's pulse rate over its survey stages [pulses/s].
+std::vector<double> interleaved_pulse_rates(benchmark::State& state,
+                                            const std::vector<bt::SurveySpec>& specs,
+                                            const bt::SurveyRunConfig& run) {
+    std::vector<double> survey_s(specs.size(), 0.0), pulses(specs.size(), 0.0);
+    for (auto _ : state) {
+        for (std::size_t i = 0; i < specs.size(); ++i) {
+            const bt::SurveyResult r = bt::run_survey(specs[i], run);
+            survey_s[i] += r.survey_s;
+            pulses[i] += static_cast<double>(r.pulses);
+        }
+    }
+    for (std::size_t i = 0; i < specs.size(); ++i) {
+        pulses[i] /= survey_s[i];
+    }
+    return pulses;
+}
+
 /// The weather examples (docs/weather.md) in one run: each survey's pulse rate, and those of
 /// fog (MOR 50 m) and heavy rain (25 mm/h) over the clear survey's (issue 23's target: >= 0.5),
 /// the three surveys interleaved in every iteration so that the machine's load falls on each
@@ -114,19 +133,10 @@ void BM_WeatherRates(benchmark::State& state) {
             return;
         }
     }
-    double survey_s[3] = {0, 0, 0};
-    double pulses[3] = {0, 0, 0};
-    for (auto _ : state) {
-        for (std::size_t i = 0; i < specs.size(); ++i) {
-            const bt::SurveyResult r = bt::run_survey(specs[i], run);
-            survey_s[i] += r.survey_s;
-            pulses[i] += static_cast<double>(r.pulses);
-        }
-    }
-    const double clear = pulses[0] / survey_s[0];
-    state.counters["clear_pulses/s"] = clear;
-    state.counters["fog/clear"] = pulses[1] / survey_s[1] / clear;
-    state.counters["rain/clear"] = pulses[2] / survey_s[2] / clear;
+    const std::vector<double> rate = interleaved_pulse_rates(state, specs, run);
+    state.counters["clear_pulses/s"] = rate[0];
+    state.counters["fog/clear"] = rate[1] / rate[0];
+    state.counters["rain/clear"] = rate[2] / rate[0];
     std::filesystem::remove_all(run.output_dir);
 }
 
@@ -171,21 +181,12 @@ void BM_SubRayRates(benchmark::State& state) {
             return;
         }
     }
-    double survey_s[3] = {0, 0, 0};
-    double pulses[3] = {0, 0, 0};
-    for (auto _ : state) {
-        for (std::size_t i = 0; i < specs.size(); ++i) {
-            const bt::SurveyResult r = bt::run_survey(specs[i], run);
-            survey_s[i] += r.survey_s;
-            pulses[i] += static_cast<double>(r.pulses);
-        }
-    }
-    const double single = pulses[0] / survey_s[0];
-    state.counters["1_subray_pulses/s"] = single;
-    state.counters["7_subray_pulses/s"] = pulses[1] / survey_s[1];
-    state.counters["19_subray_pulses/s"] = pulses[2] / survey_s[2];
-    state.counters["7/1"] = pulses[1] / survey_s[1] / single;
-    state.counters["19/1"] = pulses[2] / survey_s[2] / single;
+    const std::vector<double> rate = interleaved_pulse_rates(state, specs, run);
+    state.counters["1_subray_pulses/s"] = rate[0];
+    state.counters["7_subray_pulses/s"] = rate[1];
+    state.counters["19_subray_pulses/s"] = rate[2];
+    state.counters["7/1"] = rate[1] / rate[0];
+    state.counters["19/1"] = rate[2] / rate[0];
     std::filesystem::remove_all(run.output_dir);
 }
 
