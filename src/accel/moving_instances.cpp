@@ -273,7 +273,7 @@ bool MovingInstances::to_object(std::size_t k, const detail::TraceRay& world, co
     }
     local.org = Vec3f(pl.local_inverse.apply_point(o));
     local.dir = Vec3f(pl.local_inverse.apply_vector(d));
-    local.inv_dir = Vec3f(1.0f / local.dir.x, 1.0f / local.dir.y, 1.0f / local.dir.z);
+    local.inv_dir = detail::slab_inverse(local.dir);
     return false;
 }
 

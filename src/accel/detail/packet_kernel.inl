@@ -112,8 +112,8 @@ BT_PK void test_lane(Packet& p, int l, std::uint32_t face, const Vec3f& a, const
     }
 }
 
-/// NearestVisitor::visit of face `face` in the lanes of `mask`.
-BT_PK void test_face(Packet& p, const TriangleMesh& mesh, std::uint32_t face, Mask mask) {
+/// NearestVisitor::visit of face `face` in the lanes of `mask`; true if a lane's hit changed.
+BT_PK bool test_face(Packet& p, const TriangleMesh& mesh, std::uint32_t face, Mask mask) {
     const Face& f = mesh.faces[face];
     const Vec3f& a = mesh.vertices[f[0]];
     const Vec3f& b = mesh.vertices[f[1]];
@@ -153,6 +153,7 @@ BT_PK void test_face(Packet& p, const TriangleMesh& mesh, std::uint32_t face, Ma
     for (Mask m = edge; m != 0; m &= m - 1) {
         test_lane(p, std::countr_zero(m), face, a, b, c);
     }
+    return (take | edge) != 0;
 }
 
 /// The lanes of `mask` that may still hold a nearer hit than their limit at `entry`.
@@ -217,6 +218,243 @@ BT_PK void walk_packet(Packet& p, const Bvh& bvh, const TriangleMesh& mesh) {
     }
 }
 
+/// Interval culling (Wald, Boulos & Shirley 2007, "Ray tracing deformable scenes using dynamic
+/// bounding volume hierarchies"): the packet's rays bounded together, axis by axis, by the least
+/// and greatest origin and inverse direction of its active lanes. A node is skipped only when
+/// the bounds show that the slab test of slab_lanes fails in every active lane: float rounding
+/// is monotone, so (c - o) * inv over the lanes lies between the same expression's values at
+/// the bounds' corners, and the padding, the entry's margin and the limits are monotone too.
+/// Every lane then tests the faces of every node the packet enters; the hits stay the single-ray
+/// walk's, since each lane still tests every face its own walk would (see packet_trace.hpp).
+using v4 = float __attribute__((vector_size(16)));
+using v4i = std::int32_t __attribute__((vector_size(16)));
+using v8 = float __attribute__((vector_size(32)));
+using v8i = std::int32_t __attribute__((vector_size(32)));
+
+BT_PK v8 twice(v4 x) {
+    return __builtin_shufflevector(x, x, 0, 1, 2, 3, 0, 1, 2, 3);
+}
+
+BT_PK v8i twice(v4i x) {
+    return __builtin_shufflevector(x, x, 0, 1, 2, 3, 0, 1, 2, 3);
+}
+
+struct Frustum {
+    v4 near_org, far_org;  ///< by axis: the origin bound the near (far) plane is measured from
+    v4 inv_lo, inv_hi;     ///< least and greatest inverse direction (0 on free axes)
+    v4 org_lo, org_hi;     ///< least and greatest origin
+    v4i near_hi;           ///< the near plane is the box's hi (the lanes move down the axis)
+    v4i free;              ///< no bound from the slabs on this axis (and in lane 3)
+    v4i still;             ///< no lane moves along this axis: only an origin in the slab enters
+    float tmin = 0;        ///< least tmin of the active lanes
+    float limit = 0;       ///< greatest limit of the active lanes
+    // The fields above twice over (a node's two children tested at once), made by make_frustum.
+    v8 near_org2, far_org2, inv_lo2, inv_hi2, org_lo2, org_hi2;
+    v8i near_hi2, free2, still2;
+};
+
+BT_PK float active_min(vf x, Mask active) {
+    float m = std::numeric_limits<float>::infinity();
+    for (Mask k = active; k != 0; k &= k - 1) {
+        const float v = x[std::countr_zero(k)];
+        m = v < m ? v : m;
+    }
+    return m;
+}
+
+BT_PK float active_max(vf x, Mask active) {
+    float m = -std::numeric_limits<float>::infinity();
+    for (Mask k = active; k != 0; k &= k - 1) {
+        const float v = x[std::countr_zero(k)];
+        m = v > m ? v : m;
+    }
+    return m;
+}
+
+/// The bounds of axis a over the active lanes; false if the lanes' inverse directions neither
+/// share a sign and are finite nor are all infinite (the axis then bounds nothing).
+BT_PK bool bound_axis(const Packet& p, int a, Frustum& fr) {
+    constexpr float kInf = std::numeric_limits<float>::infinity();
+    const vf inv = p.inv[a];
+    const Mask pos = lane_bits((inv > 0.0f) & (inv < kInf)) & p.active;
+    const Mask neg = lane_bits((inv < 0.0f) & (inv > -kInf)) & p.active;
+    const Mask still = lane_bits(vabs(inv) == kInf) & p.active;
+    const float olo = active_min(p.o[a], p.active), ohi = active_max(p.o[a], p.active);
+    fr.org_lo[a] = olo;
+    fr.org_hi[a] = ohi;
+    fr.free[a] = -1;
+    fr.still[a] = still == p.active ? -1 : 0;
+    fr.near_hi[a] = neg == p.active ? -1 : 0;
+    fr.inv_lo[a] = fr.inv_hi[a] = 0.0f;
+    fr.near_org[a] = fr.far_org[a] = 0.0f;
+    if (pos != p.active && neg != p.active) {
+        return still == p.active;
+    }
+    fr.free[a] = 0;
+    fr.inv_lo[a] = active_min(inv, p.active);
+    fr.inv_hi[a] = active_max(inv, p.active);
+    // Moving up the axis, the near plane's (lo - o) * inv is least from the greatest origin and
+    // the far plane's greatest from the least; moving down, the other way round.
+    fr.near_org[a] = pos == p.active ? ohi : olo;
+    fr.far_org[a] = pos == p.active ? olo : ohi;
+    return true;
+}
+
+/// The packet's frustum; false if an axis bounds nothing (the lanes' directions differ in sign
+/// or some are zero along it), so that culling by it would visit far too many nodes.
+BT_PK bool make_frustum(const Packet& p, Frustum& fr) {
+    fr.near_org = fr.far_org = fr.inv_lo = fr.inv_hi = fr.org_lo = fr.org_hi = v4{};
+    fr.near_hi = fr.still = v4i{};
+    fr.free = v4i{-1, -1, -1, -1};
+    bool bounded = true;
+    for (int a = 0; a < 3; ++a) {
+        bounded = bound_axis(p, a, fr) && bounded;
+    }
+    fr.tmin = active_min(p.tmin, p.active);
+    fr.limit = active_max(p.limit, p.active);
+    fr.near_org2 = twice(fr.near_org);
+    fr.far_org2 = twice(fr.far_org);
+    fr.inv_lo2 = twice(fr.inv_lo);
+    fr.inv_hi2 = twice(fr.inv_hi);
+    fr.org_lo2 = twice(fr.org_lo);
+    fr.org_hi2 = twice(fr.org_hi);
+    fr.near_hi2 = twice(fr.near_hi);
+    fr.free2 = twice(fr.free);
+    fr.still2 = twice(fr.still);
+    return bounded;
+}
+
+/// Whether some active lane may enter `node` (slab_lanes passes it), and a distance at or below
+/// the entry distance of every lane that does.
+BT_PK bool frustum_enters(const Frustum& fr, const BvhNode& node, float& entry) {
+    constexpr float kPad = 2.0f * 3.0f * std::numeric_limits<float>::epsilon();
+    constexpr float kInf = std::numeric_limits<float>::infinity();
+    constexpr v4 kInf4{kInf, kInf, kInf, kInf};
+    v4 lo, hi;
+    __builtin_memcpy(&lo, node.lo, sizeof lo);
+    __builtin_memcpy(&hi, node.hi, sizeof hi);
+    // Lane 3 holds the node's index and count: zeroed, so no denormal or NaN is computed with.
+    constexpr v4i kXyz{-1, -1, -1, 0};
+    lo = reinterpret_cast<v4>(reinterpret_cast<v4i>(lo) & kXyz);
+    hi = reinterpret_cast<v4>(reinterpret_cast<v4i>(hi) & kXyz);
+    const v4 dn = (fr.near_hi ? hi : lo) - fr.near_org;
+    const v4 df = (fr.near_hi ? lo : hi) - fr.far_org;
+    const v4 n0 = dn * fr.inv_lo, n1 = dn * fr.inv_hi;
+    const v4 f0 = df * fr.inv_lo, f1 = df * fr.inv_hi;
+    const v4 n = (n1 < n0) ? n1 : n0;
+    const v4 f = (f0 > f1) ? f0 : f1;
+    const v4 fp = (f >= 0.0f) ? f * (1.0f + kPad) : f * (1.0f - kPad);
+    const v4i out = fr.still & ((fr.org_hi < lo) | (fr.org_lo > hi));
+    const v4 near = fr.free ? (out ? kInf4 : -kInf4) : n;
+    const v4 far = fr.free ? kInf4 : fp;
+    float tnear = fr.tmin, tfar = fr.limit;
+    for (int a = 0; a < 3; ++a) {
+        tnear = near[a] > tnear ? near[a] : tnear;
+        tfar = far[a] < tfar ? far[a] : tfar;
+    }
+    // Twice slab_lanes' margin, so that rounding the product cannot lift it over a lane's.
+    entry = tnear - std::fabs(tnear) * (2.0f * kPad);
+    return tnear <= tfar;
+}
+
+/// frustum_enters for the two children of an inner node at once (nodes[0] and nodes[1], 64
+/// bytes side by side), the same arithmetic lane for lane: bit 0 if the first may be entered,
+/// bit 1 the second.
+BT_PK unsigned frustum_enters_pair(const Frustum& fr, const BvhNode* nodes, float& e0, float& e1) {
+    constexpr float kPad = 2.0f * 3.0f * std::numeric_limits<float>::epsilon();
+    constexpr float kInf = std::numeric_limits<float>::infinity();
+    constexpr v8 kInf8{kInf, kInf, kInf, kInf, kInf, kInf, kInf, kInf};
+    v8 a, b;
+    __builtin_memcpy(&a, &nodes[0], sizeof a);
+    __builtin_memcpy(&b, &nodes[1], sizeof b);
+    constexpr v8i kXyz{-1, -1, -1, 0, -1, -1, -1, 0};
+    const v8 lo = reinterpret_cast<v8>(
+        reinterpret_cast<v8i>(__builtin_shufflevector(a, b, 0, 1, 2, 3, 8, 9, 10, 11)) & kXyz);
+    const v8 hi = reinterpret_cast<v8>(
+        reinterpret_cast<v8i>(__builtin_shufflevector(a, b, 4, 5, 6, 7, 12, 13, 14, 15)) & kXyz);
+    const v8 dn = (fr.near_hi2 ? hi : lo) - fr.near_org2;
+    const v8 df = (fr.near_hi2 ? lo : hi) - fr.far_org2;
+    const v8 n0 = dn * fr.inv_lo2, n1 = dn * fr.inv_hi2;
+    const v8 f0 = df * fr.inv_lo2, f1 = df * fr.inv_hi2;
+    const v8 n = (n1 < n0) ? n1 : n0;
+    const v8 f = (f0 > f1) ? f0 : f1;
+    const v8 fp = (f >= 0.0f) ? f * (1.0f + kPad) : f * (1.0f - kPad);
+    const v8i out = fr.still2 & ((fr.org_hi2 < lo) | (fr.org_lo2 > hi));
+    v8 near = fr.free2 ? (out ? kInf8 : -kInf8) : n;
+    v8 far = fr.free2 ? kInf8 : fp;
+    // Greatest near and least far of each half (lane 3 and 7: -inf and +inf).
+    v8 sn = __builtin_shufflevector(near, near, 1, 0, 3, 2, 5, 4, 7, 6);
+    v8 sf = __builtin_shufflevector(far, far, 1, 0, 3, 2, 5, 4, 7, 6);
+    near = (sn > near) ? sn : near;
+    far = (sf < far) ? sf : far;
+    sn = __builtin_shufflevector(near, near, 2, 3, 0, 1, 6, 7, 4, 5);
+    sf = __builtin_shufflevector(far, far, 2, 3, 0, 1, 6, 7, 4, 5);
+    near = (sn > near) ? sn : near;
+    far = (sf < far) ? sf : far;
+    float tn0 = near[0] > fr.tmin ? near[0] : fr.tmin;
+    float tn1 = near[4] > fr.tmin ? near[4] : fr.tmin;
+    const float tf0 = far[0] < fr.limit ? far[0] : fr.limit;
+    const float tf1 = far[4] < fr.limit ? far[4] : fr.limit;
+    e0 = tn0 - std::fabs(tn0) * (2.0f * kPad);
+    e1 = tn1 - std::fabs(tn1) * (2.0f * kPad);
+    return (tn0 <= tf0 ? 1u : 0u) | (tn1 <= tf1 ? 2u : 0u);
+}
+
+/// walk_packet with interval culling: one test per child for the whole packet, and every
+/// active lane tests the faces of the leaves it reaches; a node is popped while some lane's
+/// limit may still reach it.
+BT_PK void walk_frustum(Packet& p, Frustum& fr, const Bvh& bvh, const TriangleMesh& mesh) {
+    struct Entry {
+        float entry;
+        std::uint32_t node;
+    };
+    Entry stack[128];
+    int sp = 0;
+    const BvhNode* nodes = bvh.nodes.data();
+    float entry = 0.0f;
+    if (!frustum_enters(fr, nodes[0], entry)) {
+        return;
+    }
+    std::uint32_t index = 0;
+    for (;;) {
+        const BvhNode& node = nodes[index];
+        if (node.is_leaf()) {
+            bool changed = false;
+            for (std::uint32_t k = node.index; k < node.index + node.count; ++k) {
+                changed = test_face(p, mesh, bvh.prim_ids[k], p.active) || changed;
+            }
+            if (changed) {
+                fr.limit = active_max(p.limit, p.active);
+            }
+        } else {
+            const std::uint32_t li = node.index, ri = node.index + 1;
+            float el = 0.0f, er = 0.0f;
+            const unsigned h = frustum_enters_pair(fr, &nodes[li], el, er);
+            const bool hl = (h & 1u) != 0, hr = (h & 2u) != 0;
+            if (hl && hr) {
+                const bool left = el <= er;
+                stack[sp++] = left ? Entry{er, ri} : Entry{el, li};
+                index = left ? li : ri;
+                continue;
+            }
+            if (hl || hr) {
+                index = hl ? li : ri;
+                continue;
+            }
+        }
+        for (;;) {
+            if (sp == 0) {
+                return;
+            }
+            const Entry e = stack[--sp];
+            if (e.entry <= fr.limit) {
+                index = e.node;
+                break;
+            }
+        }
+    }
+}
+
 /// NearestVisitor::store for the active lanes, lane l into slot slots[l].
 BT_PK void store_packet(const Packet& p, const std::size_t* slots, HitBatch& hits) {
     for (Mask m = p.active; m != 0; m &= m - 1) {
@@ -256,6 +494,9 @@ BT_PK bool coherent(const TraceRay* const* rays, int n, float min_cos) {
     return true;
 }
 
+/// The widest spread of directions (cosine) a packet is traced with interval culling at.
+constexpr float kFrustumMinCos = 0.9995f;  // 0.032 rad
+
 BT_PK void flush(Groups& g, int key, const Bvh& bvh, const TriangleMesh& mesh, HitBatch& hits,
                  bool only_coherent, float min_cos) {
     const int n = g.fill[key];
@@ -271,7 +512,12 @@ BT_PK void flush(Groups& g, int key, const Bvh& bvh, const TriangleMesh& mesh, H
     }
     Packet p;
     load_packet(p, g.rays[key], n);
-    walk_packet(p, bvh, mesh);
+    Frustum fr;
+    if (coherent(g.rays[key], n, kFrustumMinCos) && make_frustum(p, fr)) {
+        walk_frustum(p, fr, bvh, mesh);
+    } else {
+        walk_packet(p, bvh, mesh);
+    }
     store_packet(p, g.slots[key], hits);
 }
 
@@ -304,22 +550,34 @@ BT_PK std::uint32_t order_key(const TraceRay& r) {
     return (g << 24) | (quantise(u) << 12) | quantise(v);
 }
 
-/// order[0..n) = 0..n-1 sorted by keys (stable LSD radix sort, 3 passes of 9 bits; 27-bit keys).
+/// order[0..n) = 0..n-1 sorted by keys (a stable LSD radix sort of the keys less the least, in as
+/// few passes of at most 9 bits as their range needs: a line scanner's stage differs in its
+/// across-track slope only, two passes of 6 bits; none when every key is the same).
 BT_PK void sort_by_key(const std::uint32_t* keys, std::size_t n, std::uint16_t* order,
                        std::uint16_t* scratch) {
+    std::uint32_t lo = ~std::uint32_t{0}, hi = 0;
     for (std::size_t j = 0; j < n; ++j) {
         order[j] = static_cast<std::uint16_t>(j);
+        lo = std::min(lo, keys[j]);
+        hi = std::max(hi, keys[j]);
     }
-    for (int shift = 0; shift < 27; shift += 9) {
+    const int bits = n == 0 ? 0 : std::bit_width(hi - lo);
+    const int passes = (bits + 8) / 9;
+    if (passes == 0) {
+        return;
+    }
+    const int width = (bits + passes - 1) / passes;
+    const std::uint32_t digit = (std::uint32_t{1} << width) - 1;
+    for (int shift = 0; shift < passes * width; shift += width) {
         std::uint32_t count[513] = {};
         for (std::size_t j = 0; j < n; ++j) {
-            ++count[((keys[order[j]] >> shift) & 511u) + 1];
+            ++count[(((keys[order[j]] - lo) >> shift) & digit) + 1];
         }
-        for (int b = 0; b < 512; ++b) {
+        for (std::uint32_t b = 0; b < digit + 1; ++b) {
             count[b + 1] += count[b];
         }
         for (std::size_t j = 0; j < n; ++j) {
-            scratch[count[(keys[order[j]] >> shift) & 511u]++] = order[j];
+            scratch[count[((keys[order[j]] - lo) >> shift) & digit]++] = order[j];
         }
         std::copy(scratch, scratch + n, order);
     }

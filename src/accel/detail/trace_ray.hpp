@@ -16,6 +16,14 @@ struct TraceRay {
     WatertightRay wt;
 };
 
+/// 1 / d for the slab tests, with -0 taken as +0 (d + 0 is +0 for either zero): an inverse of
+/// +inf gives NaN only where the origin lies on a slab's plane and in the operand order that
+/// slab_interval ignores (lo - o = 0: the entry; hi - o = 0: the exit), where -inf gave NaN on
+/// the other side and a ray along a box's face missed the box (and leaked through its faces).
+[[nodiscard]] inline Vec3f slab_inverse(const Vec3f& d) {
+    return Vec3f(1.0f / (d.x + 0.0f), 1.0f / (d.y + 0.0f), 1.0f / (d.z + 0.0f));
+}
+
 /// Ray i of `rays` for box tests only (no watertight set-up: its triangles are met with a ray
 /// of their own, e.g. in an instance's frame).
 [[nodiscard]] inline TraceRay make_box_ray(const RayBatch& rays, std::size_t i) {
@@ -25,7 +33,7 @@ struct TraceRay {
     r.dir = Vec3f(static_cast<float>(rays.dx[i]), static_cast<float>(rays.dy[i]),
                   static_cast<float>(rays.dz[i]));
     // 1/0 = inf; the slab test below treats the NaN of 0*inf as "inside that slab".
-    r.inv_dir = Vec3f(1.0f / r.dir.x, 1.0f / r.dir.y, 1.0f / r.dir.z);
+    r.inv_dir = slab_inverse(r.dir);
     r.tmin = static_cast<float>(rays.tmin[i]);
     r.tmax = static_cast<float>(rays.tmax[i]);
     return r;

@@ -78,7 +78,7 @@ bool walk_bvh(const Bvh& bvh, const TraceRay& r, const Visitor& vis, const OnPri
     TraceRay o;
     o.org = Vec3f(to_object.apply_point(Vec3d(r.org)));
     o.dir = Vec3f(to_object.apply_vector(Vec3d(r.dir)));
-    o.inv_dir = Vec3f(1.0f / o.dir.x, 1.0f / o.dir.y, 1.0f / o.dir.z);
+    o.inv_dir = slab_inverse(o.dir);
     o.tmin = r.tmin;
     o.tmax = r.tmax;
     o.wt = make_watertight_ray(o.org, o.dir);
