@@ -206,6 +206,29 @@ TEST(PacketFrustum, RaysSkimmingBoxPlanesMatchBruteForce) {
     expect_exact(tt, graze, "terrain grazing fans", false);
 }
 
+TEST(PacketFrustum, ExactFrustaThroughVerticesAndEdgesMatchBruteForce) {
+    // Every ray 16 times in a row: the packets are one ray each, so their frusta are that ray's
+    // slab test exactly, and rays through the grid's vertices and edge midpoints (hits on the
+    // boundaries of leaf boxes, shared by faces of several leaves: the tie goes to the lowest
+    // face) find the nearest face only if no box on their way is culled by a rounding.
+    const TriangleMesh grid = test::make_grid(16, 2.0f);
+    RayBatch rays;
+    std::mt19937_64 rng(47);
+    std::uniform_real_distribution<double> uni(-1.0, 1.0);
+    for (int j = 1; j < 32; ++j) {  // inside the grid: a ray at its rim may miss
+        for (int i = 1; i < 32; ++i) {
+            const Vec3d target{0.5 * i, 0.5 * j, 2.0};
+            const Vec3d o = target + Vec3d{uni(rng), uni(rng), 1.0 + 0.5 * (uni(rng) + 1.0)};
+            for (int k = 0; k < 16; ++k) {
+                rays.push_back(o, normalize(target - o));
+            }
+        }
+    }
+    Tracers tr(grid);
+    const HitBatch h = expect_exact(tr, rays, "exact frusta", true);
+    EXPECT_EQ(hit_count(h), rays.size()) << "rays through the grid's vertices escaped";
+}
+
 TEST(PacketFrustum, PacketsOfOneLaneAndPartialPacketsMatchSingleRays) {
     // Batches of 1, 2, 15, 17 and 33 rays: the last packet of a group has one or a few lanes
     // (the others copy lane 0 and must bound nothing).
