@@ -5,6 +5,7 @@
 #include <cassert>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <limits>
 #include <numbers>
 
@@ -59,8 +60,11 @@ std::int64_t ceil_to_int(double x) {
 /// Runs sampled together: their recurrences are independent, so kLanes of them interleaved
 /// keep the multipliers busy where one alone waits on each product.
 constexpr std::size_t kLanes = 4;
+/// Runs added to the waveform in one pass over its bins (two groups of kLanes).
+constexpr std::size_t kRows = 2 * kLanes;
+static_assert(kLanes == 4, "sample_runs names its four rows");
 
-// The two loops below are compiled for AVX2 too (4 doubles a step), chosen at run time: the
+// The loops below are compiled for AVX2 too (4 doubles a step), chosen at run time: the
 // same products and sums, IEEE-rounded alike (no FMA: AVX2 does not imply it). Not under
 // ThreadSanitizer: the clones' ifunc resolver runs while the program is relocated, before the
 // TSan runtime is up, and its instrumented code crashes there.
@@ -70,57 +74,87 @@ constexpr std::size_t kLanes = 4;
 #define BEAMTRACE_WAVEFORM_CLONES
 #endif
 
-/// The samples of runs[0, count) (count <= kLanes) into rows[l * stride, l * stride + n_l): each
-/// lane's products in the order of its run alone, so each sample rounds as it did alone.
-BEAMTRACE_WAVEFORM_CLONES void sample_runs(const GaussianRun* runs, std::size_t count, double* rows,
-                                           std::size_t stride) {
+/// The samples of runs[0, count) (count <= kLanes) into rows[l * width, (l + 1) * width), the
+/// waveform's bins from `first` (each run inside them), +0 in the bins a run does not reach:
+/// each lane's products in the order of its run alone, so each sample rounds as it did alone.
+/// The rows of the unused lanes (rows has kLanes of them) receive zeros.
+BEAMTRACE_WAVEFORM_CLONES void sample_runs(const GaussianRun* runs, std::size_t count,
+                                           std::int64_t first, double* rows, std::size_t width) {
     double g[kLanes] = {}, ratio[kLanes] = {}, step[kLanes] = {};  // unused lanes stay 0
-    std::size_t common = count == 0 ? 0 : runs[0].n;
+    double* at[kLanes] = {rows, rows + width, rows + 2 * width, rows + 3 * width};
+    std::size_t common = count == 0 ? 0 : runs[0].n;  // at most width
     for (std::size_t l = 0; l < count; ++l) {
         g[l] = runs[l].g;
         ratio[l] = runs[l].ratio;
         step[l] = runs[l].step;
         common = std::min(common, runs[l].n);
+        // b0 >= first, and b0 + n - 1 <= the last bin when n > 0 (build_waveform clamps them).
+        const auto offset = std::min(static_cast<std::size_t>(runs[l].b0 - first), width);
+        double* const row = rows + l * width;
+        std::fill(row, row + offset, 0.0);
+        std::fill(row + std::min(offset + runs[l].n, width), row + width, 0.0);
+        at[l] = row + offset;
     }
     for (std::size_t s = 0; s < common; ++s) {
         for (std::size_t l = 0; l < kLanes; ++l) {
-            rows[l * stride + s] = g[l];
+            at[l][s] = g[l];
             g[l] *= ratio[l];
             ratio[l] *= step[l];
         }
     }
     for (std::size_t l = 0; l < count; ++l) {  // the longer runs' tails, one at a time
         for (std::size_t s = common; s < runs[l].n; ++s) {
-            rows[l * stride + s] = g[l];
+            at[l][s] = g[l];
             g[l] *= ratio[l];
             ratio[l] *= step[l];
         }
     }
 }
 
-/// y[s] += row[s] for s < n.
-BEAMTRACE_WAVEFORM_CLONES void add_samples(double* y, const double* row, std::size_t n) {
-    for (std::size_t s = 0; s < n; ++s) {
-        y[s] += row[s];
+/// Four doubles (two SSE2 registers by default, one AVX2 register in its clone).
+using Quad = double __attribute__((vector_size(32)));
+
+/// y[s] = (((y[s] + rows[0][s]) + rows[1][s]) + ...) for the `count` rows of `width` bins.
+BEAMTRACE_WAVEFORM_CLONES void add_rows(double* y, const double* rows, std::size_t count,
+                                        std::size_t width) {
+    std::size_t s = 0;
+    for (; s + 4 <= width; s += 4) {
+        Quad v;
+        std::memcpy(&v, y + s, sizeof v);
+        for (std::size_t l = 0; l < count; ++l) {
+            Quad r;
+            std::memcpy(&r, rows + l * width + s, sizeof r);
+            v += r;
+        }
+        std::memcpy(y + s, &v, sizeof v);
+    }
+    for (; s < width; ++s) {
+        double v = y[s];
+        for (std::size_t l = 0; l < count; ++l) {
+            v += rows[l * width + s];
+        }
+        y[s] = v;
     }
 }
 
-/// Adds runs[0, count) to `out`, in order: every bin receives its samples in the order of the
-/// runs, as one run after the other would add them.
+/// Adds runs[0, count) (count <= kRows) to `out`, in order: every bin receives their samples in
+/// the order of the runs, as one run after the other would add them. A run adds +0 to the bins
+/// it does not reach, which leaves them as they are: a bin is never -0 (it starts at +0, and
+/// a sum is -0 only when both terms are).
 void add_runs(Waveform& out, const GaussianRun* runs, std::size_t count) {
     thread_local std::vector<double> rows;  // grows once per thread: no allocation per pulse
-    std::size_t stride = 0;
-    for (std::size_t l = 0; l < count; ++l) {
-        stride = std::max(stride, runs[l].n);
+    if (count == 0) {
+        return;
     }
-    if (rows.size() < kLanes * stride) {
-        rows.resize(kLanes * stride);
+    const std::size_t width = out.samples_w.size();
+    if (rows.size() < kRows * width) {
+        rows.resize(kRows * width);
     }
-    sample_runs(runs, count, rows.data(), stride);
-    for (std::size_t l = 0; l < count; ++l) {
-        add_samples(out.samples_w.data() + (runs[l].b0 - out.first_bin), rows.data() + l * stride,
-                    runs[l].n);
+    for (std::size_t l = 0; l < count; l += kLanes) {
+        sample_runs(runs + l, std::min(kLanes, count - l), out.first_bin, rows.data() + l * width,
+                    width);
     }
+    add_rows(out.samples_w.data(), rows.data(), count, width);
 }
 
 /// A fitted Gaussian: centre (absolute round-trip time) [ns], amplitude [W], sigma [ns].
@@ -473,7 +507,7 @@ void build_waveform(const WaveformConfig& config, std::span<const EchoContributi
     const std::int64_t last = ceil_to_int(t_hi / config.bin_ns);
     out.first_bin = first;
     out.samples_w.assign(static_cast<std::size_t>(last - first + 1), 0.0);
-    GaussianRun runs[kLanes];
+    GaussianRun runs[kRows];
     std::size_t count = 0;
     for (const auto& c : contributions) {
         const double t = c.range_m * round_trip_ns_per_m();
@@ -484,7 +518,7 @@ void build_waveform(const WaveformConfig& config, std::span<const EchoContributi
         // The stretched echo keeps its energy: its peak drops as sigma_p / sigma.
         const double amplitude = c.sigma_ns > 0 ? c.power_w * (sigma_p / sigma) : c.power_w;
         runs[count++] = gaussian_run(out.bin_ns, b0, b1, t, amplitude, sigma);
-        if (count == kLanes) {
+        if (count == kRows) {
             add_runs(out, runs, count);
             count = 0;
         }
