@@ -5,6 +5,7 @@
 #include <cassert>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <limits>
 #include <numbers>
 
@@ -56,11 +57,10 @@ std::int64_t ceil_to_int(double x) {
     return i != kIndefinite && static_cast<double>(i) < x ? i + 1 : i;
 }
 
-/// Runs sampled together: their recurrences are independent, so kLanes of them interleaved
-/// keep the multipliers busy where one alone waits on each product.
-constexpr std::size_t kLanes = 4;
+/// Runs sampled and added together: kRows of them, each row of the waveform's width.
+constexpr std::size_t kRows = 8;
 
-// The two loops below are compiled for AVX2 too (4 doubles a step), chosen at run time: the
+// The loops below are compiled for AVX2 too (4 doubles a step), chosen at run time: the
 // same products and sums, IEEE-rounded alike (no FMA: AVX2 does not imply it). Not under
 // ThreadSanitizer: the clones' ifunc resolver runs while the program is relocated, before the
 // TSan runtime is up, and its instrumented code crashes there.
@@ -70,57 +70,121 @@ constexpr std::size_t kLanes = 4;
 #define BEAMTRACE_WAVEFORM_CLONES
 #endif
 
-/// The samples of runs[0, count) (count <= kLanes) into rows[l * stride, l * stride + n_l): each
-/// lane's products in the order of its run alone, so each sample rounds as it did alone.
-BEAMTRACE_WAVEFORM_CLONES void sample_runs(const GaussianRun* runs, std::size_t count, double* rows,
-                                           std::size_t stride) {
-    double g[kLanes] = {}, ratio[kLanes] = {}, step[kLanes] = {};  // unused lanes stay 0
-    std::size_t common = count == 0 ? 0 : runs[0].n;
+/// Four doubles (two SSE2 registers by default, one AVX2 register in its clone).
+using Quad = double __attribute__((vector_size(32)));
+using QuadIndex = std::int64_t __attribute__((vector_size(32)));
+
+/// The recurrences of up to kRows runs, four to a Quad (unused lanes 0), and where each run's
+/// first bin lies in its row.
+struct RunLanes {
+    Quad g[2] = {}, ratio[2] = {}, step[2] = {};
+    double* at[kRows] = {};
+};
+
+/// The lanes of runs[0, count) over rows[l * width, (l + 1) * width) (the waveform's bins from
+/// `first`, each run inside them): +0 in the bins a run does not reach; the rows of the unused
+/// lanes are written from their start.
+RunLanes start_lanes(const GaussianRun* runs, std::size_t count, std::int64_t first, double* rows,
+                     std::size_t width) {
+    RunLanes r;
+    for (std::size_t l = 0; l < kRows; ++l) {
+        r.at[l] = rows + l * width;
+    }
     for (std::size_t l = 0; l < count; ++l) {
-        g[l] = runs[l].g;
-        ratio[l] = runs[l].ratio;
-        step[l] = runs[l].step;
+        r.g[l / 4][l % 4] = runs[l].g;
+        r.ratio[l / 4][l % 4] = runs[l].ratio;
+        r.step[l / 4][l % 4] = runs[l].step;
+        // b0 >= first, and b0 + n - 1 <= the last bin when n > 0 (build_waveform clamps them).
+        const auto offset = std::min(static_cast<std::size_t>(runs[l].b0 - first), width);
+        std::fill(r.at[l], r.at[l] + offset, 0.0);
+        std::fill(r.at[l] + std::min(offset + runs[l].n, width), r.at[l] + width, 0.0);
+        r.at[l] += offset;
+    }
+    return r;
+}
+
+/// The samples of runs[0, count) (count <= kRows) into their rows (start_lanes): each lane's
+/// products in the order of its run alone, so each sample rounds as it did alone. Four bins of
+/// four runs at a time are transposed so that each run's four samples are stored at once.
+BEAMTRACE_WAVEFORM_CLONES void sample_runs(const GaussianRun* runs, std::size_t count,
+                                           std::int64_t first, double* rows, std::size_t width) {
+    RunLanes r = start_lanes(runs, count, first, rows, width);
+    std::size_t common = count == 0 ? 0 : runs[0].n;  // at most width
+    for (std::size_t l = 1; l < count; ++l) {
         common = std::min(common, runs[l].n);
     }
-    for (std::size_t s = 0; s < common; ++s) {
-        for (std::size_t l = 0; l < kLanes; ++l) {
-            rows[l * stride + s] = g[l];
-            g[l] *= ratio[l];
-            ratio[l] *= step[l];
+    const std::size_t groups = (count + 3) / 4;
+    std::size_t s = 0;
+    for (; s + 4 <= common; s += 4) {
+        for (std::size_t q = 0; q < groups; ++q) {
+            Quad a[4];
+            for (Quad& v : a) {
+                v = r.g[q];
+                r.g[q] *= r.ratio[q];
+                r.ratio[q] *= r.step[q];
+            }
+            const Quad t0 = __builtin_shuffle(a[0], a[1], QuadIndex{0, 4, 2, 6});
+            const Quad t1 = __builtin_shuffle(a[0], a[1], QuadIndex{1, 5, 3, 7});
+            const Quad t2 = __builtin_shuffle(a[2], a[3], QuadIndex{0, 4, 2, 6});
+            const Quad t3 = __builtin_shuffle(a[2], a[3], QuadIndex{1, 5, 3, 7});
+            const Quad lane[4] = {__builtin_shuffle(t0, t2, QuadIndex{0, 1, 4, 5}),
+                                  __builtin_shuffle(t1, t3, QuadIndex{0, 1, 4, 5}),
+                                  __builtin_shuffle(t0, t2, QuadIndex{2, 3, 6, 7}),
+                                  __builtin_shuffle(t1, t3, QuadIndex{2, 3, 6, 7})};
+            for (std::size_t l = 0; l < 4; ++l) {
+                std::memcpy(r.at[4 * q + l] + s, &lane[l], sizeof(Quad));
+            }
         }
     }
-    for (std::size_t l = 0; l < count; ++l) {  // the longer runs' tails, one at a time
-        for (std::size_t s = common; s < runs[l].n; ++s) {
-            rows[l * stride + s] = g[l];
-            g[l] *= ratio[l];
-            ratio[l] *= step[l];
+    for (std::size_t l = 0; l < count; ++l) {  // the last bins, one run at a time
+        double g = r.g[l / 4][l % 4], ratio = r.ratio[l / 4][l % 4];
+        const double step = r.step[l / 4][l % 4];
+        for (std::size_t b = s; b < runs[l].n; ++b) {
+            r.at[l][b] = g;
+            g *= ratio;
+            ratio *= step;
         }
     }
 }
 
-/// y[s] += row[s] for s < n.
-BEAMTRACE_WAVEFORM_CLONES void add_samples(double* y, const double* row, std::size_t n) {
-    for (std::size_t s = 0; s < n; ++s) {
-        y[s] += row[s];
+/// y[s] = (((y[s] + rows[0][s]) + rows[1][s]) + ...) for the `count` rows of `width` bins.
+BEAMTRACE_WAVEFORM_CLONES void add_rows(double* y, const double* rows, std::size_t count,
+                                        std::size_t width) {
+    std::size_t s = 0;
+    for (; s + 4 <= width; s += 4) {
+        Quad v;
+        std::memcpy(&v, y + s, sizeof v);
+        for (std::size_t l = 0; l < count; ++l) {
+            Quad r;
+            std::memcpy(&r, rows + l * width + s, sizeof r);
+            v += r;
+        }
+        std::memcpy(y + s, &v, sizeof v);
+    }
+    for (; s < width; ++s) {
+        double v = y[s];
+        for (std::size_t l = 0; l < count; ++l) {
+            v += rows[l * width + s];
+        }
+        y[s] = v;
     }
 }
 
-/// Adds runs[0, count) to `out`, in order: every bin receives its samples in the order of the
-/// runs, as one run after the other would add them.
+/// Adds runs[0, count) (count <= kRows) to `out`, in order: every bin receives their samples in
+/// the order of the runs, as one run after the other would add them. A run adds +0 to the bins
+/// it does not reach, which leaves them as they are: a bin is never -0 (it starts at +0, and
+/// a sum is -0 only when both terms are).
 void add_runs(Waveform& out, const GaussianRun* runs, std::size_t count) {
     thread_local std::vector<double> rows;  // grows once per thread: no allocation per pulse
-    std::size_t stride = 0;
-    for (std::size_t l = 0; l < count; ++l) {
-        stride = std::max(stride, runs[l].n);
+    if (count == 0) {
+        return;
     }
-    if (rows.size() < kLanes * stride) {
-        rows.resize(kLanes * stride);
+    const std::size_t width = out.samples_w.size();
+    if (rows.size() < kRows * width) {
+        rows.resize(kRows * width);
     }
-    sample_runs(runs, count, rows.data(), stride);
-    for (std::size_t l = 0; l < count; ++l) {
-        add_samples(out.samples_w.data() + (runs[l].b0 - out.first_bin), rows.data() + l * stride,
-                    runs[l].n);
-    }
+    sample_runs(runs, count, out.first_bin, rows.data(), width);
+    add_rows(out.samples_w.data(), rows.data(), count, width);
 }
 
 /// A fitted Gaussian: centre (absolute round-trip time) [ns], amplitude [W], sigma [ns].
@@ -473,7 +537,7 @@ void build_waveform(const WaveformConfig& config, std::span<const EchoContributi
     const std::int64_t last = ceil_to_int(t_hi / config.bin_ns);
     out.first_bin = first;
     out.samples_w.assign(static_cast<std::size_t>(last - first + 1), 0.0);
-    GaussianRun runs[kLanes];
+    GaussianRun runs[kRows];
     std::size_t count = 0;
     for (const auto& c : contributions) {
         const double t = c.range_m * round_trip_ns_per_m();
@@ -484,7 +548,7 @@ void build_waveform(const WaveformConfig& config, std::span<const EchoContributi
         // The stretched echo keeps its energy: its peak drops as sigma_p / sigma.
         const double amplitude = c.sigma_ns > 0 ? c.power_w * (sigma_p / sigma) : c.power_w;
         runs[count++] = gaussian_run(out.bin_ns, b0, b1, t, amplitude, sigma);
-        if (count == kLanes) {
+        if (count == kRows) {
             add_runs(out, runs, count);
             count = 0;
         }

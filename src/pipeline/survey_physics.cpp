@@ -17,7 +17,7 @@ SurveyPhysics::SurveyPhysics(const PulseSimulator& sim, const Scene& scene,
 const SurveyPhysics::FaceFacts& SurveyPhysics::face_facts(std::uint32_t face, const Vec3d& point_m,
                                                           double time_s, FaceCache& cache) const {
     for (const FaceFacts& f : cache.faces) {
-        if (f.face == face) {
+        if (f.face == face && (f.still || f.time_s == time_s)) {
             return f;
         }
     }
@@ -30,6 +30,8 @@ const SurveyPhysics::FaceFacts& SurveyPhysics::face_facts(std::uint32_t face, co
     f.material = &materials_[part.material];
     // Only a sphere's normal depends on the point (a moving face's on the time: one pulse's).
     f.flat = scene.geometry.sphere_of_face(face) == nullptr;
+    f.still = scene.moving_of_face(face) == nullptr;
+    f.time_s = time_s;
     if (f.flat) {
         f.normal = scene.normal_at(face, point_m, time_s);
     }
@@ -63,12 +65,20 @@ void SurveyPhysics::find_edges(BlockWork& w) const {
         return;
     }
     w.target.resize(sub_rays);
+    std::uint32_t last_face = kNoFace;  // and its part: neighbouring sub-rays meet the same faces
+    std::int64_t last_part = -1;
     for (std::size_t k = 0; k < w.pulse_count; ++k) {
         for (std::size_t j = 0; j < sub_rays; ++j) {
             const std::size_t h = k * sub_rays + j;
-            w.target[j] = w.hits.hit(h)
-                              ? static_cast<std::int64_t>(scene_->part_of_face(w.hits.face[h]))
-                              : -1;
+            if (!w.hits.hit(h)) {
+                w.target[j] = -1;
+                continue;
+            }
+            if (w.hits.face[h] != last_face) {
+                last_face = w.hits.face[h];
+                last_part = static_cast<std::int64_t>(scene_->part_of_face(last_face));
+            }
+            w.target[j] = last_part;
         }
         sim_->edge_cells(w.target, w.edges);
         w.edge_cell.insert(w.edge_cell.end(), w.edges.begin(), w.edges.end());
@@ -94,14 +104,13 @@ void SurveyPhysics::find_edges(BlockWork& w) const {
     }
 }
 
-void SurveyPhysics::simulate(BlockWork& w, std::size_t k) const {
+void SurveyPhysics::simulate(BlockWork& w, std::size_t k, FaceCache& cache) const {
     const std::size_t sub_rays = this->sub_rays();
     const std::size_t probes = sim_->probes_per_cell();
     std::vector<BeamSample>& samples = w.response.samples;
     samples.clear();
     w.sample_face.clear();
     std::uint32_t e = w.edge_start[k];
-    FaceCache cache;  // the faces this pulse met
     for (std::size_t j = 0; j < sub_rays; ++j) {
         const std::size_t h = k * sub_rays + j;
         const SubRayHit hit = sub_ray_hit(w.rays, w.hits, h, w.pulses.time_s[k], cache);
@@ -132,8 +141,9 @@ void SurveyPhysics::run(BlockWork& w, const Backend& backend) const {
             trace_moving_probes(w);
         }
     }
+    FaceCache cache;  // the faces the block's pulses met
     for (std::size_t k = 0; k < w.pulse_count; ++k) {
-        simulate(w, k);
+        simulate(w, k, cache);
         if (keeps_waveforms()) {
             keep_waveform(w, k);
         }

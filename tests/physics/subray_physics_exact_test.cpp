@@ -64,10 +64,11 @@ TEST(PhysicsSubRayExact, WaveformIsBitIdenticalToOneGaussianAtATime) {
     std::mt19937_64 rng(21);
     std::uniform_real_distribution<double> u(0.0, 1.0);
     WaveformConfig config;
-    // 1 to 13 contributions: groups of four and every remainder; widths from the pulse's to 20
-    // times it, so the runs of one group differ in length (and the longest's tail runs alone).
+    // 1 to 21 contributions: groups of four and eight and every remainder; widths from the pulse's
+    // to 20 times it, so the runs of one group differ in length (and the longest's tail runs
+    // alone).
     for (int trial = 0; trial < 400; ++trial) {
-        const std::size_t n = 1 + static_cast<std::size_t>(trial % 13);
+        const std::size_t n = 1 + static_cast<std::size_t>(trial % 21);
         std::vector<EchoContribution> c;
         for (std::size_t i = 0; i < n; ++i) {
             const double sigma = u(rng) < 0.3 ? 0.0 : 1.7 * (1.0 + 19.0 * u(rng) * u(rng));

@@ -34,19 +34,22 @@ class SurveyPhysics {
     const MovingInstances* moving = nullptr;
 
   private:
-    /// What the samples of one pulse that meet one face share: its part and the part's
-    /// material, and its normal where that does not vary over the face (not a sphere's). An
-    /// airborne beam's 19 sub-rays meet 1 to 4 triangles.
+    /// What the samples that meet one face share: its part and the part's material, and its
+    /// normal where that does not vary over the face (not a sphere's). An airborne beam's 19
+    /// sub-rays meet 1 to 4 triangles, and the next pulses mostly the same ones.
     struct FaceFacts {
         std::uint32_t face = kNoFace;
         const ScenePart* part = nullptr;
         const Material* material = nullptr;
-        bool flat = false;  ///< normal holds for every point of the face
+        bool flat = false;    ///< normal holds for every point of the face
+        bool still = false;   ///< not a moving instance's: normal holds at every time
+        double time_s = 0.0;  ///< the time normal was computed at (a moving face's holds then)
         Vec3d normal{0, 0, 0};
     };
-    /// The facts of the last faces one pulse met (at one time: a moving face's normal with it).
+    /// The facts of the last faces a block's pulses met: a still face's hold for every pulse, a
+    /// moving face's for pulses at its time_s.
     struct FaceCache {
-        std::array<FaceFacts, 4> faces;
+        std::array<FaceFacts, 8> faces;
         std::size_t next = 0;
     };
     /// The facts of `face` (hit at `point_m` at `time_s`), from `cache` or computed into it.
@@ -60,7 +63,7 @@ class SurveyPhysics {
     /// Traces the probes on the moving instances too (each at its pulse's time).
     void trace_moving_probes(BlockWork& w) const;
     /// Pulse k's beam samples (w.response.samples, w.sample_face), simulated into w.response.
-    void simulate(BlockWork& w, std::size_t k) const;
+    void simulate(BlockWork& w, std::size_t k, FaceCache& cache) const;
     void keep_waveform(BlockWork& w, std::size_t k) const;
 
     const PulseSimulator* sim_;
