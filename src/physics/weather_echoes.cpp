@@ -23,6 +23,10 @@ constexpr std::size_t kBinned = std::numeric_limits<std::size_t>::max();
 /// below 1e-19).
 constexpr double kClosedFormSigmaBins = 1.5;
 
+/// A span whose highest sample is below this fraction of the threshold is not fitted
+/// (detect_echoes): its fit would have to peak twice as high as its samples to be reported.
+constexpr double kUnfittedFraction = 1.0;
+
 /// What detect_echoes_in_groups works in, kept per thread (no allocation per pulse).
 struct GroupScratch {
     std::vector<Reach> reaches;
@@ -83,16 +87,22 @@ void detect_group(const WaveformConfig& config, std::span<const EchoContribution
     }
     s.group.clear();
     bool with_binned = false;
+    double peaks_w = 0.0;  // the waveform is nowhere higher than its pulses' peaks summed
     for (const std::size_t m : s.members) {
         if (m == kBinned) {
             with_binned = true;
         } else {
-            s.group.push_back(contributions[m]);
+            const EchoContribution& c = contributions[m];
+            s.group.push_back(c);
+            peaks_w += c.sigma_ns > 0 ? c.power_w * (sigma_p / c.sigma_ns) : c.power_w;
         }
+    }
+    if (!with_binned && peaks_w < kUnfittedFraction * threshold_w) {
+        return;  // every span's top is below it: none is reported
     }
     static const BinnedEcho kNone;
     build_waveform(config, s.group, with_binned ? binned : kNone, s.waveform);
-    detect_echoes(config, s.waveform, threshold_w, out);
+    detect_echoes(config, s.waveform, threshold_w, kUnfittedFraction * threshold_w, out);
 }
 
 }  // namespace
