@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <numbers>
 
 namespace beamtrace {
 
@@ -24,7 +25,9 @@ constexpr std::size_t kBinned = std::numeric_limits<std::size_t>::max();
 constexpr double kClosedFormSigmaBins = 1.5;
 
 /// A span whose highest sample is below this fraction of the threshold is not fitted
-/// (detect_echoes): its fit would have to peak twice as high as its samples to be reported.
+/// (detect_echoes) and not reported: a lone pulse's fit peaks at most exp(h^2 / (8 sigma^2))
+/// above its highest sample (1.1 % with 0.5 ns bins and a 4 ns pulse), so only echoes that
+/// close to the threshold are lost.
 constexpr double kUnfittedFraction = 1.0;
 
 /// What detect_echoes_in_groups works in, kept per thread (no allocation per pulse).
@@ -62,6 +65,18 @@ void find_reaches(const WaveformConfig& config, std::span<const EchoContribution
     });
 }
 
+/// The equivalent power of a lone pulse as detect_echoes sums it (its span the whole record, the
+/// end samples counted half): the pulse's energy less its truncation at 5 sigma, bit for bit.
+double sampled_energy(const WaveformConfig& config, const EchoContribution& c, Waveform& w) {
+    build_waveform(config, std::span(&c, 1), w);
+    const std::vector<double>& y = w.samples_w;
+    double sum = 0.5 * (y.front() + y.back());
+    for (std::size_t j = 1; j + 1 < y.size(); ++j) {
+        sum += y[j];
+    }
+    return sum * w.bin_ns / (pulse_sigma_ns(config) * std::sqrt(2.0 * std::numbers::pi));
+}
+
 /// The echoes of one group (`members`, ascending: the contributions' order, the binned echo
 /// last).
 void detect_group(const WaveformConfig& config, std::span<const EchoContribution> contributions,
@@ -78,8 +93,8 @@ void detect_group(const WaveformConfig& config, std::span<const EchoContribution
             e.range_m = c.range_m;
             e.amplitude_w = c.sigma_ns > 0 ? c.power_w * (sigma_p / sigma) : c.power_w;
             e.width_ns = sigma * (2.0 * std::sqrt(2.0 * std::log(2.0)));  // FWHM
-            e.power_w = c.power_w;
             if (e.amplitude_w >= threshold_w) {
+                e.power_w = sampled_energy(config, c, s.waveform);
                 out.push_back(e);
             }
             return;
@@ -102,7 +117,9 @@ void detect_group(const WaveformConfig& config, std::span<const EchoContribution
     }
     static const BinnedEcho kNone;
     build_waveform(config, s.group, with_binned ? binned : kNone, s.waveform);
-    detect_echoes(config, s.waveform, threshold_w, kUnfittedFraction * threshold_w, out);
+    // With the fog's echo (its slabs' ripples are spans too) every span is fitted, as before.
+    detect_echoes(config, s.waveform, threshold_w,
+                  with_binned ? 0.0 : kUnfittedFraction * threshold_w, out);
 }
 
 }  // namespace

@@ -16,9 +16,11 @@ namespace beamtrace {
 /// between groups of pulses whose reaches leave a gap: such groups, at least the waveform's
 /// least separation apart (and one bin), are sampled and detected apart, and a group of one
 /// pulse is answered in closed form (a sampled Gaussian's fit is exact: its range, amplitude and
-/// width; its energy, the contribution's, within the 5 sigma truncation's 6e-7). What it leaves
-/// out: the refit's subtraction of another group's fitted echo, at least 10 sigma away (below
-/// exp(-50) = 2e-22 of that echo's amplitude). Appends to `out` in range order.
+/// width; its energy is summed over its samples as detect_echoes does). What it leaves
+/// out: the refit's subtraction of another group's fitted echo beyond that echo's 5 sigma reach.
+/// Spans whose highest sample is below the threshold are not fitted (detect_echoes'
+/// unfitted_below_w) and groups whose pulses' peaks add up to less than it are not sampled.
+/// Appends to `out` in range order.
 void detect_echoes_in_groups(const WaveformConfig& config,
                              std::span<const EchoContribution> contributions,
                              const BinnedEcho& binned, double threshold_w, std::vector<Echo>& out);
