@@ -7,6 +7,7 @@
 
 #include "beamtrace/core/error.hpp"
 #include "beamtrace/core/name_table.hpp"
+#include "beamtrace/physics/weather_echoes.hpp"
 
 namespace beamtrace {
 
@@ -299,8 +300,13 @@ void PulseSimulator::simulate_samples(std::uint64_t seed, std::uint64_t pulse_in
         return;
     }
     const WaveformConfig& wf = config_.waveform;
-    build_waveform(wf, out.contributions, binned, out.waveform);
-    detect_echoes(wf, out.waveform, config_.radiometry.detection_threshold_w, out.echoes);
+    if (medium_ && !config_.keep_waveform) {  // the weather's pulses, group by group
+        detect_echoes_in_groups(wf, out.contributions, binned,
+                                config_.radiometry.detection_threshold_w, out.echoes);
+    } else {
+        build_waveform(wf, out.contributions, binned, out.waveform);
+        detect_echoes(wf, out.waveform, config_.radiometry.detection_threshold_w, out.echoes);
+    }
     if (!config_.keep_waveform) {
         out.waveform.samples_w.clear();
     }

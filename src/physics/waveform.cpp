@@ -568,6 +568,12 @@ void build_waveform(const WaveformConfig& config, std::span<const EchoContributi
 
 void detect_echoes(const WaveformConfig& config, const Waveform& waveform, double threshold_w,
                    std::vector<Echo>& out) {
+    detect_echoes(config, waveform, threshold_w, 0.0, out);
+}
+
+void detect_echoes(const WaveformConfig& config, const Waveform& waveform, double threshold_w,
+                   double unfitted_below_w, std::vector<Echo>& out) {
+    assert(!(unfitted_below_w > threshold_w));
     if (waveform.samples_w.size() < 3) {
         return;
     }
@@ -581,8 +587,16 @@ void detect_echoes(const WaveformConfig& config, const Waveform& waveform, doubl
     fits.clear();
     find_spans(config, waveform, spans);
     kept.resize(spans.size());
+    // A span whose top is below unfitted_below_w (the weather's): the pulse through its top.
+    const auto unfitted = [&](std::size_t e) {
+        return waveform.samples_w[spans[e].top] < unfitted_below_w;
+    };
     for (std::size_t e = 0; e < spans.size(); ++e) {
-        fits.push_back(fit_echo(config, waveform, spans, {}, {}, e, scratch, kept[e]));
+        fits.push_back(unfitted(e)
+                           ? GaussianFit{waveform.time_ns(spans[e].top),
+                                         waveform.samples_w[spans[e].top],
+                                         config.pulse_fwhm_ns / kFwhmPerSigma}
+                           : fit_echo(config, waveform, spans, {}, {}, e, scratch, kept[e]));
     }
     // Separate echoes overlap: refit each on the samples less its neighbours' first fits.
     if (spans.size() > 1) {
@@ -590,7 +604,9 @@ void detect_echoes(const WaveformConfig& config, const Waveform& waveform, doubl
         first = fits;
         FitSamples unused;
         for (std::size_t e = 0; e < spans.size(); ++e) {
-            fits[e] = fit_echo(config, waveform, spans, first, kept, e, scratch, unused);
+            if (!unfitted(e)) {
+                fits[e] = fit_echo(config, waveform, spans, first, kept, e, scratch, unused);
+            }
         }
     }
     for (std::size_t e = 0; e < spans.size(); ++e) {

@@ -46,7 +46,7 @@ TEST(WeatherYaml, FogRainAndSurfaces) {
     EXPECT_EQ(w.precipitation->kind, PrecipitationKind::rain);
     EXPECT_EQ(w.precipitation->rate_mm_h, 25.0);
     EXPECT_EQ(w.precipitation->particle_albedo, 0.05);
-    EXPECT_EQ(w.precipitation->floor_fraction, 0.25);  // the default
+    EXPECT_EQ(w.precipitation->floor_fraction, 0.5);  // the default
     EXPECT_EQ(w.wetness, 0.8);
     EXPECT_EQ(w.overlap.start_m, 0.3);
     EXPECT_EQ(w.overlap.full_m, 1.2);

@@ -130,4 +130,11 @@ inline constexpr double kHeliosPulseFwhmPerLength = 0.48495438154950027;
 void detect_echoes(const WaveformConfig& config, const Waveform& waveform, double threshold_w,
                    std::vector<Echo>& out);
 
+/// The same, with the spans whose highest sample is below `unfitted_below_w` (at most
+/// threshold_w; the weather's pulses, weather_echoes.hpp) neither fitted nor reported: their
+/// first fit, which the refit takes off their neighbours, is the emitted pulse through their
+/// highest sample.
+void detect_echoes(const WaveformConfig& config, const Waveform& waveform, double threshold_w,
+                   double unfitted_below_w, std::vector<Echo>& out);
+
 }  // namespace beamtrace

@@ -22,7 +22,7 @@ struct PrecipitationConfig {
     std::optional<double> particle_albedo;
     /// Particles whose echo is weaker than this fraction of the detection threshold are not
     /// drawn (they still extinguish the beam); in (0, 1].
-    double floor_fraction = 0.25;
+    double floor_fraction = 0.5;
 };
 
 /// What the weather produced a point's echo: the LAS extra byte `weather` (0 for none).

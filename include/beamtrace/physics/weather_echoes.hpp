@@ -1,0 +1,28 @@
+// Echo detection of a pulse that crosses a medium (docs/weather.md, "Detection in groups"):
+// a rain or snow pulse's waveform holds a few particles' echoes metres before the scene's, and
+// is 0 in between. Used by PulseSimulator for the weather's pulses.
+#pragma once
+
+#include <span>
+#include <vector>
+
+#include "beamtrace/physics/waveform.hpp"
+
+namespace beamtrace {
+
+/// Echo detection of a pulse that crosses a medium (docs/weather.md, "Detection in groups"): the
+/// same echoes as build_waveform and detect_echoes on all of `contributions` and `binned`, found
+/// group by group. Each contribution's pulse reaches 5 sigma (waveform.hpp), so a waveform is 0
+/// between groups of pulses whose reaches leave a gap: such groups, at least the waveform's
+/// least separation apart (and one bin), are sampled and detected apart, and a group of one
+/// pulse is answered in closed form (a sampled Gaussian's fit is exact: its range, amplitude and
+/// width; its energy is summed over its samples as detect_echoes does). What it leaves
+/// out: the refit's subtraction of another group's fitted echo beyond that echo's 5 sigma reach.
+/// Spans whose highest sample is below the threshold are not fitted (detect_echoes'
+/// unfitted_below_w) and groups whose pulses' peaks add up to less than it are not sampled.
+/// Appends to `out` in range order.
+void detect_echoes_in_groups(const WaveformConfig& config,
+                             std::span<const EchoContribution> contributions,
+                             const BinnedEcho& binned, double threshold_w, std::vector<Echo>& out);
+
+}  // namespace beamtrace

@@ -1,0 +1,149 @@
+#include "beamtrace/physics/weather_echoes.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <numbers>
+
+namespace beamtrace {
+
+namespace {
+
+/// The bins [b0, b1] that build_waveform samples for a contribution (its index) or for the
+/// binned echo (index kBinned).
+struct Reach {
+    std::int64_t b0 = 0, b1 = 0;
+    std::size_t index = 0;
+};
+constexpr std::size_t kBinned = std::numeric_limits<std::size_t>::max();
+
+/// A pulse alone is answered in closed form when its sigma spans at least this many bins: its
+/// fit (samples of at least 0.2 of the peak, within 1.79 sigma) then keeps 5 samples or more, and
+/// the sampled sum is the Gaussian's integral (the aliasing term exp(-2 pi^2 sigma^2 / h^2) is
+/// below 1e-19).
+constexpr double kClosedFormSigmaBins = 1.5;
+
+/// A span whose highest sample is below this fraction of the threshold is not fitted
+/// (detect_echoes) and not reported: a lone pulse's fit peaks at most exp(h^2 / (8 sigma^2))
+/// above its highest sample (1.1 % with 0.5 ns bins and a 4 ns pulse), so only echoes that
+/// close to the threshold are lost.
+constexpr double kUnfittedFraction = 1.0;
+
+/// What detect_echoes_in_groups works in, kept per thread (no allocation per pulse).
+struct GroupScratch {
+    std::vector<Reach> reaches;
+    std::vector<std::size_t> members;
+    std::vector<EchoContribution> group;
+    Waveform waveform;
+};
+
+double pulse_sigma_ns(const WaveformConfig& config) {
+    return config.pulse_fwhm_ns / (2.0 * std::sqrt(2.0 * std::log(2.0)));
+}
+
+/// Every contribution's reach and the binned echo's, sorted by first bin.
+void find_reaches(const WaveformConfig& config, std::span<const EchoContribution> contributions,
+                  const BinnedEcho& binned, std::vector<Reach>& out) {
+    out.clear();
+    const double sigma_p = pulse_sigma_ns(config), h = config.bin_ns;
+    const auto reach = [&](double t0_ns, double t1_ns, double sigma_ns, std::size_t index) {
+        out.push_back({static_cast<std::int64_t>(std::floor((t0_ns - 5.0 * sigma_ns) / h)),
+                       static_cast<std::int64_t>(std::ceil((t1_ns + 5.0 * sigma_ns) / h)), index});
+    };
+    for (std::size_t i = 0; i < contributions.size(); ++i) {
+        const EchoContribution& c = contributions[i];
+        const double t = c.range_m * round_trip_ns_per_m();
+        reach(t, t, c.sigma_ns > 0 ? c.sigma_ns : sigma_p, i);
+    }
+    if (!binned.empty()) {
+        reach(binned.first_range_m * round_trip_ns_per_m(),
+              binned.last_range_m * round_trip_ns_per_m(), sigma_p, kBinned);
+    }
+    std::sort(out.begin(), out.end(), [](const Reach& a, const Reach& b) {
+        return a.b0 != b.b0 ? a.b0 < b.b0 : a.index < b.index;
+    });
+}
+
+/// The equivalent power of a lone pulse as detect_echoes sums it (its span the whole record, the
+/// end samples counted half): the pulse's energy less its truncation at 5 sigma, bit for bit.
+double sampled_energy(const WaveformConfig& config, const EchoContribution& c, Waveform& w) {
+    build_waveform(config, std::span(&c, 1), w);
+    const std::vector<double>& y = w.samples_w;
+    double sum = 0.5 * (y.front() + y.back());
+    for (std::size_t j = 1; j + 1 < y.size(); ++j) {
+        sum += y[j];
+    }
+    return sum * w.bin_ns / (pulse_sigma_ns(config) * std::sqrt(2.0 * std::numbers::pi));
+}
+
+/// The echoes of one group (`members`, ascending: the contributions' order, the binned echo
+/// last).
+void detect_group(const WaveformConfig& config, std::span<const EchoContribution> contributions,
+                  const BinnedEcho& binned, double threshold_w, GroupScratch& s,
+                  std::vector<Echo>& out) {
+    const double sigma_p = pulse_sigma_ns(config);
+    if (s.members.size() == 1 && s.members[0] != kBinned) {
+        const EchoContribution& c = contributions[s.members[0]];
+        const double sigma = c.sigma_ns > 0 ? c.sigma_ns : sigma_p;
+        if (sigma >= kClosedFormSigmaBins * config.bin_ns) {
+            // What the fit of the sampled Gaussian gives (waveform.hpp): the stretched echo
+            // keeps its energy, its peak drops as sigma_p / sigma.
+            Echo e;
+            e.range_m = c.range_m;
+            e.amplitude_w = c.sigma_ns > 0 ? c.power_w * (sigma_p / sigma) : c.power_w;
+            e.width_ns = sigma * (2.0 * std::sqrt(2.0 * std::log(2.0)));  // FWHM
+            if (e.amplitude_w >= threshold_w) {
+                e.power_w = sampled_energy(config, c, s.waveform);
+                out.push_back(e);
+            }
+            return;
+        }
+    }
+    s.group.clear();
+    bool with_binned = false;
+    double peaks_w = 0.0;  // the waveform is nowhere higher than its pulses' peaks summed
+    for (const std::size_t m : s.members) {
+        if (m == kBinned) {
+            with_binned = true;
+        } else {
+            const EchoContribution& c = contributions[m];
+            s.group.push_back(c);
+            peaks_w += c.sigma_ns > 0 ? c.power_w * (sigma_p / c.sigma_ns) : c.power_w;
+        }
+    }
+    if (!with_binned && peaks_w < kUnfittedFraction * threshold_w) {
+        return;  // every span's top is below it: none is reported
+    }
+    static const BinnedEcho kNone;
+    build_waveform(config, s.group, with_binned ? binned : kNone, s.waveform);
+    // With the fog's echo (its slabs' ripples are spans too) every span is fitted, as before.
+    detect_echoes(config, s.waveform, threshold_w,
+                  with_binned ? 0.0 : kUnfittedFraction * threshold_w, out);
+}
+
+}  // namespace
+
+void detect_echoes_in_groups(const WaveformConfig& config,
+                             std::span<const EchoContribution> contributions,
+                             const BinnedEcho& binned, double threshold_w, std::vector<Echo>& out) {
+    thread_local GroupScratch s;
+    find_reaches(config, contributions, binned, s.reaches);
+    // Groups apart by the least separation at least, so that their tops are separate echoes in
+    // the whole waveform too (and by one bin: a 0 sample between them).
+    const double min_separation_ns = config.min_separation_or_default_m() * round_trip_ns_per_m();
+    const auto gap = std::max<std::int64_t>(
+        1, static_cast<std::int64_t>(std::ceil(min_separation_ns / config.bin_ns)));
+    for (std::size_t i = 0; i < s.reaches.size();) {
+        s.members.assign(1, s.reaches[i].index);
+        std::int64_t end = s.reaches[i].b1;
+        for (++i; i < s.reaches.size() && s.reaches[i].b0 <= end + gap; ++i) {
+            s.members.push_back(s.reaches[i].index);
+            end = std::max(end, s.reaches[i].b1);
+        }
+        std::sort(s.members.begin(), s.members.end());
+        detect_group(config, contributions, binned, threshold_w, s, out);
+    }
+}
+
+}  // namespace beamtrace
