@@ -1,10 +1,12 @@
 // `beamtrace survey`: the stages (poses and rays, trace, physics, points) of each block of
 // pulses on the pool threads, the sinks' encoding beside them, the sinks' writes in block order
-// on one writer thread (docs/dev/architecture-pipeline.md).
+// by whichever pool thread completes the next block in order, or on a writer thread where the
+// pool leaves a core idle (docs/dev/architecture-pipeline.md).
 #include <algorithm>
 #include <chrono>
 #include <optional>
 #include <system_error>
+#include <thread>
 
 #include "beamtrace/core/cancel.hpp"
 #include "beamtrace/core/error.hpp"
@@ -36,6 +38,13 @@ void create_output_dir(const std::filesystem::path& dir) {
     }
 }
 
+/// Writing on the pool threads where they take every core; a writer thread of its own where the
+/// pool leaves a core idle (e.g. one thread on a two-core machine), which then writes for free.
+detail::BlockWriter block_writer(const ThreadPool& pool) {
+    return pool.size() < std::thread::hardware_concurrency() ? detail::BlockWriter::own_thread
+                                                             : detail::BlockWriter::combining;
+}
+
 /// Runs every block of `session` on the pool, encodes it for `sinks` beside it and writes them
 /// to `sinks` in block order, with at most `window` blocks in flight; returns the number of
 /// points written and of the weather's among them. Checks `cancel` before each block is taken and
@@ -48,17 +57,20 @@ std::pair<std::uint64_t, std::uint64_t> stream_blocks(const detail::SurveySessio
     const std::size_t blocks = session.blocks();
     const std::size_t progress_every = std::max<std::size_t>(1, window / 4);
     std::uint64_t points = 0, weather_points = 0;
-    detail::OrderedBlocks ordered(blocks, window, [&](std::size_t k, detail::BlockOutput& out) {
-        throw_if_cancelled(cancel, "survey");  // on the writer: finish() rethrows it
-        sinks.write(out);
-        points += out.points;
-        weather_points += out.weather_points;
-        if (progress && ((k + 1) % progress_every == 0 || k + 1 == blocks)) {
-            progress(static_cast<std::size_t>(
-                         std::min<std::uint64_t>((k + 1) * detail::kBlockPulses, pulses)),
-                     static_cast<std::size_t>(pulses));
-        }
-    });
+    detail::OrderedBlocks ordered(
+        blocks, window,
+        [&](std::size_t k, detail::BlockOutput& out) {
+            throw_if_cancelled(cancel, "survey");  // finish() rethrows it
+            sinks.write(out);
+            points += out.points;
+            weather_points += out.weather_points;
+            if (progress && ((k + 1) % progress_every == 0 || k + 1 == blocks)) {
+                progress(static_cast<std::size_t>(
+                             std::min<std::uint64_t>((k + 1) * detail::kBlockPulses, pulses)),
+                         static_cast<std::size_t>(pulses));
+            }
+        },
+        block_writer(pool));
     if (progress) {
         progress(
             0, static_cast<std::size_t>(pulses));  // the survey stage starts: rates count from here

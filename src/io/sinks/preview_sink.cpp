@@ -13,6 +13,8 @@
 #include <memory>
 #include <mutex>
 #include <string>
+#include <system_error>
+#include <thread>
 
 #include "beamtrace/io/colormap.hpp"
 #include "beamtrace/io/png_writer.hpp"
@@ -63,11 +65,10 @@ Raster raster_for(const Vec3d& lo, const Vec3d& hi, std::uint64_t points) {
     return r;
 }
 
-/// Closes runs of at most kGapPixels empty pixels between two hits along a row (dx = 1) or a
-/// column (dx = 0) at the lower of the two heights.
-void close_gaps(Raster& r, bool rows) {
-    const int lines = rows ? r.height : r.width, n = rows ? r.width : r.height;
-    for (int l = 0; l < lines; ++l) {
+/// close_gaps() on lines [l0, l1).
+void close_gaps(Raster& r, bool rows, int l0, int l1) {
+    const int n = rows ? r.width : r.height;
+    for (int l = l0; l < l1; ++l) {
         int last = -1;
         for (int k = 0; k < n; ++k) {
             const float z = rows ? r.at(k, l) : r.at(l, k);
@@ -83,6 +84,35 @@ void close_gaps(Raster& r, bool rows) {
             last = k;
         }
     }
+}
+
+/// Runs f(begin, end) over [0, n) in two halves, the second on a thread of its own where the
+/// machine has a second core: the commit's work per line or pixel, each independent of the
+/// others (the result does not depend on the split). The survey's pool is idle by then.
+template <class F>
+void in_halves(std::size_t n, const F& f) {
+    if (n >= 64 && std::thread::hardware_concurrency() >= 2) {
+        std::thread other;
+        try {
+            other = std::thread([&] { f(n / 2, n); });
+        } catch (const std::system_error&) {  // no thread to be had: all on this one
+            f(0, n);
+            return;
+        }
+        f(0, n / 2);
+        other.join();
+        return;
+    }
+    f(0, n);
+}
+
+/// Closes runs of at most kGapPixels empty pixels between two hits along a row (dx = 1) or a
+/// column (dx = 0) at the lower of the two heights.
+void close_gaps(Raster& r, bool rows) {
+    const int lines = rows ? r.height : r.width;
+    in_halves(static_cast<std::size_t>(lines), [&](std::size_t l0, std::size_t l1) {
+        close_gaps(r, rows, static_cast<int>(l0), static_cast<int>(l1));
+    });
 }
 
 struct Crop {
@@ -172,11 +202,10 @@ void draw_scale_bar(std::vector<std::uint8_t>& rgb, int w, int h, double cell_m)
     detail::draw_text(rgb, w, h, x0, ty, s, text, {255, 255, 255});
 }
 
-std::vector<std::uint8_t> render(const Raster& r, const Crop& c) {
-    std::vector<std::uint8_t> rgb(
-        3 * static_cast<std::size_t>(c.width()) * static_cast<std::size_t>(c.height()), 40);
+/// The pixels of rows [y0, y1) of the crop into `rgb`.
+void render_rows(const Raster& r, const Crop& c, int y0, int y1, std::vector<std::uint8_t>& rgb) {
     const double span = static_cast<double>(c.z_hi) - static_cast<double>(c.z_lo);
-    for (int y = c.y0; y < c.y1; ++y) {
+    for (int y = y0; y < y1; ++y) {
         for (int x = c.x0; x < c.x1; ++x) {
             const float z = r.at(x, y);
             if (z == kEmpty) {
@@ -191,6 +220,14 @@ std::vector<std::uint8_t> render(const Raster& r, const Crop& c) {
             detail::put_pixel(rgb, c.width(), c.height(), x - c.x0, y - c.y0, colour);
         }
     }
+}
+
+std::vector<std::uint8_t> render(const Raster& r, const Crop& c) {
+    std::vector<std::uint8_t> rgb(
+        3 * static_cast<std::size_t>(c.width()) * static_cast<std::size_t>(c.height()), 40);
+    in_halves(static_cast<std::size_t>(c.height()), [&](std::size_t b, std::size_t e) {
+        render_rows(r, c, c.y0 + static_cast<int>(b), c.y0 + static_cast<int>(e), rgb);
+    });
     draw_scale_bar(rgb, c.width(), c.height(), r.cell_m);
     return rgb;
 }
@@ -270,12 +307,14 @@ class PreviewSink final : public PointSink {
             layers_.push_back(take_layer());
         }
         raster_.z = std::move(*layers_.front());
-        for (std::size_t l = 1; l < layers_.size(); ++l) {
-            const float* z = layers_[l]->data();
-            for (std::size_t i = 0; i < raster_.z.size(); ++i) {
-                raster_.z[i] = std::max(raster_.z[i], z[i]);
+        in_halves(raster_.z.size(), [&](std::size_t b, std::size_t e) {
+            for (std::size_t l = 1; l < layers_.size(); ++l) {
+                const float* z = layers_[l]->data();
+                for (std::size_t i = b; i < e; ++i) {
+                    raster_.z[i] = std::max(raster_.z[i], z[i]);
+                }
             }
-        }
+        });
         layers_.clear();
     }
 
