@@ -20,7 +20,7 @@ namespace {
 
 }  // namespace
 
-MappedFile::MappedFile(const std::filesystem::path& final_path, std::size_t size)
+MappedFile::MappedFile(const std::filesystem::path& final_path, std::size_t size, bool buffered)
     : file_(final_path), size_(size) {
     fd_ = ::open(file_.temp_path().c_str(), O_RDWR | O_CLOEXEC);
     if (fd_ < 0) {
@@ -37,12 +37,11 @@ MappedFile::MappedFile(const std::filesystem::path& final_path, std::size_t size
         fd_ = -1;
         fail(path(), what, error);
     }
-    void* map = ::mmap(nullptr, size_, PROT_READ | PROT_WRITE, MAP_SHARED, fd_, 0);
-    if (map == MAP_FAILED) {
-        const int error = errno;
-        ::close(fd_);
-        fd_ = -1;
-        fail(path(), "cannot map " + std::to_string(size_) + " bytes", error);
+    void* map =
+        buffered ? MAP_FAILED : ::mmap(nullptr, size_, PROT_READ | PROT_WRITE, MAP_SHARED, fd_, 0);
+    if (map == MAP_FAILED) {  // e.g. a FUSE file system without shared mappings
+        buffer_ = std::make_unique<char[]>(size_);  // zeros, as the file's
+        map = buffer_.get();
     }
     data_ = static_cast<char*>(map);
 }
@@ -56,15 +55,32 @@ MappedFile::~MappedFile() {
 }
 
 void MappedFile::unmap() noexcept {
-    if (data_ != nullptr) {
+    if (data_ != nullptr && buffer_ == nullptr) {
         ::munmap(data_, size_);
-        data_ = nullptr;
+    }
+    data_ = nullptr;
+    buffer_.reset();
+}
+
+void MappedFile::write_buffer() const {
+    for (std::size_t done = 0; done < size_;) {
+        const ssize_t n = ::pwrite(fd_, data_ + done, size_ - done, static_cast<off_t>(done));
+        if (n < 0 && errno == EINTR) {
+            continue;
+        }
+        if (n <= 0) {
+            fail(path(), "write failed", n < 0 ? errno : EIO);
+        }
+        done += static_cast<std::size_t>(n);
     }
 }
 
 void MappedFile::commit() {
     if (fd_ < 0) {
         throw OutputError(path().string() + ": commit called twice");
+    }
+    if (buffer_ != nullptr) {
+        write_buffer();
     }
     unmap();
     size_ = 0;

@@ -33,35 +33,40 @@ std::string random_bytes(std::size_t n, unsigned seed) {
 }
 
 // Three threads fill interleaved pieces of odd sizes (not page multiples): the file holds
-// exactly the bytes, under its final name only after commit().
+// exactly the bytes, under its final name only after commit(). The same through the buffer of
+// file systems that cannot map files.
 TEST(MappedFile, ThreadsFillTheirRangesAndCommitRenamesIntoPlace) {
     test::TempDir dir;
     const std::string expected = random_bytes(3 * 1048576 + 4097, 21);
-    const fs::path path = dir / "out.bin";
-    MappedFile file(path, expected.size());
-    ASSERT_EQ(file.bytes().size(), expected.size());
-    EXPECT_FALSE(fs::exists(path));
-    EXPECT_EQ(fs::file_size(file.temp_path()), expected.size());  // reserved up front
-    constexpr std::size_t kPiece = 65536 + 37;
-    const std::size_t pieces = (expected.size() + kPiece - 1) / kPiece;
-    std::vector<std::thread> threads;
-    for (std::size_t t = 0; t < 3; ++t) {
-        threads.emplace_back([&, t] {
-            for (std::size_t k = t; k < pieces; k += 3) {
-                const std::size_t n = std::min(kPiece, expected.size() - k * kPiece);
-                std::memcpy(file.bytes().data() + k * kPiece, expected.data() + k * kPiece, n);
-            }
-        });
+    for (const bool buffered : {false, true}) {
+        const fs::path path = dir / (buffered ? "buffered.bin" : "mapped.bin");
+        MappedFile file(path, expected.size(), buffered);
+        EXPECT_EQ(file.mapped(), !buffered);
+        ASSERT_EQ(file.bytes().size(), expected.size());
+        EXPECT_EQ(file.bytes()[12345], 0);
+        EXPECT_FALSE(fs::exists(path));
+        EXPECT_EQ(fs::file_size(file.temp_path()), expected.size());  // reserved up front
+        constexpr std::size_t kPiece = 65536 + 37;
+        const std::size_t pieces = (expected.size() + kPiece - 1) / kPiece;
+        std::vector<std::thread> threads;
+        for (std::size_t t = 0; t < 3; ++t) {
+            threads.emplace_back([&, t] {
+                for (std::size_t k = t; k < pieces; k += 3) {
+                    const std::size_t n = std::min(kPiece, expected.size() - k * kPiece);
+                    std::memcpy(file.bytes().data() + k * kPiece, expected.data() + k * kPiece, n);
+                }
+            });
+        }
+        for (auto& t : threads) {
+            t.join();
+        }
+        EXPECT_FALSE(fs::exists(path));
+        file.commit();
+        EXPECT_TRUE(file.bytes().empty());
+        EXPECT_TRUE(test::read_file(path) == expected) << "buffered " << buffered;
+        EXPECT_THROW(file.commit(), OutputError);
     }
-    for (auto& t : threads) {
-        t.join();
-    }
-    EXPECT_FALSE(fs::exists(path));
-    file.commit();
-    EXPECT_TRUE(file.bytes().empty());
-    EXPECT_TRUE(test::read_file(path) == expected);
-    EXPECT_EQ(test::entry_count(dir.path()), 1u);  // no temporary file left
-    EXPECT_THROW(file.commit(), OutputError);
+    EXPECT_EQ(test::entry_count(dir.path()), 2u);  // no temporary file left
 }
 
 TEST(MappedFile, AnEmptyFileNeedsNoMapping) {
@@ -78,19 +83,21 @@ TEST(MappedFile, AnEmptyFileNeedsNoMapping) {
 TEST(MappedFile, AFailureMidWriteLeavesNoFileAndThePreviousOneUntouched) {
     test::TempDir dir;
     test::write_file(dir / "out.bin", "the previous run's file\n");
-    fs::path temp;
-    try {
-        MappedFile file(dir / "out.bin", 1 << 20);
-        temp = file.temp_path();
-        std::memset(file.bytes().data(), 'x', 1 << 19);
-        EXPECT_TRUE(fs::exists(temp));
-        throw std::runtime_error("encoder failed");
-    } catch (const std::runtime_error&) {
+    for (const bool buffered : {false, true}) {
+        fs::path temp;
+        try {
+            MappedFile file(dir / "out.bin", 1 << 20, buffered);
+            temp = file.temp_path();
+            std::memset(file.bytes().data(), 'x', 1 << 19);
+            EXPECT_TRUE(fs::exists(temp));
+            throw std::runtime_error("encoder failed");
+        } catch (const std::runtime_error&) {
+        }
+        EXPECT_FALSE(temp.empty());
+        EXPECT_FALSE(fs::exists(temp));
+        EXPECT_EQ(test::read_file(dir / "out.bin"), "the previous run's file\n");
+        EXPECT_EQ(test::entry_count(dir.path()), 1u);
     }
-    EXPECT_FALSE(temp.empty());
-    EXPECT_FALSE(fs::exists(temp));
-    EXPECT_EQ(test::read_file(dir / "out.bin"), "the previous run's file\n");
-    EXPECT_EQ(test::entry_count(dir.path()), 1u);
 }
 
 TEST(MappedFile, AMissingFolderIsAnOutputErrorNamingThePath) {

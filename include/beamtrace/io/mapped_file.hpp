@@ -4,6 +4,7 @@
 
 #include <cstddef>
 #include <filesystem>
+#include <memory>
 #include <span>
 
 #include "beamtrace/core/atomic_file.hpp"
@@ -16,10 +17,13 @@ namespace beamtrace {
 /// bytes() straight into the page cache: no buffer, no copy by write(2). commit() unmaps, closes
 /// and renames; destroyed before, it removes the temporary file (as AtomicFile does).
 ///
+/// On a file system that cannot map files (mmap fails), or with `buffered`, bytes() is memory of
+/// its own instead, written to the file by commit(): the same bytes, a copy slower.
+///
 /// Failures throw OutputError naming the final path, the step and the system's reason.
 class MappedFile {
   public:
-    MappedFile(const std::filesystem::path& final_path, std::size_t size);
+    MappedFile(const std::filesystem::path& final_path, std::size_t size, bool buffered = false);
     ~MappedFile();
     MappedFile(const MappedFile&) = delete;
     MappedFile& operator=(const MappedFile&) = delete;
@@ -28,7 +32,9 @@ class MappedFile {
 
     /// The file's bytes (zero until written); empty after commit().
     [[nodiscard]] std::span<char> bytes() const { return {data_, size_}; }
-    /// Unmaps, closes and renames the file onto its final path.
+    /// Whether bytes() is the file's mapping (false: a buffer written by commit()).
+    [[nodiscard]] bool mapped() const { return buffer_ == nullptr; }
+    /// Unmaps (or writes the buffer), closes and renames the file onto its final path.
     void commit();
 
     [[nodiscard]] const std::filesystem::path& path() const { return file_.path(); }
@@ -36,11 +42,13 @@ class MappedFile {
 
   private:
     void unmap() noexcept;
+    void write_buffer() const;
 
-    AtomicFile file_;  ///< the temporary name, its removal and the rename
-    int fd_ = -1;      ///< the temporary file opened read-write (mmap needs it)
-    char* data_ = nullptr;
+    AtomicFile file_;       ///< the temporary name, its removal and the rename
+    int fd_ = -1;           ///< the temporary file opened read-write (mmap needs it)
+    char* data_ = nullptr;  ///< the mapping, or buffer_
     std::size_t size_ = 0;
+    std::unique_ptr<char[]> buffer_;
 };
 
 }  // namespace beamtrace
