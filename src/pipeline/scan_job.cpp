@@ -326,7 +326,8 @@ class ScanWriter {
             npy_.emplace(config_.output_dir / "range.npy", header.size() + w * h * sizeof(float));
             const std::span<char> bytes = npy_->bytes();
             std::memcpy(bytes.data(), header.data(), header.size());
-            image = reinterpret_cast<float*>(bytes.data() + header.size());  // 64-byte aligned
+            // The header is 64-byte padded: the floats are aligned.
+            image = reinterpret_cast<float*>(bytes.data() + header.size());
         } else {
             range_storage_ = std::make_unique_for_overwrite<float[]>(w * h);
             image = range_storage_.get();
