@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cassert>
 #include <cerrno>
 #include <chrono>
 #include <cmath>
@@ -19,6 +20,7 @@
 #include "beamtrace/core/error.hpp"
 #include "beamtrace/core/name_table.hpp"
 #include "beamtrace/io/hits_csv.hpp"
+#include "beamtrace/io/mapped_file.hpp"
 #include "beamtrace/io/npy.hpp"
 #include "beamtrace/io/png_writer.hpp"
 #include "beamtrace/io/point_cloud_ply.hpp"
@@ -167,22 +169,18 @@ class ParallelFile {
     int fd_;
 };
 
-/// The counts of every chunk of kTraceChunk rays, and the range image: what the writers need
-/// before they lay out their files.
+/// The counts of every chunk of kTraceChunk rays: what the writers need before they lay out
+/// their files.
 struct ScanTally {
     std::vector<std::size_t> hits;  ///< per chunk
     std::vector<std::size_t> kept;  ///< per chunk: hits not on excluded faces (points.ply)
-    /// Row-major width x height metres (misses 0), when an image output is wanted; else empty.
-    std::span<const float> range;
-    std::unique_ptr<float[]> range_storage;
 };
 
-/// The range image of `hits`: pixel (v, u) is ray u * height + v. Bands of rows on the pool's
-/// threads, so that the reads (down a column of rays) and the writes (along the rows) both stay
-/// within a few cache lines.
-std::unique_ptr<float[]> range_image(const HitBatch& hits, std::size_t w, std::size_t h,
-                                     ThreadPool& pool) {
-    auto image = std::make_unique_for_overwrite<float[]>(w * h);
+/// The range image of `hits` into `image` (row-major w x h metres, misses 0): pixel (v, u) is
+/// ray u * h + v. Bands of rows on the pool's threads, so that the reads (down a column of rays)
+/// and the writes (along the rows) both stay within a few cache lines.
+void range_image(const HitBatch& hits, std::size_t w, std::size_t h, ThreadPool& pool,
+                 float* image) {
     constexpr std::size_t kBand = 16;
     pool.parallel_for(h, kBand, [&](std::size_t vb, std::size_t ve) {
         for (std::size_t u = 0; u < w; ++u) {
@@ -191,16 +189,13 @@ std::unique_ptr<float[]> range_image(const HitBatch& hits, std::size_t w, std::s
             }
         }
     });
-    return image;
 }
 
-/// Counts each chunk's hits and points (chunks on the pool's threads) and, with `image`, makes
-/// the range image.
-ScanTally tally_scan(const ScanJobConfig& config, const HitBatch& hits, int width, int height,
-                     bool image, ThreadPool& pool) {
+/// Counts each chunk's hits and points (chunks on the pool's threads).
+ScanTally tally_scan(const ScanJobConfig& config, const HitBatch& hits, ThreadPool& pool) {
     const std::size_t n = hits.size();
     const std::size_t chunks = (n + kTraceChunk - 1) / kTraceChunk;
-    ScanTally tally{std::vector<std::size_t>(chunks), std::vector<std::size_t>(chunks), {}, {}};
+    ScanTally tally{std::vector<std::size_t>(chunks), std::vector<std::size_t>(chunks)};
     const std::vector<FaceRange>& exclude = config.exclude_faces;
     pool.parallel_for(chunks, 1, [&](std::size_t cb, std::size_t ce) {
         for (std::size_t c = cb; c < ce; ++c) {
@@ -215,49 +210,13 @@ ScanTally tally_scan(const ScanJobConfig& config, const HitBatch& hits, int widt
             tally.kept[c] = kept;
         }
     });
-    if (image) {
-        const auto w = static_cast<std::size_t>(width), h = static_cast<std::size_t>(height);
-        tally.range_storage = range_image(hits, w, h, pool);
-        tally.range = std::span<const float>(tally.range_storage.get(), w * h);
-    }
     return tally;
 }
 
-/// Encoding buffers of one size handed from task to task, so that a thread touches the pages
-/// of its buffer once rather than the allocator's fresh pages for every chunk.
-class BufferStack {
-  public:
-    explicit BufferStack(std::size_t bytes) : bytes_(std::max<std::size_t>(bytes, 1)) {}
-    [[nodiscard]] std::unique_ptr<char[]> take() {
-        {
-            const std::lock_guard lock(mutex_);
-            if (!free_.empty()) {
-                auto b = std::move(free_.back());
-                free_.pop_back();
-                return b;
-            }
-        }
-        return std::make_unique_for_overwrite<char[]>(bytes_);
-    }
-    void give(std::unique_ptr<char[]> buffer) {
-        const std::lock_guard lock(mutex_);
-        free_.push_back(std::move(buffer));
-    }
-
-  private:
-    std::size_t bytes_;
-    std::mutex mutex_;
-    std::vector<std::unique_ptr<char[]>> free_;
-};
-
 /// Encodes the points of chunk `c` (rays [c, c + 1) x kTraceChunk, without the excluded faces)
-/// as points.ply records and writes them at `offset`.
-void write_ply_chunk(const ScanJobConfig& config, const RayBatch& rays, const HitBatch& hits,
-                     std::size_t c, std::size_t points, std::uint64_t offset,
-                     const ParallelFile& file, BufferStack& buffers) {
-    const std::size_t bytes = points * kPlyRecordBytes;
-    std::unique_ptr<char[]> buffer = buffers.take();
-    char* p = buffer.get();
+/// as points.ply records at `out`; returns the end.
+char* encode_ply_chunk(const ScanJobConfig& config, const RayBatch& rays, const HitBatch& hits,
+                       std::size_t c, char* out) {
     const std::vector<FaceRange>& exclude = config.exclude_faces;
     const std::size_t end = std::min(rays.size(), (c + 1) * kTraceChunk);
     for (std::size_t i = c * kTraceChunk; i < end; ++i) {
@@ -265,18 +224,19 @@ void write_ply_chunk(const ScanJobConfig& config, const RayBatch& rays, const Hi
             continue;
         }
         const double t = hits.t[i];  // as scan_points places the points
-        p = encode_ply_record(rays.ox[i] + t * rays.dx[i], rays.oy[i] + t * rays.dy[i],
-                              rays.oz[i] + t * rays.dz[i], hits.t[i], hits.face[i],
-                              static_cast<std::uint32_t>(i), p);
+        out = encode_ply_record(rays.ox[i] + t * rays.dx[i], rays.oy[i] + t * rays.dy[i],
+                                rays.oz[i] + t * rays.dz[i], hits.t[i], hits.face[i],
+                                static_cast<std::uint32_t>(i), out);
     }
-    file.write_at(std::string_view(buffer.get(), bytes), offset);
-    buffers.give(std::move(buffer));
+    return out;
 }
 
-/// The outputs of one scan being written. points.ply, range.npy and hits.csv are written by
-/// several threads at once at offsets known from the tally, and renamed into place once all
-/// succeeded; range.png and points.laz are each one task, committed when done. Destroyed after a
-/// failure, it leaves none of them (remove_committed() for those already renamed).
+/// The outputs of one scan being written. points.ply and range.npy are mapped files (their
+/// sizes are known from the tally) that the pool's threads fill in place, points.ply a chunk of
+/// rays each; hits.csv is written by several threads at once at offsets known once its rows are
+/// formatted. These three are renamed into place once all succeeded; range.png and points.laz
+/// are each one task, committed when done. Destroyed after a failure, it leaves none of them
+/// (remove_committed() for those already renamed).
 class ScanWriter {
   public:
     ScanWriter(const ScanJobConfig& config, const RayBatch& rays, const HitBatch& hits, int width,
@@ -291,30 +251,20 @@ class ScanWriter {
     /// Writes every output on the pool's threads; returns them in the order ply, npy, png,
     /// csv, laz, and range.png's summary line in `notes`.
     std::vector<std::filesystem::path> run(ThreadPool& pool, std::vector<std::string>& notes) {
-        open_files();
+        open_files(pool);
         pool.parallel_for(tasks_.size(), 1, [&](std::size_t b, std::size_t e) {
             for (std::size_t k = b; k < e; ++k) {
                 throw_if_cancelled(config_.cancel, "scan");
                 run_task(tasks_[k]);
             }
         });
-        if (csv_) {  // its rows are formatted; their offsets are known now
-            std::vector<std::uint64_t> at(csv_rows_.size() + 1, kHitsCsvHeader.size());
-            for (std::size_t c = 0; c < csv_rows_.size(); ++c) {
-                at[c + 1] = at[c] + csv_rows_[c].size();
-            }
-            pool.parallel_for(csv_rows_.size(), 1, [&](std::size_t b, std::size_t e) {
-                for (std::size_t c = b; c < e; ++c) {
-                    throw_if_cancelled(config_.cancel, "scan");
-                    csv_->write_at(csv_rows_[c], at[c]);
-                }
-            });
+        if (csv_) {
+            write_csv(pool);
         }
         throw_if_cancelled(config_.cancel, "scan");
         std::vector<std::filesystem::path> files;
-        for (auto* f : {&ply_, &npy_}) {
-            commit(*f, files);
-        }
+        commit(ply_, files);
+        commit(npy_, files);
         append_done(files, "range.png");
         commit(csv_, files);
         append_done(files, "points.laz");
@@ -331,7 +281,7 @@ class ScanWriter {
     }
 
   private:
-    enum class Kind { laz, png, npy, ply, csv };
+    enum class Kind { laz, png, ply, csv };
     struct Task {
         Kind kind;
         std::size_t chunk = 0;
@@ -339,20 +289,19 @@ class ScanWriter {
 
     [[nodiscard]] bool image() const { return width_ > 0 && height_ > 0; }
 
-    /// Opens the files written in parallel (with their headers) and lists the tasks, the
-    /// longest first.
-    void open_files() {
+    /// Opens the files written in parallel (with their headers), makes the range image (in
+    /// range.npy's mapping when it is written) and lists the tasks, the longest first.
+    void open_files(ThreadPool& pool) {
         const ScanOutputs& o = config_.outputs;
         const std::size_t chunks = tally_.kept.size();
         if (o.laz) {
             tasks_.push_back({Kind::laz});
         }
+        if ((o.npy || o.png) && image()) {
+            make_range_image(pool);
+        }
         if (o.png && image()) {
             tasks_.push_back({Kind::png});
-        }
-        if (o.npy && image()) {
-            npy_.emplace(config_.output_dir / "range.npy");
-            tasks_.push_back({Kind::npy});
         }
         if (o.csv) {
             csv_.emplace(config_.output_dir / "hits.csv");
@@ -367,6 +316,26 @@ class ScanWriter {
         }
     }
 
+    /// The range image (row-major, width x height metres, misses 0): written straight into
+    /// range.npy after its header, or into memory of its own for range.png alone.
+    void make_range_image(ThreadPool& pool) {
+        const auto w = static_cast<std::size_t>(width_), h = static_cast<std::size_t>(height_);
+        float* image = nullptr;
+        if (config_.outputs.npy) {
+            const std::string header = npy_f32_header(h, w);
+            npy_.emplace(config_.output_dir / "range.npy", header.size() + w * h * sizeof(float));
+            const std::span<char> bytes = npy_->bytes();
+            std::memcpy(bytes.data(), header.data(), header.size());
+            // The header is 64-byte padded: the floats are aligned.
+            image = reinterpret_cast<float*>(bytes.data() + header.size());
+        } else {
+            range_storage_ = std::make_unique_for_overwrite<float[]>(w * h);
+            image = range_storage_.get();
+        }
+        range_image(hits_, w, h, pool, image);
+        range_ = std::span<const float>(image, w * h);
+    }
+
     void open_ply() {
         const std::string comment = "generated by beamtrace " BEAMTRACE_VERSION " scan (backend " +
                                     std::string(to_string(config_.backend)) + ")";
@@ -375,8 +344,8 @@ class ScanWriter {
             points += k;
         }
         const std::string header = points_ply_header(points, comment);
-        ply_.emplace(config_.output_dir / "points.ply");
-        ply_->write_at(header, 0);
+        ply_.emplace(config_.output_dir / "points.ply", header.size() + points * kPlyRecordBytes);
+        std::memcpy(ply_->bytes().data(), header.data(), header.size());
         ply_at_.assign(1, header.size());
         for (std::size_t c = 0; c < tally_.kept.size(); ++c) {
             ply_at_.push_back(ply_at_.back() + tally_.kept[c] * kPlyRecordBytes);
@@ -391,29 +360,37 @@ class ScanWriter {
                 break;
             case Kind::png: {
                 const auto path = config_.output_dir / "range.png";
-                std::string note = write_range_png(path, tally_.range, width_, height_);
+                std::string note = write_range_png(path, range_, width_, height_);
                 done({path}, std::move(note));
                 break;
             }
-            case Kind::npy: {
-                const std::string header = npy_f32_header(static_cast<std::size_t>(height_),
-                                                          static_cast<std::size_t>(width_));
-                npy_->write_at(header, 0);
-                npy_->write_at(std::string_view(reinterpret_cast<const char*>(tally_.range.data()),
-                                                tally_.range.size_bytes()),
-                               header.size());
+            case Kind::ply: {
+                char* const out = ply_->bytes().data() + ply_at_[t.chunk];
+                [[maybe_unused]] const char* end =
+                    encode_ply_chunk(config_, rays_, hits_, t.chunk, out);
+                assert(end == ply_->bytes().data() + ply_at_[t.chunk + 1]);
                 break;
             }
-            case Kind::ply:
-                write_ply_chunk(config_, rays_, hits_, t.chunk, tally_.kept[t.chunk],
-                                ply_at_[t.chunk], *ply_, ply_buffers_);
-                break;
             case Kind::csv:
                 append_hits_csv_rows(hits_, t.chunk * kTraceChunk,
                                      std::min(hits_.size(), (t.chunk + 1) * kTraceChunk),
                                      csv_rows_[t.chunk]);
                 break;
         }
+    }
+
+    /// hits.csv's rows are formatted; their offsets are known now.
+    void write_csv(ThreadPool& pool) {
+        std::vector<std::uint64_t> at(csv_rows_.size() + 1, kHitsCsvHeader.size());
+        for (std::size_t c = 0; c < csv_rows_.size(); ++c) {
+            at[c + 1] = at[c] + csv_rows_[c].size();
+        }
+        pool.parallel_for(csv_rows_.size(), 1, [&](std::size_t b, std::size_t e) {
+            for (std::size_t c = b; c < e; ++c) {
+                throw_if_cancelled(config_.cancel, "scan");
+                csv_->write_at(csv_rows_[c], at[c]);
+            }
+        });
     }
 
     /// A task's files are in place (and its summary line).
@@ -425,7 +402,8 @@ class ScanWriter {
         }
     }
 
-    void commit(std::optional<ParallelFile>& f, std::vector<std::filesystem::path>& files) {
+    template <typename File>
+    void commit(std::optional<File>& f, std::vector<std::filesystem::path>& files) {
         if (f) {
             f->commit();
             committed_.push_back(f->path());
@@ -448,30 +426,16 @@ class ScanWriter {
     int width_, height_;
     ScanTally tally_;
     std::vector<Task> tasks_;
-    std::optional<ParallelFile> ply_, npy_, csv_;
-    BufferStack ply_buffers_{kTraceChunk * kPlyRecordBytes};
-    std::vector<std::uint64_t> ply_at_;  ///< per chunk: offset of its first record
+    std::optional<MappedFile> ply_, npy_;
+    std::optional<ParallelFile> csv_;
+    std::vector<std::uint64_t> ply_at_;  ///< per chunk: offset of its first record, then the end
+    std::span<const float> range_;       ///< the range image, in npy_ or range_storage_
+    std::unique_ptr<float[]> range_storage_;
     std::vector<std::string> csv_rows_;  ///< per chunk: its formatted rows
     std::mutex mutex_;                   ///< guards committed_ and notes_ during the tasks
     std::vector<std::filesystem::path> committed_;
     std::vector<std::string> notes_;
 };
-
-/// Writes the outputs config.outputs selects (ScanWriter). On an error or a cancel, none of them
-/// is left.
-std::vector<std::filesystem::path> write_scan_outputs(const ScanJobConfig& config,
-                                                      const RayBatch& rays, const HitBatch& hits,
-                                                      int width, int height, ScanTally tally,
-                                                      ThreadPool& pool,
-                                                      std::vector<std::string>& notes) {
-    ScanWriter writer(config, rays, hits, width, height, std::move(tally));
-    try {
-        return writer.run(pool, notes);
-    } catch (...) {
-        writer.remove_committed();
-        throw;
-    }
-}
 
 /// The scan's rays, and the range image's width x height (0 x 0: none).
 RayBatch cast_scan_rays(const ScanJobConfig& config, int& width, int& height) {
@@ -612,6 +576,29 @@ std::vector<std::string> ScanJobConfig::validate() const {
     return p;
 }
 
+ScanWritten write_scan_outputs(const ScanJobConfig& config, const RayBatch& rays,
+                               const HitBatch& hits, int width, int height, ThreadPool& pool) {
+    CreatedDirs created(config.output_dir);  // removed if empty on an error or interrupt
+    prepare_output_dir(config.output_dir);
+    ScanWritten written;
+    ScanTally tally = tally_scan(config, hits, pool);
+    std::size_t kept = 0;
+    for (std::size_t c = 0; c < tally.hits.size(); ++c) {
+        written.hits += tally.hits[c];
+        kept += tally.kept[c];
+    }
+    written.points_written = config.outputs.ply || config.outputs.laz ? kept : 0;
+    ScanWriter writer(config, rays, hits, width, height, std::move(tally));
+    try {
+        written.outputs = writer.run(pool, written.notes);
+    } catch (...) {
+        writer.remove_committed();
+        throw;
+    }
+    created.keep();
+    return written;
+}
+
 ScanResult run_scan(const ScanJobConfig& config, const ProgressFn& progress) {
     const auto problems = config.validate();
     if (!problems.empty()) {
@@ -656,20 +643,12 @@ ScanResult run_scan(const ScanJobConfig& config, const ProgressFn& progress) {
     result.trace_s = seconds_since(t0);
 
     t0 = Clock::now();
-    CreatedDirs created(config.output_dir);  // removed if empty on an error or interrupt
-    prepare_output_dir(config.output_dir);
-    const ScanOutputs& o = config.outputs;
-    ScanTally tally = tally_scan(config, hits, width, height, (o.npy || o.png) && width > 0, pool);
-    std::size_t kept = 0;
-    for (std::size_t c = 0; c < tally.hits.size(); ++c) {
-        result.hits += tally.hits[c];
-        kept += tally.kept[c];
-    }
-    result.points_written = o.ply || o.laz ? kept : 0;
-    result.outputs =
-        write_scan_outputs(config, rays, hits, width, height, std::move(tally), pool, result.notes);
-    created.keep();
+    ScanWritten written = write_scan_outputs(config, rays, hits, width, height, pool);
     result.write_s = seconds_since(t0);
+    result.hits = written.hits;
+    result.points_written = written.points_written;
+    result.outputs = std::move(written.outputs);
+    result.notes = std::move(written.notes);
     result.few_hits_reasons = detail::diagnose_scan(rays, result.hits, scene.geometry.bounds());
     return result;
 }

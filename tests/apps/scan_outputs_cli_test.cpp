@@ -2,6 +2,7 @@
 // encoded by chunk on several threads, each written at its offset) give the bytes of the
 // library's serial writers and readers.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -108,6 +109,38 @@ TEST(ScanOutputs, BadListsAreOneLineErrorsWithExit2AndWriteNothing) {
     EXPECT_NE(r.out.find("ply, npy, png, csv and laz"), std::string::npos) << r.out;
     EXPECT_NE(run("scan --demo --quiet --outputs ply,ply --output " + out).out.find("twice"),
               std::string::npos);
+}
+
+// No room for an output (a file-size limit of 128 KiB, SIGXFSZ ignored: what a full disk or a
+// quota does) or a folder that cannot be written: a one-line error naming the file, exit 2, and
+// nothing left, not even a temporary file or the folder the run created. points.ply and
+// range.npy (0.8 MB each here) are reserved at their full size before anything is written.
+TEST(ScanOutputs, NoRoomOrAReadOnlyFolderIsAOneLineErrorWithExit2AndLeavesNothing) {
+    test::TempDir dir;
+    const std::string scan = std::string(BEAMTRACE_CLI_PATH) + " scan --demo --quiet ";
+    for (const std::string file : {"points.ply", "range.npy"}) {
+        const fs::path out = dir / "new";
+        const std::string outputs = file == "points.ply" ? "ply" : "npy";
+        const auto r = test::run_command("trap '' XFSZ; ulimit -f 128; " + scan + "--outputs " +
+                                         outputs + " --output " + out.string());
+        EXPECT_EQ(r.exit_code, 2) << r.out;
+        EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << r.out;
+        EXPECT_EQ(
+            r.out.rfind("beamtrace: error: " + (out / file).string() + ": cannot reserve ", 0), 0u)
+            << r.out;
+        EXPECT_NE(r.out.find("File too large"), std::string::npos) << r.out;
+        EXPECT_FALSE(fs::exists(out)) << r.out;
+    }
+    if (::geteuid() != 0) {  // root writes anywhere
+        fs::create_directories(dir / "ro");
+        fs::permissions(dir / "ro", fs::perms::owner_read | fs::perms::owner_exec);
+        const auto r = run("scan --demo --quiet --output " + (dir / "ro").string());
+        EXPECT_EQ(r.exit_code, 2) << r.out;
+        EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << r.out;
+        EXPECT_NE(r.out.find((dir / "ro").string()), std::string::npos) << r.out;
+        EXPECT_EQ(test::entry_count(dir / "ro"), 0u);
+        fs::permissions(dir / "ro", fs::perms::owner_all);
+    }
 }
 
 /// The points.ply records of the rays in hits.csv, as the serial writer encodes them: each hit

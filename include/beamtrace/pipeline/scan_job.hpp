@@ -12,7 +12,9 @@
 
 #include "beamtrace/accel/backend.hpp"
 #include "beamtrace/core/cancel.hpp"
+#include "beamtrace/core/hit_batch.hpp"
 #include "beamtrace/core/progress.hpp"
+#include "beamtrace/core/thread_pool.hpp"
 #include "beamtrace/pipeline/face_filter.hpp"
 #include "beamtrace/scene/scene.hpp"
 #include "beamtrace/sensor/image_sensor.hpp"
@@ -104,6 +106,24 @@ struct ScanResult {
     /// When fewer than 0.1 % of the rays hit: why it may be, a line each; empty otherwise.
     std::vector<std::string> few_hits_reasons;
 };
+
+/// What write_scan_outputs wrote.
+struct ScanWritten {
+    std::size_t hits = 0;            ///< rays that hit
+    std::size_t points_written = 0;  ///< hits minus excluded faces; 0 without ply and laz
+    std::vector<std::filesystem::path> outputs;  ///< in the order ply, npy, png, csv, laz
+    std::vector<std::string> notes;              ///< the outputs' summary lines
+};
+
+/// The writing half of run_scan, on the pool's threads: the outputs config.outputs selects, into
+/// config.output_dir (created if missing), for `hits` of `rays` (hit i of ray i). The range
+/// images have `width` x `height` pixels, pixel (v, u) of ray u * height + v; 0 x 0: none (npy
+/// and png are skipped). Only config.output_dir, outputs, exclude_faces, backend (named in
+/// points.ply) and cancel are read. Throws OutputError or Interrupted, leaving none of the
+/// outputs (nor the folder, when it created it).
+[[nodiscard]] ScanWritten write_scan_outputs(const ScanJobConfig& config, const RayBatch& rays,
+                                             const HitBatch& hits, int width, int height,
+                                             ThreadPool& pool);
 
 /// Runs the scan. Throws ConfigError, InputError or OutputError with context; outputs appear
 /// only complete (each is written to a temporary file and renamed).
