@@ -258,7 +258,8 @@ BENCHMARK_CAPTURE(BM_ViewIngest, autzen_trim, 0)->Unit(benchmark::kMillisecond)-
 BENCHMARK_CAPTURE(BM_ViewIngest, autzen_8x8_tiled, 1)->Unit(benchmark::kMillisecond)->UseRealTime();
 // threads:0 = every core; threads:1 makes the CPU time the whole work of a frame (comparable
 // between runs on a loaded machine). lanes: rays traced together in SIMD lanes (0 = the most
-// the CPU has: 8 with AVX-512, 4 with AVX2; 4 and 1 are the baselines of the same run).
+// the CPU has: 8 with AVX-512, 4 with AVX2; 4 and 1 are the baselines of the same run;
+// threads:1/lanes:4 is the AVX2 kernel's whole frame in CPU time).
 BENCHMARK(BM_ViewFrame)
     ->Args({16, 8, 0, 0})
     ->Args({32, 8, 0, 0})
@@ -266,6 +267,7 @@ BENCHMARK(BM_ViewFrame)
     ->Args({32, 8, 1, 0})
     ->Args({32, 8, 0, 4})
     ->Args({32, 8, 0, 1})
+    ->Args({32, 8, 1, 4})
     ->ArgNames({"cells", "levels", "threads", "lanes"})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();

@@ -311,8 +311,12 @@ void set_up_rays(const Tile& tile, const PixelDirections& directions, const deta
             for (std::size_t j = first; j < buffers.rays.size(); ++j) {
                 if (detail::start_ray_at(buffers.rays[j], start.t, cells)) {
                     buffers.rays[j].level = start.level;
-                    buffers.rays[kept] = buffers.rays[j];
-                    buffers.pixels[kept] = buffers.pixels[j];
+                    // Only once a ray was left out: a copy onto itself reads the fields just
+                    // written in pieces, and waits for them (a store-forwarding stall).
+                    if (kept != j) {
+                        buffers.rays[kept] = buffers.rays[j];
+                        buffers.pixels[kept] = buffers.pixels[j];
+                    }
                     ++kept;
                 } else {
                     sink.miss(buffers.pixels[j]);

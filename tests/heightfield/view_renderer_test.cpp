@@ -68,6 +68,40 @@ TEST(ViewRenderer, FlatPlateauSeenStraightDownHasTheExpectedDepthAndColour) {
     }
 }
 
+TEST(ViewRenderer, ShadedFoggedPlateauHasTheColourOfItsFormulaInEveryChannel) {
+    // The plateau of the test above with shading and fog: a flat top (normal straight up, lit by
+    // 0.35 + 0.65 * the sun's height), faded to the sky by 1 - exp(-distance / fog) per channel.
+    SectionGrid grid(small_config(), {0, 0, 0});
+    test::fill_grid(grid, [](std::int64_t x, std::int64_t y) {
+        return x >= 8 && x < 24 && y >= 8 && y < 24 ? 10.0 : std::nan("");
+    });
+    ThreadPool pool(2);
+    RenderOptions options;
+    options.fog_distance = 30.0;
+    options.sky = {150, 180, 220};
+    const ViewCamera cam = camera_at({16.5, 16.5, 50.0}, 0.0, -90.0, 41, 41);
+    const ViewImage img = render_view(grid, cam, options, pool);
+    const double sun_z = 1.0 / std::sqrt(0.4 * 0.4 + 0.5 * 0.5 + 1.0);
+    const double light = 0.35 + 0.65 * sun_z;
+    const double base[3] = {255.0, 255.0, 0.0};  // one height: the middle of the ramp
+    int hits = 0;
+    for (std::size_t i = 0; i < img.depth.size(); ++i) {
+        if (!std::isfinite(img.depth[i])) {
+            continue;
+        }
+        ++hits;
+        const Vec3d d =
+            CameraRays(cam).direction(static_cast<int>(i % 41), static_cast<int>(i / 41));
+        const double f = 1.0 - std::exp(-(40.0 / -d.z) / options.fog_distance);
+        for (std::size_t k = 0; k < 3; ++k) {
+            const double c = base[k] * light * (1.0 - f) + static_cast<double>(options.sky[k]) * f;
+            EXPECT_NEAR(static_cast<double>(img.rgb[3 * i + k]), std::round(c), 1.0)
+                << "pixel " << i << " channel " << k;
+        }
+    }
+    EXPECT_GT(hits, 100);
+}
+
 TEST(ViewRenderer, EmptyCellsAreSeeThroughNotZeroHeight) {
     SectionGrid grid(small_config(), {0, 0, 0});
     // A plateau at z = 10 with a hole of empty cells in the middle; one cell at z = 0 is the

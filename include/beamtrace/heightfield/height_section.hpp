@@ -9,6 +9,8 @@
 #include <span>
 #include <vector>
 
+#include "beamtrace/heightfield/huge_page_allocator.hpp"
+
 namespace beamtrace {
 
 /// Height of a cell that holds no point: rays pass through it (it is not "height zero").
@@ -125,11 +127,13 @@ class HeightSection {
     SectionLayout layout_;
     int finest_ = 0;
     std::array<std::size_t, kMaxSectionLevels + 1> offsets_{};
-    std::vector<float> heights_;
-    std::vector<std::uint32_t> attributes_;
+    // On huge pages where the system allows (huge_page_allocator.hpp): rays' walks and the
+    // shading read them all over.
+    std::vector<float, HugePageAllocator<float>> heights_;
+    std::vector<std::uint32_t, HugePageAllocator<std::uint32_t>> attributes_;
     int stacks_ = 0;
     float stack_gap_ = 0.0f;
-    std::vector<float> stack_data_;
+    std::vector<float, HugePageAllocator<float>> stack_data_;
     float min_height_ = std::numeric_limits<float>::infinity();
 };
 

@@ -243,8 +243,12 @@ inline void shade_hit(const SectionGrid& grid, const Finest& finest, const GridR
                           static_cast<std::uint8_t>(a)}
                    : attribute_color(mode, a, grid.intensity_full_scale());
     }
-    double c[3] = {static_cast<double>(base[0]), static_cast<double>(base[1]),
-                   static_cast<double>(base[2])};
+    // Three scalars, not an array: GCC vectorised the array's loops into a 16-byte and an
+    // 8-byte store read back as one 16-byte load, which waited for both (a store-forwarding
+    // stall, a quarter of the shading's time). The same operations in the same order.
+    double c0 = static_cast<double>(base[0]);
+    double c1 = static_cast<double>(base[1]);
+    double c2 = static_cast<double>(base[2]);
     if (options.shading) {
         Vec3d n;
         if (hit.bottom) {
@@ -276,19 +280,19 @@ inline void shade_hit(const SectionGrid& grid, const Finest& finest, const GridR
         }
         const Vec3d sun = normalize(Vec3d(-0.4, -0.5, 1.0));
         const double light = 0.35 + 0.65 * std::max(0.0, dot(n, sun));
-        for (double& v : c) {
-            v *= light;
-        }
+        c0 *= light;
+        c1 *= light;
+        c2 *= light;
     }
     if (options.fog_distance > 0) {
         const double f = 1.0 - std::exp(-t / options.fog_distance);
-        for (std::size_t k = 0; k < 3; ++k) {
-            c[k] = c[k] * (1.0 - f) + static_cast<double>(options.sky[k]) * f;
-        }
+        c0 = c0 * (1.0 - f) + static_cast<double>(options.sky[0]) * f;
+        c1 = c1 * (1.0 - f) + static_cast<double>(options.sky[1]) * f;
+        c2 = c2 * (1.0 - f) + static_cast<double>(options.sky[2]) * f;
     }
-    for (std::size_t k = 0; k < 3; ++k) {
-        rgb[k] = round_byte(std::clamp(c[k], 0.0, 255.0));
-    }
+    rgb[0] = round_byte(std::clamp(c0, 0.0, 255.0));
+    rgb[1] = round_byte(std::clamp(c1, 0.0, 255.0));
+    rgb[2] = round_byte(std::clamp(c2, 0.0, 255.0));
 }
 
 }  // namespace beamtrace::detail
