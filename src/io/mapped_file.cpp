@@ -4,6 +4,7 @@
 #include <sys/mman.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 #include <string>
@@ -60,6 +61,22 @@ void MappedFile::unmap() noexcept {
     }
     data_ = nullptr;
     buffer_.reset();
+}
+
+void MappedFile::prefault(std::size_t offset, std::size_t length) const noexcept {
+#ifdef MADV_POPULATE_WRITE
+    if (!mapped() || data_ == nullptr || offset >= size_) {
+        return;
+    }
+    const auto page = static_cast<std::size_t>(::sysconf(_SC_PAGESIZE));
+    const std::size_t begin = offset / page * page;
+    const std::size_t end = std::min(size_, offset + length);
+    // Errors (e.g. EINVAL before Linux 5.14) leave the pages to be faulted in one by one.
+    (void)::madvise(data_ + begin, end - begin, MADV_POPULATE_WRITE);
+#else
+    (void)offset;
+    (void)length;
+#endif
 }
 
 void MappedFile::write_buffer() const {

@@ -53,15 +53,21 @@ TEST(MappedFile, ThreadsFillTheirRangesAndCommitRenamesIntoPlace) {
             threads.emplace_back([&, t] {
                 for (std::size_t k = t; k < pieces; k += 3) {
                     const std::size_t n = std::min(kPiece, expected.size() - k * kPiece);
+                    // The fault-in hint before a piece, and over written neighbours and past
+                    // the end after it, changes no byte.
+                    file.prefault(k * kPiece, n);
                     std::memcpy(file.bytes().data() + k * kPiece, expected.data() + k * kPiece, n);
+                    file.prefault(k * kPiece > 5000 ? k * kPiece - 5000 : 0, n + 10000);
                 }
             });
         }
         for (auto& t : threads) {
             t.join();
         }
+        file.prefault(expected.size() + 1, 4096);
         EXPECT_FALSE(fs::exists(path));
         file.commit();
+        file.prefault(0, expected.size());  // after commit: nothing mapped, nothing happens
         EXPECT_TRUE(file.bytes().empty());
         EXPECT_TRUE(test::read_file(path) == expected) << "buffered " << buffered;
         EXPECT_THROW(file.commit(), OutputError);

@@ -34,6 +34,10 @@ class MappedFile {
     [[nodiscard]] std::span<char> bytes() const { return {data_, size_}; }
     /// Whether bytes() is the file's mapping (false: a buffer written by commit()).
     [[nodiscard]] bool mapped() const { return buffer_ == nullptr; }
+    /// Asks the kernel to back bytes [offset, offset + length) with writable pages in one call,
+    /// before a thread fills them (one fault-in for the range instead of one fault a page). A
+    /// hint only: nothing happens where the range is not mapped or the kernel lacks it.
+    void prefault(std::size_t offset, std::size_t length) const noexcept;
     /// Unmaps (or writes the buffer), closes and renames the file onto its final path.
     void commit();
 
