@@ -1,15 +1,13 @@
-#include <sched.h>
-
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
 #include <memory>
 #include <string>
-#include <thread>
 
 #include "beamtrace/core/error.hpp"
 #include "beamtrace/core/memory_usage.hpp"
+#include "beamtrace/core/thread_pool.hpp"
 #include "beamtrace/pipeline/survey.hpp"
 #include "beamtrace/pipeline/survey_distributed.hpp"
 #include "commands.hpp"
@@ -44,21 +42,10 @@ void abort_if_asked(const Communicator& world, std::size_t done) {
     }
 }
 
-/// The cores this process may run on (its CPU binding: mpirun binds each rank to a core or a
-/// socket by default), at least 1.
-unsigned bound_cores() {
-    cpu_set_t set;
-    CPU_ZERO(&set);
-    if (sched_getaffinity(0, sizeof set, &set) != 0) {
-        return std::max(1u, std::thread::hardware_concurrency());
-    }
-    return static_cast<unsigned>(std::max(1, CPU_COUNT(&set)));
-}
-
 /// Across MPI ranks: --threads 0 means the cores the rank is bound to; more threads than those
 /// share them (a note says how to unbind).
 void fit_threads_to_binding(SurveyRunConfig& run, const Communicator& world) {
-    const unsigned cores = bound_cores();
+    const unsigned cores = available_cores();  // mpirun binds each rank to a core or a socket
     if (run.threads == 0) {
         run.threads = cores;
     } else if (run.threads > cores && world.rank() == 0) {

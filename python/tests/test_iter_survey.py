@@ -243,6 +243,9 @@ def test_memory_stays_bounded_whatever_the_survey_size():
     whole_bytes = int(points) * int(itemsize)
     assert whole_bytes > 200e6, f"only {whole_bytes / 1e6:.0f} MB of points"
     assert int(blocks) > 40
-    assert int(grown_kb) * 1024 < 50e6, (
+    # Bounded: far under the 290 MB of points. Measured 41-51 MB since the blocks are handed over
+    # on whichever pool thread writes them (two malloc arenas keep freed block arrays; 29 MB
+    # with MALLOC_ARENA_MAX=1), 33-37 MB when one writer thread did it all.
+    assert int(grown_kb) * 1024 < 64e6, (
         f"peak RSS grew by {int(grown_kb) / 1e3:.0f} MB for {whole_bytes / 1e6:.0f} MB of points "
         f"({seconds} s)")

@@ -1,12 +1,23 @@
 #include "beamtrace/core/thread_pool.hpp"
 
+#include <sched.h>
+
 #include <algorithm>
 
 namespace beamtrace {
 
+unsigned available_cores() {
+    cpu_set_t set;
+    CPU_ZERO(&set);
+    if (sched_getaffinity(0, sizeof set, &set) != 0) {
+        return std::max(1u, std::thread::hardware_concurrency());
+    }
+    return static_cast<unsigned>(std::max(1, CPU_COUNT(&set)));
+}
+
 ThreadPool::ThreadPool(unsigned threads) {
     if (threads == 0) {
-        threads = std::max(1u, std::thread::hardware_concurrency());
+        threads = available_cores();
     }
     size_ = threads;
     workers_.reserve(threads - 1);

@@ -43,8 +43,9 @@ void DirectSink::Free::operator()(char* p) const {
     std::free(p);
 }
 
-DirectSink::DirectSink(const std::filesystem::path& path, std::filesystem::path display)
-    : path_(path), display_(std::move(display)) {
+DirectSink::DirectSink(const std::filesystem::path& path, std::filesystem::path display,
+                       std::function<void()> before_write)
+    : path_(path), display_(std::move(display)), before_write_(std::move(before_write)) {
     fd_ = ::open(path.c_str(), O_WRONLY | O_CLOEXEC | O_DIRECT);
     if (fd_ < 0) {  // EINVAL: the file system has no direct I/O
         fd_ = ::open(path.c_str(), O_WRONLY | O_CLOEXEC);
@@ -136,6 +137,9 @@ void DirectSink::run_writes() {
         queue_.pop_front();
         const bool skip = error_ != 0;  // after an error the file is lost anyway
         lock.unlock();
+        if (before_write_) {
+            before_write_();
+        }
         const bool ok = skip || write_stage(job.stage.get(), job.offset);
         const int error_number = errno;
         lock.lock();

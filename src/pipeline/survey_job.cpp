@@ -6,10 +6,10 @@
 #include <chrono>
 #include <optional>
 #include <system_error>
-#include <thread>
 
 #include "beamtrace/core/cancel.hpp"
 #include "beamtrace/core/error.hpp"
+#include "beamtrace/core/thread_pool.hpp"
 #include "beamtrace/pipeline/survey.hpp"
 #include "beamtrace/sensor/leg_sequence.hpp"
 #include "beamtrace/sensor/scanner_set.hpp"
@@ -40,9 +40,10 @@ void create_output_dir(const std::filesystem::path& dir) {
 
 /// Writing on the pool threads where they take every core; a writer thread of its own where the
 /// pool leaves a core idle (e.g. one thread on a two-core machine), which then writes for free.
+/// The cores are those the process may run on: an MPI rank bound to one core has no idle one.
 detail::BlockWriter block_writer(const ThreadPool& pool) {
-    return pool.size() < std::thread::hardware_concurrency() ? detail::BlockWriter::own_thread
-                                                             : detail::BlockWriter::combining;
+    return pool.size() < available_cores() ? detail::BlockWriter::own_thread
+                                           : detail::BlockWriter::combining;
 }
 
 /// Runs every block of `session` on the pool, encodes it for `sinks` beside it and writes them

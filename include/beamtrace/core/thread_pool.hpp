@@ -12,10 +12,14 @@
 
 namespace beamtrace {
 
+/// The cores this process may run on (its CPU affinity: `taskset`, cgroup cpusets, `mpirun`'s
+/// binding of each rank), at least 1; every hardware thread where the affinity cannot be read.
+[[nodiscard]] unsigned available_cores();
+
 class ThreadPool {
   public:
-    /// `threads == 0` uses every hardware thread. The calling thread takes part in the work, so a
-    /// pool of N threads starts N-1 workers.
+    /// `threads == 0` uses every core the process may run on (available_cores()). The calling
+    /// thread takes part in the work, so a pool of N threads starts N-1 workers.
     explicit ThreadPool(unsigned threads = 0);
     ~ThreadPool();
     ThreadPool(const ThreadPool&) = delete;

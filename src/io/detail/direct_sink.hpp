@@ -12,6 +12,7 @@
 #include <cstdio>
 #include <deque>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <thread>
@@ -28,7 +29,10 @@ class DirectSink {
 
     /// Opens a second descriptor on `path` (an existing, empty file that the caller also holds
     /// open as `stream`); appends start at offset 0. Throws OutputError naming `display`.
-    DirectSink(const std::filesystem::path& path, std::filesystem::path display);
+    /// `before_write`, when set, runs on the writing thread before each stage's write (a seam
+    /// for tests: a slow disk on demand).
+    DirectSink(const std::filesystem::path& path, std::filesystem::path display,
+               std::function<void()> before_write = {});
     ~DirectSink();
     DirectSink(const DirectSink&) = delete;
     DirectSink& operator=(const DirectSink&) = delete;
@@ -79,6 +83,7 @@ class DirectSink {
     [[noreturn]] void fail(const char* what, int error_number) const;
 
     std::filesystem::path path_, display_;
+    std::function<void()> before_write_;
     int fd_ = -1;  ///< the writing thread's while it runs
     bool direct_ = false;
     std::uint64_t direct_bytes_ = 0;
