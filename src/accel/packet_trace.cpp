@@ -8,7 +8,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
-#include <new>
+#include <utility>
 
 #include "core/simd_level.hpp"
 #include "detail/queries.hpp"
@@ -53,6 +53,22 @@ using vu = std::uint32_t __attribute__((vector_size(32)));
 BT_PK std::uint32_t lane_bits(vi m) {
     return static_cast<std::uint32_t>(_mm256_movemask_ps(reinterpret_cast<__m256>(m)));
 }
+/// The greatest (least) lane of x, which holds no NaN.
+BT_PK float lanes_max(vf x) {
+    __m128 m = _mm_max_ps(_mm256_castps256_ps128(reinterpret_cast<__m256>(x)),
+                          _mm256_extractf128_ps(reinterpret_cast<__m256>(x), 1));
+    m = _mm_max_ps(m, _mm_movehl_ps(m, m));
+    return _mm_cvtss_f32(_mm_max_ss(m, _mm_shuffle_ps(m, m, 1)));
+}
+BT_PK float lanes_min(vf x) {
+    __m128 m = _mm_min_ps(_mm256_castps256_ps128(reinterpret_cast<__m256>(x)),
+                          _mm256_extractf128_ps(reinterpret_cast<__m256>(x), 1));
+    m = _mm_min_ps(m, _mm_movehl_ps(m, m));
+    return _mm_cvtss_f32(_mm_min_ss(m, _mm_shuffle_ps(m, m, 1)));
+}
+BT_PK vf lanes_sqrt(vf x) {
+    return reinterpret_cast<vf>(_mm256_sqrt_ps(reinterpret_cast<__m256>(x)));
+}
 #include "detail/packet_kernel.inl"
 #undef BT_PK_ENTRY
 #undef BT_PK
@@ -71,6 +87,16 @@ using vu = std::uint32_t __attribute__((vector_size(64)));
 #define BT_PK_ENTRY __attribute__((target("avx512f,avx512dq,avx512cd,avx2")))
 BT_PK std::uint32_t lane_bits(vi m) {
     return static_cast<std::uint32_t>(_mm512_movepi32_mask(reinterpret_cast<__m512i>(m)));
+}
+/// The greatest (least) lane of x, which holds no NaN.
+BT_PK float lanes_max(vf x) {
+    return _mm512_reduce_max_ps(reinterpret_cast<__m512>(x));
+}
+BT_PK float lanes_min(vf x) {
+    return _mm512_reduce_min_ps(reinterpret_cast<__m512>(x));
+}
+BT_PK vf lanes_sqrt(vf x) {
+    return reinterpret_cast<vf>(_mm512_sqrt_ps(reinterpret_cast<__m512>(x)));
 }
 #include "detail/packet_kernel.inl"
 #undef BT_PK_ENTRY

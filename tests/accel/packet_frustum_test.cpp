@@ -8,6 +8,7 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <random>
 #include <string>
@@ -227,6 +228,35 @@ TEST(PacketFrustum, ExactFrustaThroughVerticesAndEdgesMatchBruteForce) {
     Tracers tr(grid);
     const HitBatch h = expect_exact(tr, rays, "exact frusta", true);
     EXPECT_EQ(hit_count(h), rays.size()) << "rays through the grid's vertices escaped";
+}
+
+TEST(PacketFrustum, LineScansAcrossNadirSplitBySignMatchBruteForce) {
+    // A sawtooth line scan across nadir (y changes sign mid-line, and the scan wraps from +30 to
+    // -30 degrees inside a stage, so stages are sorted), pulse by pulse: the x component flips
+    // sign from pulse to pulse, is +0 or -0 in some, and tmax cuts some rays short of the grid.
+    // Packets are made of rays of one sign per axis; each must match the single rays and brute
+    // force bit for bit, and so must batches of odd sizes (partial packets and stages).
+    const TriangleMesh grid = test::make_grid(48);
+    RayBatch rays;
+    for (int k = 0; k < 3000; ++k) {
+        const double angle = (2.0 * std::fmod(k / 700.0, 1.0) - 1.0) * 0.5236;
+        const double sx = k % 5 == 0 ? (k % 2 == 0 ? 0.0 : -0.0) : (k % 2 == 0 ? 1e-7 : -1e-7);
+        const Vec3d o{4.0 + 0.013 * k, 24.0, 30.0};
+        const double tmax = k % 7 == 3 ? 25.0 : std::numeric_limits<double>::infinity();
+        rays.push_back(o, normalize(Vec3d{sx, std::sin(angle), -std::cos(angle)}), 0.5 * (k % 3),
+                       tmax);
+    }
+    Tracers tr(grid);
+    const HitBatch h = expect_exact(tr, rays, "line scan across nadir", true);
+    EXPECT_GT(hit_count(h), rays.size() / 2);
+    EXPECT_LT(hit_count(h), rays.size()) << "the rays cut short by tmax";
+    for (const std::size_t n : {1u, 17u, 1023u, 1041u}) {
+        RayBatch part;
+        for (std::size_t i = 0; i < n; ++i) {
+            part.push_back(rays.origin(i), rays.direction(i), rays.tmin[i], rays.tmax[i]);
+        }
+        expect_exact(tr, part, std::to_string(n) + " rays across nadir", false);
+    }
 }
 
 TEST(PacketFrustum, PacketsOfOneLaneAndPartialPacketsMatchSingleRays) {

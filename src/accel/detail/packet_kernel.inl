@@ -25,11 +25,11 @@ BT_PK vu splat_u(std::uint32_t s) {
 
 /// All bits set in the lanes of `m` (a comparison's form of a lane mask).
 BT_PK vi lanes_of(Mask m) {
-    vi r{};
+    vu bit{};
     for (int l = 0; l < kLanes; ++l) {
-        r[l] = ((m >> l) & 1u) != 0 ? -1 : 0;
+        bit[l] = Mask{1} << l;
     }
-    return r;
+    return (splat_u(m) & bit) != 0u;
 }
 
 BT_PK vf vabs(vf x) {
@@ -39,7 +39,8 @@ BT_PK vf vabs(vf x) {
 /// One packet: the rays of TraceRay, lane by lane, and each lane's NearestVisitor state.
 struct Packet {
     vf o[3];    ///< origin by axis
-    vf inv[3];  ///< 1 / direction by axis
+    vf d[3];    ///< direction by axis
+    vf inv[3];  ///< 1 / direction by axis (slab_inverse)
     vf ok[3];   ///< origin in the watertight order (kx, ky, kz)
     vf sx, sy, sz;
     vf tmin;
@@ -48,35 +49,50 @@ struct Packet {
     vu best_face;
     std::size_t kx = 0, ky = 1, kz = 2;
     Mask active = 0;
-    const TraceRay* const* rays = nullptr;  ///< the lanes' rays (for the double edge case)
 };
 
-/// Lanes [0, n) from *rays[0..n), which share the watertight axis order; lanes past n copy ray
-/// 0 and stay inactive.
-BT_PK void load_packet(Packet& p, const TraceRay* const* rays, int n) {
-    p.rays = rays;
-    p.kx = static_cast<std::size_t>(rays[0]->wt.kx);
-    p.ky = static_cast<std::size_t>(rays[0]->wt.ky);
-    p.kz = static_cast<std::size_t>(rays[0]->wt.kz);
-    for (int l = 0; l < kLanes; ++l) {
-        const TraceRay& r = *rays[l < n ? l : 0];
-        for (std::size_t a = 0; a < 3; ++a) {
-            p.o[a][l] = r.org[a];
-            p.inv[a][l] = r.inv_dir[a];
-        }
-        p.ok[0][l] = r.org[p.kx];
-        p.ok[1][l] = r.org[p.ky];
-        p.ok[2][l] = r.org[p.kz];
-        p.sx[l] = r.wt.sx;
-        p.sy[l] = r.wt.sy;
-        p.sz[l] = r.wt.sz;
-        p.tmin[l] = r.tmin;
-        p.best_t[l] = r.tmax;
-        p.limit[l] = r.tmax * kNearestRoom;
+/// Rays in float, structure of arrays, as make_box_ray converts them (a stage of a batch).
+struct StageRays {
+    static constexpr std::size_t kRays = 1024;
+    static constexpr std::size_t kRoom = kRays + kLanes;  ///< a packet's loads may pass the end
+    float o[3][kRoom], d[3][kRoom], tmin[kRoom], tmax[kRoom];
+};
+
+/// The lanes of `active` from x[0..kLanes); the others copy lane 0.
+BT_PK vf load_lanes(const float* x, Mask active) {
+    vf v;
+    __builtin_memcpy(&v, x, sizeof v);
+    return active == kAllLanes ? v : (lanes_of(active) ? v : splat(x[0]));
+}
+
+/// Lanes [0, n) from rays [at, at + n) of `st`, which share the watertight axis order (kz and
+/// whether kx, ky swap: group `group`); lanes past n copy ray `at` and stay inactive. Every
+/// division is make_trace_ray's, in lanes (IEEE division rounds alike in both).
+BT_PK void load_packet(Packet& p, const StageRays& st, std::size_t at, int n, int group) {
+    p.active = n >= kLanes ? kAllLanes : (Mask{1} << n) - 1;
+    p.kz = static_cast<std::size_t>(group / 2);
+    p.kx = (p.kz + 1) % 3;
+    p.ky = (p.kx + 1) % 3;
+    if (group % 2 != 0) {
+        std::swap(p.kx, p.ky);
     }
+    for (std::size_t a = 0; a < 3; ++a) {
+        p.o[a] = load_lanes(&st.o[a][at], p.active);
+        p.d[a] = load_lanes(&st.d[a][at], p.active);
+        p.inv[a] = 1.0f / (p.d[a] + 0.0f);
+    }
+    p.ok[0] = p.o[p.kx];
+    p.ok[1] = p.o[p.ky];
+    p.ok[2] = p.o[p.kz];
+    const vf dz = p.d[p.kz];
+    p.sx = p.d[p.kx] / dz;
+    p.sy = p.d[p.ky] / dz;
+    p.sz = 1.0f / dz;
+    p.tmin = load_lanes(&st.tmin[at], p.active);
+    p.best_t = load_lanes(&st.tmax[at], p.active);
+    p.limit = p.best_t * kNearestRoom;
     p.best_u = p.best_v = splat(0.0f);
     p.best_face = splat_u(kNoFace);
-    p.active = n >= kLanes ? kAllLanes : (Mask{1} << n) - 1;
 }
 
 /// slab_interval of every lane against its own limit: the lanes that enter the box, and their
@@ -101,8 +117,15 @@ BT_PK Mask slab_lanes(const Packet& p, const BvhNode& node, vf& entry) {
 BT_PK void test_lane(Packet& p, int l, std::uint32_t face, const Vec3f& a, const Vec3f& b,
                      const Vec3f& c) {
     TriangleHit h;
-    const TraceRay& r = *p.rays[l];
-    if (intersect_watertight(r.wt, a, b, c, r.tmin, p.limit[l], Facing::both, h) &&
+    WatertightRay wt;
+    wt.org = Vec3f(p.o[0][l], p.o[1][l], p.o[2][l]);
+    wt.kx = static_cast<int>(p.kx);
+    wt.ky = static_cast<int>(p.ky);
+    wt.kz = static_cast<int>(p.kz);
+    wt.sx = p.sx[l];
+    wt.sy = p.sy[l];
+    wt.sz = p.sz[l];
+    if (intersect_watertight(wt, a, b, c, p.tmin[l], p.limit[l], Facing::both, h) &&
         (h.t < p.best_t[l] || (h.t == p.best_t[l] && face < p.best_face[l]))) {
         p.best_t[l] = h.t;
         p.limit[l] = h.t * kNearestRoom;
@@ -136,14 +159,15 @@ BT_PK bool test_face(Packet& p, const TriangleMesh& mesh, std::uint32_t face, Ma
     const vf T = U * Az + V * Bz + W * Cz;
     const vf lo = p.tmin * det, hi = p.limit * det;
     const vi clipped = front ? ((T < lo) | (T > hi)) : ((T > lo) | (T < hi));
-    const vf inv = 1.0f / det;
-    const vf t = T * inv;
-    const vi hit = ~outside & (det != 0.0f) & ~clipped & (t >= p.tmin) & (t <= p.limit);
-    const vi better = (t < p.best_t) | ((t == p.best_t) & (face < p.best_face));
     const Mask edge = lane_bits(zero) & mask;
-    const Mask take = lane_bits(hit & better) & mask & ~edge;
-    if (take != 0) {
-        const vi k = lanes_of(take);
+    const vi maybe = ~outside & (det != 0.0f) & ~clipped & lanes_of(mask & ~edge);
+    Mask take = 0;
+    if (lane_bits(maybe) != 0) {  // else no lane needs the division
+        const vf inv = 1.0f / det;
+        const vf t = T * inv;
+        const vi better = (t < p.best_t) | ((t == p.best_t) & (face < p.best_face));
+        const vi k = maybe & (t >= p.tmin) & (t <= p.limit) & better;
+        take = lane_bits(k);
         p.best_t = k ? t : p.best_t;
         p.limit = k ? t * kNearestRoom : p.limit;
         p.best_face = k ? splat_u(face) : p.best_face;
@@ -253,22 +277,15 @@ struct Frustum {
     v8i near_hi2, free2, still2;
 };
 
+/// The least (greatest) of x's active lanes that are not NaN; +inf (-inf) if none.
 BT_PK float active_min(vf x, Mask active) {
-    float m = std::numeric_limits<float>::infinity();
-    for (Mask k = active; k != 0; k &= k - 1) {
-        const float v = x[std::countr_zero(k)];
-        m = v < m ? v : m;
-    }
-    return m;
+    constexpr float kInf = std::numeric_limits<float>::infinity();
+    return lanes_min((lanes_of(active) & (x == x)) ? x : splat(kInf));
 }
 
 BT_PK float active_max(vf x, Mask active) {
-    float m = -std::numeric_limits<float>::infinity();
-    for (Mask k = active; k != 0; k &= k - 1) {
-        const float v = x[std::countr_zero(k)];
-        m = v > m ? v : m;
-    }
-    return m;
+    constexpr float kInf = std::numeric_limits<float>::infinity();
+    return lanes_max((lanes_of(active) & (x == x)) ? x : splat(-kInf));
 }
 
 /// The bounds of axis a over the active lanes; false if the lanes' inverse directions neither
@@ -455,11 +472,22 @@ BT_PK void walk_frustum(Packet& p, Frustum& fr, const Bvh& bvh, const TriangleMe
     }
 }
 
-/// NearestVisitor::store for the active lanes, lane l into slot slots[l].
-BT_PK void store_packet(const Packet& p, const std::size_t* slots, HitBatch& hits) {
+/// A stage of a batch as packets are made of it: its rays in float (`in`: as the batch has
+/// them; `sorted`: in the order packets are made in, unless that is the same), their order and
+/// the keys they were ordered by.
+struct Stage {
+    StageRays in, sorted;
+    const StageRays* rays = &in;  ///< rays in packet order
+    std::size_t first = 0;        ///< the batch's index of in's ray 0
+    std::uint32_t keys[StageRays::kRays];
+    std::uint16_t order[StageRays::kRays], scratch[StageRays::kRays];
+};
+
+/// NearestVisitor::store for the active lanes, lane l into the slot of the stage's ray at + l.
+BT_PK void store_packet(const Packet& p, const Stage& st, std::size_t at, HitBatch& hits) {
     for (Mask m = p.active; m != 0; m &= m - 1) {
         const int l = std::countr_zero(m);
-        const std::size_t i = slots[l];
+        const std::size_t i = st.first + st.order[at + static_cast<std::size_t>(l)];
         if (p.best_face[l] != kNoFace) {
             hits.t[i] = p.best_t[l];
             hits.face[i] = p.best_face[l];
@@ -473,98 +501,151 @@ BT_PK void store_packet(const Packet& p, const std::size_t* slots, HitBatch& hit
     }
 }
 
-/// Rays waiting for a packet, grouped by the watertight axis order (kz and whether kx, ky swap).
-struct Groups {
-    static constexpr int kKeys = 6;
-    const TraceRay* rays[kKeys][kLanes];
-    std::size_t slots[kKeys][kLanes];
-    int fill[kKeys] = {};
-};
-
-BT_PK bool coherent(const TraceRay* const* rays, int n, float min_cos) {
-    const Vec3f d0 = rays[0]->dir;
-    const float n0 = dot(d0, d0);
-    for (int l = 1; l < n; ++l) {
-        const Vec3f d = rays[l]->dir;
-        const float c = dot(d, d0);
-        if (!(c > 0.0f && c * c >= min_cos * min_cos * dot(d, d) * n0)) {
-            return false;
-        }
-    }
-    return true;
+/// Whether every active lane's direction is within acos(min_cos) of lane 0's (the scalar test's
+/// arithmetic: dot products in the same order).
+BT_PK bool coherent(const Packet& p, float min_cos) {
+    const float d0x = p.d[0][0], d0y = p.d[1][0], d0z = p.d[2][0];
+    const float n0 = d0x * d0x + d0y * d0y + d0z * d0z;
+    const vf c = p.d[0] * d0x + p.d[1] * d0y + p.d[2] * d0z;
+    const vf dd = p.d[0] * p.d[0] + p.d[1] * p.d[1] + p.d[2] * p.d[2];
+    const vi ok = (c > 0.0f) & (c * c >= min_cos * min_cos * dd * n0);
+    return (~lane_bits(ok) & p.active & ~Mask{1}) == 0;
 }
 
 /// The widest spread of directions (cosine) a packet is traced with interval culling at.
 constexpr float kFrustumMinCos = 0.9995f;  // 0.032 rad
 
-BT_PK void flush(Groups& g, int key, const Bvh& bvh, const TriangleMesh& mesh, HitBatch& hits,
-                 bool only_coherent, float min_cos) {
-    const int n = g.fill[key];
-    g.fill[key] = 0;
-    if (n == 0) {
-        return;
-    }
-    if (only_coherent && (n == 1 || !coherent(g.rays[key], n, min_cos))) {
-        for (int l = 0; l < n; ++l) {
-            trace_single(bvh, mesh, *g.rays[key][l], hits, g.slots[key][l]);
+/// Ray j of the stage as make_trace_ray makes it.
+BT_PK TraceRay stage_ray(const StageRays& st, std::size_t j) {
+    TraceRay r;
+    r.org = Vec3f(st.o[0][j], st.o[1][j], st.o[2][j]);
+    r.dir = Vec3f(st.d[0][j], st.d[1][j], st.d[2][j]);
+    r.inv_dir = slab_inverse(r.dir);
+    r.tmin = st.tmin[j];
+    r.tmax = st.tmax[j];
+    r.wt = make_watertight_ray(r.org, r.dir);
+    return r;
+}
+
+/// Traces rays [at, at + n) of the stage, of watertight group `group`, as one packet (or one by
+/// one, with `only_coherent`, if their directions spread wider than acos(min_cos)).
+BT_PK void trace_packet(const Stage& st, std::size_t at, int n, int group, const Bvh& bvh,
+                        const TriangleMesh& mesh, HitBatch& hits, bool only_coherent,
+                        float min_cos) {
+    Packet p;
+    load_packet(p, *st.rays, at, n, group);
+    if (only_coherent && (n == 1 || !coherent(p, min_cos))) {
+        for (std::size_t j = at; j < at + static_cast<std::size_t>(n); ++j) {
+            trace_single(bvh, mesh, stage_ray(*st.rays, j), hits, st.first + st.order[j]);
         }
         return;
     }
-    Packet p;
-    load_packet(p, g.rays[key], n);
     Frustum fr;
-    if (coherent(g.rays[key], n, kFrustumMinCos) && make_frustum(p, fr)) {
+    if (coherent(p, kFrustumMinCos) && make_frustum(p, fr)) {
         walk_frustum(p, fr, bvh, mesh);
     } else {
         walk_packet(p, bvh, mesh);
     }
-    store_packet(p, g.slots[key], hits);
+    store_packet(p, st, at, hits);
 }
 
-/// A coordinate in [-1, 1] in 12 bits (NaN and outside: the nearest end).
-BT_PK std::uint32_t quantise(float s) {
-    const float q = (s + 1.0f) * 2048.0f;
-    return q > 0.0f ? (q < 4095.0f ? static_cast<std::uint32_t>(q) : 4095u) : 0u;
+/// A coordinate in [-1, 1] in 12 bits, lane by lane (NaN and outside: the nearest end).
+BT_PK vu quantise(vf s) {
+    const vf q = (s + 1.0f) * 2048.0f;
+    const vf c = q > 0.0f ? (q < 4095.0f ? q : splat(4095.0f)) : splat(0.0f);
+    return reinterpret_cast<vu>(__builtin_convertvector(c, vi));
 }
 
-/// The packet group of a ray (its watertight axis order: kz and whether kx, ky swap).
-BT_PK int group_of(const TraceRay& r) {
-    return 2 * r.wt.kz + (r.wt.kx == (r.wt.kz + 1) % 3 ? 0 : 1);
+/// Which way a direction component points: 0 down the axis, 1 not at all (or NaN), 2 up.
+BT_PK vu sign_class(vf x) {
+    return x > 0.0f ? splat_u(2) : (x < 0.0f ? splat_u(0) : splat_u(1));
 }
 
-/// Where a ray goes in the order packets are made in: its group, then its direction as two
-/// coordinates in [-1, 1] over the dominant axis: the sine of its elevation (when it is mostly
-/// horizontal) or its x slope (mostly vertical), then the other horizontal slope.
-BT_PK std::uint32_t order_key(const TraceRay& r) {
-    const auto kz = static_cast<std::size_t>(r.wt.kz);
-    const Vec3f d = r.dir;
-    float u = 0.0f, v = 0.0f;
-    if (kz == 2) {
-        u = d.x / std::fabs(d.z);
-        v = d.y / std::fabs(d.z);
+/// Where rays go in the order packets are made in, lane by lane: their packet group in the top
+/// 8 bits (the watertight axis order, kz and whether kx, ky swap, as make_watertight_ray picks
+/// it, then which way the two other components point: a packet of one group has one sign per
+/// axis, which interval culling needs), then their direction as two coordinates in [-1, 1]
+/// over the dominant axis: the sine of the elevation (when mostly horizontal) or the x slope
+/// (mostly vertical), then the other horizontal slope.
+BT_PK vu order_keys(const vf d[3]) {
+    const vf ax = vabs(d[0]), ay = vabs(d[1]), az = vabs(d[2]);
+    const vi z0 = (ax > ay) & (ax > az);   // kz = 0
+    const vi z1 = ~(ax > ay) & (ay > az);  // kz = 1; else kz = 2
+    const vu kz = z0 ? splat_u(0) : (z1 ? splat_u(1) : splat_u(2));
+    const vf dk = z0 ? d[0] : (z1 ? d[1] : d[2]);
+    const vu swap = dk < 0.0f ? splat_u(1) : splat_u(0);
+    const vf da = z0 ? d[1] : (z1 ? d[2] : d[0]);  // the axes after kz, unswapped
+    const vf db = z0 ? d[2] : (z1 ? d[0] : d[1]);
+    const vu group = ((2 * kz + swap) * 9 + 3 * sign_class(da)) + sign_class(db);
+    const vf adk = vabs(dk);
+    const vf dd = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+    const vi vertical = ~(z0 | z1);
+    const vf u = vertical ? d[0] / adk : d[2] / lanes_sqrt(dd);
+    const vf v = (z1 ? d[0] : d[1]) / adk;
+    return (group << 24) | (quantise(u) << 12) | quantise(v);
+}
+
+/// The packet group in a ray's key, and its watertight group (2 kz + whether kx, ky swap).
+BT_PK std::uint32_t packet_group(std::uint32_t key) {
+    return key >> 24;
+}
+
+/// kLanes doubles from x (count of them, the rest 0) in float.
+BT_PK vf to_float(const double* x, std::size_t count) {
+    using vd = double __attribute__((vector_size(kLanes * sizeof(double))));
+    vd v{};
+    if (count >= kLanes) {
+        __builtin_memcpy(&v, x, sizeof v);
     } else {
-        u = d.z / std::sqrt(dot(d, d));
-        v = d[1 - kz] / std::fabs(d[kz]);
+        for (std::size_t l = 0; l < count; ++l) {
+            v[l] = x[l];
+        }
     }
-    const auto g = static_cast<std::uint32_t>(group_of(r));
-    return (g << 24) | (quantise(u) << 12) | quantise(v);
+    return __builtin_convertvector(v, vf);
 }
 
-/// order[0..n) = 0..n-1 sorted by keys (a stable LSD radix sort of the keys less the least, in as
-/// few passes of at most 9 bits as their range needs: a line scanner's stage differs in its
-/// across-track slope only, two passes of 6 bits; none when every key is the same).
-BT_PK void sort_by_key(const std::uint32_t* keys, std::size_t n, std::uint16_t* order,
+/// Rays [first, first + n) of the batch into st.in (make_box_ray's conversions, in lanes) and
+/// their order keys.
+BT_PK void stage_rays(Stage& st, const RayBatch& rays, std::size_t first, std::size_t n) {
+    st.first = first;
+    const double* src[8] = {rays.ox.data(), rays.oy.data(), rays.oz.data(),   rays.dx.data(),
+                            rays.dy.data(), rays.dz.data(), rays.tmin.data(), rays.tmax.data()};
+    float* dst[8] = {st.in.o[0], st.in.o[1], st.in.o[2], st.in.d[0],
+                     st.in.d[1], st.in.d[2], st.in.tmin, st.in.tmax};
+    for (std::size_t j = 0; j < n; j += kLanes) {
+        vf f[8];
+        for (int k = 0; k < 8; ++k) {
+            f[k] = to_float(src[k] + first + j, n - j);
+            __builtin_memcpy(dst[k] + j, &f[k], sizeof f[k]);
+        }
+        const vu key = order_keys(f + 3);
+        __builtin_memcpy(st.keys + j, &key, std::min<std::size_t>(n - j, kLanes) * 4);
+    }
+    // A packet's loads may read kLanes floats past the last ray: zeros there.
+    const std::size_t end = (n + kLanes - 1) / kLanes * kLanes;
+    for (float* x : dst) {
+        std::fill(x + end, x + end + kLanes, 0.0f);
+    }
+}
+
+/// order[0..n) = 0..n-1 sorted by keys; false if that left them in place (a stable LSD radix sort
+/// of the keys less the least, in as few passes of at most 9 bits as their range needs: a line
+/// scanner's stage differs in its across-track slope only, two passes of 6 bits; none when the keys
+/// are in order already).
+BT_PK bool sort_by_key(const std::uint32_t* keys, std::size_t n, std::uint16_t* order,
                        std::uint16_t* scratch) {
     std::uint32_t lo = ~std::uint32_t{0}, hi = 0;
+    bool in_order = true;
     for (std::size_t j = 0; j < n; ++j) {
         order[j] = static_cast<std::uint16_t>(j);
+        in_order = in_order && keys[j] >= hi;
         lo = std::min(lo, keys[j]);
         hi = std::max(hi, keys[j]);
     }
-    const int bits = n == 0 ? 0 : std::bit_width(hi - lo);
+    const int bits = n == 0 || in_order ? 0 : std::bit_width(hi - lo);
     const int passes = (bits + 8) / 9;
     if (passes == 0) {
-        return;
+        return false;
     }
     const int width = (bits + passes - 1) / passes;
     const std::uint32_t digit = (std::uint32_t{1} << width) - 1;
@@ -581,40 +662,56 @@ BT_PK void sort_by_key(const std::uint32_t* keys, std::size_t n, std::uint16_t* 
         }
         std::copy(scratch, scratch + n, order);
     }
+    return true;
+}
+
+/// Puts the stage's n rays in packet order (st.rays), or leaves them where they are if that is
+/// the order they came in.
+BT_PK void order_stage(Stage& st, std::size_t n) {
+    const bool moved = sort_by_key(st.keys, n, st.order, st.scratch);
+    st.rays = moved ? &st.sorted : &st.in;
+    if (!moved) {
+        return;
+    }
+    for (std::size_t o = 0; o < n; ++o) {
+        const std::size_t j = st.order[o];
+        for (std::size_t a = 0; a < 3; ++a) {
+            st.sorted.o[a][o] = st.in.o[a][j];
+            st.sorted.d[a][o] = st.in.d[a][j];
+        }
+        st.sorted.tmin[o] = st.in.tmin[j];
+        st.sorted.tmax[o] = st.in.tmax[j];
+    }
+    for (float* x : {st.sorted.o[0], st.sorted.o[1], st.sorted.o[2], st.sorted.d[0], st.sorted.d[1],
+                     st.sorted.d[2], st.sorted.tmin, st.sorted.tmax}) {
+        std::fill(x + n, x + n + kLanes, 0.0f);
+    }
 }
 
 BT_PK_ENTRY void trace_range(const Bvh& bvh, const TriangleMesh& mesh, const RayBatch& rays,
                              std::size_t begin, std::size_t end, HitBatch& hits, bool only_coherent,
                              float min_cos) {
-    // The rays of a stage are made in place (copying them whole into their group stalls on
-    // store forwarding), put in the order of their direction within their group (a spinning
-    // scanner's fan of beams then gives packets of one beam's neighbouring pulses), and every
-    // group is traced before the next stage overwrites them.
-    constexpr std::size_t kStage = 1024;
-    TraceRay staged[kStage];
-    std::uint32_t keys[kStage];
-    std::uint16_t order[kStage], scratch[kStage];
-    Groups g;
-    for (std::size_t first = begin; first < end; first += kStage) {
-        const std::size_t n = std::min(kStage, end - first);
-        for (std::size_t j = 0; j < n; ++j) {
-            ::new (static_cast<void*>(&staged[j])) TraceRay(make_trace_ray(rays, first + j));
-            keys[j] = order_key(staged[j]);
-        }
-        sort_by_key(keys, n, order, scratch);
-        for (std::size_t o = 0; o < n; ++o) {
-            const std::size_t j = order[o];
-            const TraceRay& r = staged[j];
-            const int key = group_of(r);
-            const int k = g.fill[key]++;
-            g.rays[key][k] = &r;
-            g.slots[key][k] = first + j;
-            if (k + 1 == kLanes) {
-                flush(g, key, bvh, mesh, hits, only_coherent, min_cos);
+    // A stage of rays is converted to float in lanes, put in the order of their packet group and
+    // direction (a spinning scanner's fan of beams then gives packets of one beam's neighbouring
+    // pulses), and each group's run is cut into packets that are loaded whole.
+    Stage st;
+    for (std::size_t first = begin; first < end; first += StageRays::kRays) {
+        const std::size_t n = std::min(StageRays::kRays, end - first);
+        stage_rays(st, rays, first, n);
+        order_stage(st, n);
+        std::size_t at = 0;
+        while (at < n) {
+            const std::uint32_t group = packet_group(st.keys[st.order[at]]);
+            std::size_t run = at + 1;
+            while (run < n && packet_group(st.keys[st.order[run]]) == group) {
+                ++run;
             }
-        }
-        for (int key = 0; key < Groups::kKeys; ++key) {
-            flush(g, key, bvh, mesh, hits, only_coherent, min_cos);
+            while (at < run) {
+                const std::size_t k = std::min<std::size_t>(kLanes, run - at);
+                trace_packet(st, at, static_cast<int>(k), static_cast<int>(group / 9), bvh, mesh,
+                             hits, only_coherent, min_cos);
+                at += k;
+            }
         }
     }
 }

@@ -29,11 +29,12 @@ namespace beamtrace::detail {
 
 /// Nearest hits of rays [begin, end) into `hits`, as the single-ray walk gives them, in packets
 /// of `lanes` (8 or 16, at most widest_packet_lanes(); else one ray at a time). Rays are grouped
-/// by the watertight test's axis order, 1024 at a time, and a packet is made of neighbouring
-/// directions of a group (sorted by elevation, then azimuth: a spinning scanner's fan of beams
-/// gives packets of one beam's consecutive firings, which meet the ground side by side); with
-/// `only_coherent` a packet whose directions spread wider than `max_spread_rad` is traced ray by
-/// ray. The order changes no result: each ray's hit is its single-ray walk's.
+/// by the watertight test's axis order and the signs of their other two direction components
+/// (so that interval culling bounds every axis), 1024 at a time, and a packet is made of
+/// neighbouring directions of a group (sorted by elevation, then azimuth: a spinning scanner's fan
+/// of beams gives packets of one beam's consecutive firings, which meet the ground side by side);
+/// with `only_coherent` a packet whose directions spread wider than `max_spread_rad` is traced ray
+/// by ray. The order changes no result: each ray's hit is its single-ray walk's.
 void intersect_packets(const Bvh& bvh, const TriangleMesh& mesh, const RayBatch& rays,
                        std::size_t begin, std::size_t end, HitBatch& hits, int lanes,
                        bool only_coherent, double max_spread_rad);
