@@ -27,8 +27,10 @@ using detail::LevelTable;
 
 /// Hierarchical traversal: start at the root of the pyramid; on a potential hit descend to the
 /// child under the ray; otherwise step to the next cell and climb while that step left the
-/// parent. Specialised on the signs of the ray's x, y and z directions (SX, SY: +1 or -1; DOWN:
-/// dz < 0), with the same arithmetic as cell_exits and column_hit.
+/// parent (within the sections' levels at most streak / 2 levels, `streak` the steps since the
+/// last descent: near the surface a walk that climbs as far as it may comes right back down).
+/// Specialised on the signs of the ray's x, y and z directions (SX, SY: +1 or -1; DOWN: dz < 0),
+/// with the same arithmetic as cell_exits and column_hit.
 template <int SX, int SY, bool DOWN>
 [[nodiscard]] bool trace_octant(const LevelTable& table, const GridRay& r, GridHit& hit) {
     // Start at the sections' coarsest level (starting at the root would cost every ray a
@@ -39,6 +41,7 @@ template <int SX, int SY, bool DOWN>
     std::int64_t cx = r.gx >> level, cy = r.gy >> level;
     double t = r.t_min;
     int entered = r.entered;
+    int streak = 0;  // steps since the walk last met a potential hit
     constexpr std::int64_t kClimbX = SX > 0 ? 0 : 1;
     constexpr std::int64_t kClimbY = SY > 0 ? 0 : 1;
     const double ox = r.ox, oy = r.oy, oz = r.oz, dx = r.dx, dy = r.dy, dz = r.dz;
@@ -55,6 +58,7 @@ template <int SX, int SY, bool DOWN>
         const float h = table.height(level, cx, cy);
         const double z = DOWN ? oz + dz * t_end : oz + dz * t;
         if (z <= static_cast<double>(h)) {
+            streak = 0;
             if (level > 0) {
                 // The child under the ray at t: the upper half where the position is at or
                 // past the middle (the same cell as the clamped floor of the scaled position;
@@ -97,15 +101,19 @@ template <int SX, int SY, bool DOWN>
         }
         entered = step_x ? 0 : 1;
         // Climb while the step crossed the parent's border: within the sections' levels
-        // always, into the pyramid above them only while its cell there is empty (over data
-        // that would cost the ray a descent back through the pyramid for nothing).
+        // streak / 2 levels at most, into the pyramid above them only while its cell there is
+        // empty (over data that would cost the ray a descent back through the pyramid for
+        // nothing).
+        const int cap = level + streak / 2;
         while (level < top &&
                ((step_x && (cx & 1) == kClimbX) || (step_y && (cy & 1) == kClimbY)) &&
-               (level < section_top || table.height(level + 1, cx >> 1, cy >> 1) == kEmptyHeight)) {
+               (level < section_top ? level < cap
+                                    : table.height(level + 1, cx >> 1, cy >> 1) == kEmptyHeight)) {
             ++level;
             cx >>= 1;
             cy >>= 1;
         }
+        ++streak;
         const std::int64_t cells = table.cells(level);
         if (cx < 0 || cy < 0 || cx >= cells || cy >= cells) {
             return false;

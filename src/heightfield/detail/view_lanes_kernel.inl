@@ -10,6 +10,7 @@ struct alignas(64) Lanes {
     std::int64_t cx[kLanes], cy[kLanes], level[kLanes], entered[kLanes];
     std::int64_t sx[kLanes], sy[kLanes], off_x[kLanes], off_y[kLanes];
     std::int64_t climb_x[kLanes], climb_y[kLanes];
+    std::int64_t streak[kLanes];  ///< turns since the walk last descended
     std::size_t ray[kLanes];
 
     void start(int j, const GridRay& r, std::size_t i, int top) {
@@ -35,12 +36,14 @@ struct alignas(64) Lanes {
         climb_x[j] = r.sx > 0 ? 0 : -1;
         climb_y[j] = r.sy > 0 ? 0 : -1;
         ray[j] = i;
+        streak[j] = 0;
     }
     /// A lane with no ray: a harmless state (it is masked out).
     void stop(int j) {
         level[j] = 0;
         cx[j] = cy[j] = 0;
         off_x[j] = off_y[j] = 0;
+        streak[j] = 0;
         ox[j] = oy[j] = oz[j] = dz[j] = t[j] = 0.0;
         dx[j] = dy[j] = inv_dx[j] = inv_dy[j] = t_max[j] = 1.0;
     }
@@ -144,10 +147,14 @@ BT_LANES void trace(const LevelTable& table, const GridRay* rays, std::size_t co
                               mandnot(mor(gt(zero, acx), gt(zero, acy)), active));
         const M out = mor(ged(t_out, t_max), mandnot(inside, active));
         const M miss = mandnot(below, mand(active, out));
-        // Climb while the step left the parent: within the sections' levels always...
+        // Climb while the step left the parent: within the sections' levels at most streak / 2
+        // levels, the turns since the walk last descended (near the surface a walk that climbs
+        // as far as it may descends right back: of the 15.6 M turns of the benchmark's frame
+        // 7.6 M were descents; 13.0 M turns in all this way)...
+        const I streak = load(s.streak);
         const I kx = keep(step_x, trailing_zeros(bxor(acx, climb_x)));
         const I ky = keep(step_y, trailing_zeros(bxor(acy, climb_y)));
-        const I k = min64(max64(kx, ky), max64(sub(top_v, level), zero));
+        const I k = min64(min64(max64(kx, ky), max64(sub(top_v, level), zero)), srl1(streak));
         I alevel = add(level, k);
         acx = srlv(acx, k);
         acy = srlv(acy, k);
@@ -194,6 +201,7 @@ BT_LANES void trace(const LevelTable& table, const GridRay* rays, std::size_t co
                 }
             }
         }
+        store(s.streak, sel(below, zero, add(streak, one)));
         store(s.cx, sel(below, dcx, acx));
         store(s.cy, sel(below, dcy, acy));
         store(s.level, sel(below, down_level, alevel));
