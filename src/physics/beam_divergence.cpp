@@ -191,13 +191,6 @@ double cell_variance(std::span<const SubRayOffset> pattern) {
     return std::max(0.0, 0.25 - discrete);
 }
 
-double footprint_radius_m(const BeamConfig& config, double range_m) {
-    if (config.exit_diameter_m == 0) {
-        return std::abs(range_m * config.divergence_rad / 2.0);  // hypot(0, y) is |y|, exactly
-    }
-    return std::hypot(config.exit_diameter_m / 2.0, range_m * config.divergence_rad / 2.0);
-}
-
 std::vector<Vec3d> beam_frame_origins(const BeamConfig& config,
                                       std::span<const SubRayOffset> pattern) {
     std::vector<Vec3d> out(pattern.size(), Vec3d{0, 0, 0});

@@ -126,6 +126,7 @@ PulseSimulator::PulseSimulator(PhysicsConfig config) : config_(std::move(config)
     beam_frame_ = beam_frame_directions(pattern_);
     beam_origins_ = beam_frame_origins(config_.beam, pattern_);
     cell_sigma_ = std::sqrt(cell_variance(pattern_));
+    sigma_p_ns_ = config_.waveform.pulse_fwhm_ns / (2.0 * std::sqrt(2.0 * std::log(2.0)));
     const std::vector<SubRayOffset> probes = cell_probe_pattern(config_.beam);
     if (!probes.empty() && pattern_.size() > 1) {
         assert(pattern_[0].radius == 0.0);  // probe_rays starts from the centre sub-ray
@@ -177,8 +178,10 @@ double PulseSimulator::echo_sigma_ns(const SubRayHit& hit) const {
     return echo_sigma_ns(hit, cell_sigma_);
 }
 
-double PulseSimulator::echo_sigma_ns(const SubRayHit& hit, double cell_sigma) const {
-    const double sigma_p = config_.waveform.pulse_fwhm_ns / (2.0 * std::sqrt(2.0 * std::log(2.0)));
+// Inline (only this file calls it): sample_contributions' loop of widths keeps the square roots
+// of several samples in flight.
+inline double PulseSimulator::echo_sigma_ns(const SubRayHit& hit, double cell_sigma) const {
+    const double sigma_p = sigma_p_ns_;
     const double w_m = footprint_radius_m(config_.beam, hit.range_m);
     if (!(w_m > 0) || !(cell_sigma > 0)) {
         return sigma_p;
@@ -210,10 +213,6 @@ void PulseSimulator::simulate(std::uint64_t seed, std::uint64_t pulse_index,
         out.samples.push_back(cell_sample(hits[j], j));
     }
     simulate_samples(seed, pulse_index, out.samples, out);
-}
-
-BeamSample PulseSimulator::cell_sample(const SubRayHit& hit, std::size_t cell) const {
-    return {hit, pattern_[cell].weight, cell_sigma_};
 }
 
 BeamSample PulseSimulator::edge_sample(const SubRayHit& hit, std::size_t cell) const {
@@ -274,26 +273,7 @@ void PulseSimulator::simulate_samples(std::uint64_t seed, std::uint64_t pulse_in
         out.dropped = true;
         return;
     }
-    const std::size_t n = samples.size();
-    std::vector<double>& powers = out.sub_ray_power_w;
-    powers.assign(n, 0.0);
-    for (std::size_t j = 0; j < n; ++j) {
-        powers[j] = sub_ray_power_w(samples[j].hit, samples[j].weight);
-    }
-    if (medium_) {
-        add_medium(seed, pulse_index, samples, out);
-    }
-    for (std::size_t j = 0; j < n; ++j) {
-        const BeamSample& s = samples[j];
-        if (powers[j] > 0) {
-            out.contributions.push_back(
-                {s.hit.range_m, powers[j], echo_sigma_ns(s.hit, s.cell_sigma)});
-        }
-    }
-    if (medium_) {  // after the samples' (dominant_sample counts on their order)
-        out.contributions.insert(out.contributions.end(), out.medium.contributions.begin(),
-                                 out.medium.contributions.end());
-    }
+    sample_contributions(seed, pulse_index, samples, out);
     // The fog's binned slabs (none without a medium: out.medium may hold another's).
     const BinnedEcho& binned = medium_ ? out.medium.fog.binned : kNoBinnedEcho;
     if (out.contributions.empty() && binned.empty()) {
@@ -330,13 +310,51 @@ void PulseSimulator::simulate_samples(std::uint64_t seed, std::uint64_t pulse_in
         r.return_number = static_cast<std::uint8_t>(e - begin + 1);
         r.number_of_returns = count;
         const auto [sample, share] =
-            dominant_sample(samples, powers, out.contributions, echo.range_m);
+            dominant_sample(samples, out.sub_ray_power_w, out.contributions, echo.range_m);
         r.sub_ray = sample;
         if (medium_) {
             r.weather = medium_dominates(out, share, echo.range_m);
         }
         out.returns.push_back(r);
     }
+}
+
+void PulseSimulator::sample_contributions(std::uint64_t seed, std::uint64_t pulse_index,
+                                          std::span<const BeamSample> samples,
+                                          PulseResponse& out) const {
+    const std::size_t n = samples.size();
+    std::vector<double>& powers = out.sub_ray_power_w;
+    powers.resize(n);
+    if (!medium_) {  // no shadows to take off: the echoes, then their widths in a loop of their own
+        for (std::size_t j = 0; j < n; ++j) {
+            const BeamSample& s = samples[j];
+            powers[j] = sub_ray_power_w(s.hit, s.weight);
+            if (powers[j] > 0) {
+                out.contributions.push_back({s.hit.range_m, powers[j], 0.0});
+            }
+        }
+        EchoContribution* c = out.contributions.data();
+        for (std::size_t j = 0; j < n; ++j) {
+            if (powers[j] > 0) {
+                (c++)->sigma_ns = echo_sigma_ns(samples[j].hit, samples[j].cell_sigma);
+            }
+        }
+        return;
+    }
+    for (std::size_t j = 0; j < n; ++j) {
+        powers[j] = sub_ray_power_w(samples[j].hit, samples[j].weight);
+    }
+    add_medium(seed, pulse_index, samples, out);
+    for (std::size_t j = 0; j < n; ++j) {
+        const BeamSample& s = samples[j];
+        if (powers[j] > 0) {
+            out.contributions.push_back(
+                {s.hit.range_m, powers[j], echo_sigma_ns(s.hit, s.cell_sigma)});
+        }
+    }
+    // The medium's after the samples' (dominant_sample counts on their order).
+    out.contributions.insert(out.contributions.end(), out.medium.contributions.begin(),
+                             out.medium.contributions.end());
 }
 
 void PulseSimulator::add_medium(std::uint64_t seed, std::uint64_t pulse_index,

@@ -1,6 +1,7 @@
 #include "pipeline/detail/survey_physics.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 namespace beamtrace::detail {
 namespace {
@@ -104,10 +105,54 @@ void SurveyPhysics::find_edges(BlockWork& w) const {
     }
 }
 
+bool SurveyPhysics::one_face_samples(BlockWork& w, std::size_t k, FaceCache& cache) const {
+    const std::size_t sub_rays = this->sub_rays();
+    const std::size_t h0 = k * sub_rays;
+    const std::uint32_t face = w.hits.face[h0];
+    if (face == kNoFace || w.edge_start[k] != w.edge_start[k + 1]) {
+        return false;
+    }
+    for (std::size_t h = h0 + 1; h < h0 + sub_rays; ++h) {
+        if (w.hits.face[h] != face) {
+            return false;
+        }
+    }
+    // The facts as sub_ray_hit finds them for the first sub-ray (the others find them cached).
+    const RayBatch& r = w.rays;
+    const double t0 = w.hits.t[h0];
+    const Vec3d at = Vec3d{r.ox[h0], r.oy[h0], r.oz[h0]} + Vec3d{r.dx[h0], r.dy[h0], r.dz[h0]} * t0;
+    const FaceFacts& f = face_facts(face, at, w.pulses.time_s[k], cache);
+    const Material& m = *f.material;
+    if (!f.flat || m.pattern.kind != AlbedoPatternKind::uniform) {
+        return false;
+    }
+    // make_sub_ray_hit's fields, each sub-ray's range and incidence on the face's normal.
+    const double n = length(f.normal);
+    std::vector<BeamSample>& samples = w.response.samples;
+    samples.resize(sub_rays);
+    w.sample_face.assign(sub_rays, face);
+    for (std::size_t j = 0; j < sub_rays; ++j) {
+        const std::size_t h = h0 + j;
+        const Vec3d d{r.dx[h], r.dy[h], r.dz[h]};
+        BeamSample& s = samples[j];
+        s.hit.range_m = static_cast<double>(w.hits.t[h]);
+        s.hit.cos_incidence = n > 0 ? std::min(1.0, std::abs(dot(f.normal, d)) / n) : 0.0;
+        s.hit.albedo = m.reflectance;
+        s.hit.specular_weight = m.specular_weight;
+        s.hit.specular_exponent = m.specular_exponent;
+        sim_->set_cell_sample(s, j);
+    }
+    return true;
+}
+
 void SurveyPhysics::simulate(BlockWork& w, std::size_t k, FaceCache& cache) const {
     const std::size_t sub_rays = this->sub_rays();
     const std::size_t probes = sim_->probes_per_cell();
     std::vector<BeamSample>& samples = w.response.samples;
+    if (one_face_samples(w, k, cache)) {
+        sim_->simulate_samples(seed_, w.first + k, samples, w.response);
+        return;
+    }
     samples.clear();
     w.sample_face.clear();
     std::uint32_t e = w.edge_start[k];

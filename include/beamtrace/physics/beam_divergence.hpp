@@ -31,6 +31,7 @@
 // so a target receives the fraction of the cell it covers, to 1 / (edge_samples^2 + 1).
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <span>
 #include <string>
@@ -81,7 +82,13 @@ struct SubRayOffset {
 [[nodiscard]] double cell_variance(std::span<const SubRayOffset> pattern);
 
 /// The footprint's 1/e^2 radius at range `range_m`: sqrt((D0/2)^2 + (range theta/2)^2) [m].
-[[nodiscard]] double footprint_radius_m(const BeamConfig& config, double range_m);
+/// (Inline: every sample of every pulse asks it, for its echo's width.)
+[[nodiscard]] inline double footprint_radius_m(const BeamConfig& config, double range_m) {
+    if (config.exit_diameter_m == 0) {
+        return std::abs(range_m * config.divergence_rad / 2.0);  // hypot(0, y) is |y|, exactly
+    }
+    return std::hypot(config.exit_diameter_m / 2.0, range_m * config.divergence_rad / 2.0);
+}
 
 /// The sub-rays' start offsets in the beam frame (x, y along e1, e2 of orthonormal_basis, z = 0)
 /// [m]: all zero when exit_diameter_m is 0.

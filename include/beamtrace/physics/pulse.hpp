@@ -192,8 +192,15 @@ class PulseSimulator {
                     std::span<Vec3d> origins, std::span<Vec3d> dirs) const;
     /// The BeamSample of a sub-ray filling cell j, or of one of the probe_rays of an edge cell
     /// (sharing its energy with the sub-ray and the cell's other probes).
-    [[nodiscard]] BeamSample cell_sample(const SubRayHit& hit, std::size_t cell) const;
+    [[nodiscard]] BeamSample cell_sample(const SubRayHit& hit, std::size_t cell) const {
+        return {hit, pattern_[cell].weight, cell_sigma_};
+    }
     [[nodiscard]] BeamSample edge_sample(const SubRayHit& hit, std::size_t cell) const;
+    /// cell_sample(sample.hit, cell) in place: the weight and spread of cell `cell`.
+    void set_cell_sample(BeamSample& sample, std::size_t cell) const {
+        sample.weight = pattern_[cell].weight;
+        sample.cell_sigma = cell_sigma_;
+    }
 
   private:
     PhysicsConfig config_;
@@ -201,6 +208,7 @@ class PulseSimulator {
     std::vector<Vec3d> beam_frame_;    ///< pattern_ as unit vectors in the beam frame
     std::vector<Vec3d> beam_origins_;  ///< start offsets in the beam frame (exit pupil)
     double cell_sigma_ = 0.0;          ///< sqrt(cell_variance(pattern_)), beam units
+    double sigma_p_ns_ = 0.0;          ///< the pulse's sigma (its FWHM / 2 sqrt(2 ln 2))
     std::size_t probes_per_cell_ = 0;
     std::vector<Vec3d> probe_frame_;    ///< cell_probe_pattern as unit vectors (beam frame)
     std::vector<Vec3d> probe_origins_;  ///< their start offsets in the beam frame
@@ -211,6 +219,10 @@ class PulseSimulator {
     double alpha_per_m_ = 0.0;
     std::optional<WeatherMedium> medium_;  ///< with weather in the air
 
+    /// The samples' powers (out.sub_ray_power_w) and, for those of positive power, their echoes
+    /// (out.contributions), the weather's after them.
+    void sample_contributions(std::uint64_t seed, std::uint64_t pulse_index,
+                              std::span<const BeamSample> samples, PulseResponse& out) const;
     /// The weather's echoes of the pulse into out.medium, and the particles' shadows taken off
     /// the samples' powers (out.sub_ray_power_w) behind them.
     void add_medium(std::uint64_t seed, std::uint64_t pulse_index,

@@ -62,6 +62,10 @@ class SurveyPhysics {
                                         double time_s, FaceCache& cache) const;
     /// Traces the probes on the moving instances too (each at its pulse's time).
     void trace_moving_probes(BlockWork& w) const;
+    /// Pulse k's samples when all its sub-rays met one flat face of a uniform albedo and no cell
+    /// is an edge (almost every pulse over a terrain): the facts shared, made as simulate would
+    /// make them, bit for bit; false (samples not made) otherwise.
+    bool one_face_samples(BlockWork& w, std::size_t k, FaceCache& cache) const;
     /// Pulse k's beam samples (w.response.samples, w.sample_face), simulated into w.response.
     void simulate(BlockWork& w, std::size_t k, FaceCache& cache) const;
     void keep_waveform(BlockWork& w, std::size_t k) const;
