@@ -72,6 +72,15 @@ ParticleSampler::ParticleSampler(const DropSizeDistribution& dsd, double albedo,
             (density_per_m(a) + 4.0 * density_per_m((a + b) / 2.0) + density_per_m(b)) / 6.0;
         cumulative_[k] = cumulative_[k - 1] + piece * step_m_;
     }
+    // range_at's starting points: the upper bound of each of table_size equal steps of mu.
+    guide_.resize(table_size);
+    guide_per_count_ =
+        cumulative_.back() > 0.0 ? static_cast<double>(table_size) / cumulative_.back() : 0.0;
+    for (std::size_t j = 0; j < table_size; ++j) {
+        const double count = static_cast<double>(j) / guide_per_count_;
+        guide_[j] = static_cast<std::size_t>(
+            std::upper_bound(cumulative_.begin(), cumulative_.end(), count) - cumulative_.begin());
+    }
 }
 
 double ParticleSampler::cell_area_m2(double range_m) const {
@@ -129,10 +138,29 @@ double ParticleSampler::expected_count(double end_m) const {
     return cumulative_[k] + t * (cumulative_[k + 1] - cumulative_[k]);
 }
 
+std::size_t ParticleSampler::upper_bound_of(double count) const {
+    // From the guide's entry for count's step of mu, walked to the first entry above count:
+    // std::upper_bound's index for any start, as the table does not decrease (a step or two on
+    // average instead of a binary search over the table).
+    const double at = count * guide_per_count_;
+    std::size_t i =
+        at >= 0.0
+            ? guide_[std::min(static_cast<std::size_t>(std::min(at, 0x1p62)), guide_.size() - 1)]
+            : 0;
+    const std::size_t n = cumulative_.size();
+    while (i < n && !(count < cumulative_[i])) {
+        ++i;
+    }
+    while (i > 0 && count < cumulative_[i - 1]) {
+        --i;
+    }
+    return i;
+}
+
 double ParticleSampler::range_at(double count) const {
-    const auto it = std::upper_bound(cumulative_.begin(), cumulative_.end(), count);
-    const auto k = static_cast<std::size_t>(std::clamp<std::ptrdiff_t>(
-        it - cumulative_.begin() - 1, 0, static_cast<std::ptrdiff_t>(cumulative_.size()) - 2));
+    const auto k = static_cast<std::size_t>(
+        std::clamp<std::ptrdiff_t>(static_cast<std::ptrdiff_t>(upper_bound_of(count)) - 1, 0,
+                                   static_cast<std::ptrdiff_t>(cumulative_.size()) - 2));
     const double width = cumulative_[k + 1] - cumulative_[k];
     const double t = width > 0.0 ? std::clamp((count - cumulative_[k]) / width, 0.0, 1.0) : 0.0;
     return beam_.start_m + (static_cast<double>(k) + t) * step_m_;

@@ -225,6 +225,11 @@ const double kNegligibleLog = 55.0 * std::numbers::ln2 + 1.0;
 /// is needed to see the bound met.
 const double kNegligibleNoLog = 64.0 * std::numbers::ln2 + kNegligibleLog;
 
+/// The binary exponent of a finite x > 0: x < 2^(exponent + 1) (also for a subnormal).
+int exponent_of(double x) {
+    return static_cast<int>((std::bit_cast<std::uint64_t>(x) >> 52) & 0x7ff) - 1023;
+}
+
 /// True when |f.at(t)| < floor_w 2^-55 e^-1 at every time of [lo_ns, hi_ns] (floor_w > 0), so
 /// that subtracting it from a value of at least floor_w leaves that value as it is; false for a
 /// fit with a NaN. |d| grows away from the centre (rounding is monotonic), so the nearer end
@@ -244,12 +249,20 @@ bool negligible_on(const GaussianFit& f, double lo_ns, double hi_ns, double floo
     if (half_d2 > kNegligibleNoLog && amplitude < floor_w * 0x1p64) {
         return true;
     }
+    // Without the log where the answer shows: a near neighbour at least as high as the floor
+    // (the log is at least ln 1 = 0), or a far one whose exponents bound the log
+    // (amplitude / floor_w < 2^octaves).
+    if (!(half_d2 > kNegligibleLog) && amplitude >= floor_w) {
+        return false;
+    }
+    if (amplitude > 0 && std::isfinite(amplitude) &&
+        floor_w >= std::numeric_limits<double>::min()) {
+        const int octaves = exponent_of(amplitude) - exponent_of(floor_w) + 1;
+        if (half_d2 > static_cast<double>(octaves) * std::numbers::ln2 + kNegligibleLog) {
+            return true;
+        }
+    }
     return half_d2 > std::log(amplitude / floor_w) + kNegligibleLog;
-}
-
-/// The binary exponent of a finite x > 0: x < 2^(exponent + 1) (also for a subnormal).
-int exponent_of(double x) {
-    return static_cast<int>((std::bit_cast<std::uint64_t>(x) >> 52) & 0x7ff) - 1023;
 }
 
 /// v - f.at(t_ns), bit for bit, without the exp where f.at(t_ns) is 0 or provably below half
@@ -312,7 +325,8 @@ bool fit_gaussian(const Waveform& waveform, const EchoSpan& span, Value v, FitSc
     double s[5] = {0, 0, 0, 0, 0}, r[3] = {0, 0, 0};
     for (std::size_t m = a; m <= b; ++m) {
         const double t = static_cast<double>(m) - static_cast<double>(span.top);
-        const double y = value(m), l = std::log(y / peak);
+        // ln 1 is exactly 0: the top's term (and any sample's equal to it) needs no log.
+        const double y = value(m), q = y / peak, l = q == 1.0 ? 0.0 : std::log(q);
         double tn = y * y;
         for (int n = 0; n < 5; ++n) {
             s[n] += tn;

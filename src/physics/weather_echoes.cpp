@@ -35,6 +35,7 @@ struct GroupScratch {
     std::vector<Reach> reaches;
     std::vector<std::size_t> members;
     std::vector<EchoContribution> group;
+    std::vector<double> peaks_w;  ///< each group member's peak (a stretched echo's is lower)
     Waveform waveform;
 };
 
@@ -77,6 +78,34 @@ double sampled_energy(const WaveformConfig& config, const EchoContribution& c, W
     return sum * w.bin_ns / (pulse_sigma_ns(config) * std::sqrt(2.0 * std::numbers::pi));
 }
 
+/// Relative room left for the rounding of the sampled waveform (its recurrences and sums) and of
+/// the bound's own exps, far above either.
+constexpr double kBoundRoom = 1e-9;
+
+/// True when no sample of the group's waveform (its pulses `peaks_w`, all below the threshold, at
+/// `group`'s ranges; no binned echo) reaches `threshold_w`. A time t lies nearest to some pulse
+/// i's centre, so every other pulse j is at least half their distance d_ij from t: the waveform
+/// is at most max_i (P_i + sum_j P_j exp(-(d_ij / 2)^2 / (2 sigma_j^2))) there.
+bool group_below(const WaveformConfig& config, std::span<const EchoContribution> group,
+                 std::span<const double> peaks_w, double threshold_w) {
+    const double sigma_p = pulse_sigma_ns(config);
+    for (std::size_t i = 0; i < group.size(); ++i) {
+        double w = peaks_w[i];
+        for (std::size_t j = 0; j < group.size() && w * (1.0 + kBoundRoom) < threshold_w; ++j) {
+            if (j != i) {
+                const double half_ns =
+                    0.5 * std::abs(group[i].range_m - group[j].range_m) * round_trip_ns_per_m();
+                const double x = half_ns / (group[j].sigma_ns > 0 ? group[j].sigma_ns : sigma_p);
+                w += peaks_w[j] * std::exp(-0.5 * x * x);
+            }
+        }
+        if (!(w * (1.0 + kBoundRoom) < threshold_w)) {
+            return false;
+        }
+    }
+    return true;
+}
+
 /// The echoes of one group (`members`, ascending: the contributions' order, the binned echo
 /// last).
 void detect_group(const WaveformConfig& config, std::span<const EchoContribution> contributions,
@@ -101,19 +130,27 @@ void detect_group(const WaveformConfig& config, std::span<const EchoContribution
         }
     }
     s.group.clear();
+    s.peaks_w.clear();
     bool with_binned = false;
-    double peaks_w = 0.0;  // the waveform is nowhere higher than its pulses' peaks summed
+    double peaks_w = 0.0, highest_w = 0.0;  // the waveform is nowhere higher than their sum
     for (const std::size_t m : s.members) {
         if (m == kBinned) {
             with_binned = true;
         } else {
             const EchoContribution& c = contributions[m];
             s.group.push_back(c);
-            peaks_w += c.sigma_ns > 0 ? c.power_w * (sigma_p / c.sigma_ns) : c.power_w;
+            s.peaks_w.push_back(c.sigma_ns > 0 ? c.power_w * (sigma_p / c.sigma_ns) : c.power_w);
+            peaks_w += s.peaks_w.back();
+            highest_w = std::max(highest_w, s.peaks_w.back());
         }
     }
-    if (!with_binned && peaks_w < kUnfittedFraction * threshold_w) {
-        return;  // every span's top is below it: none is reported
+    // Every span's top is below it (kUnfittedFraction 1): none is reported. The closer bound
+    // when no pulse alone reaches it (faint drops apart from each other).
+    if (!with_binned &&
+        (peaks_w < kUnfittedFraction * threshold_w ||
+         (highest_w < kUnfittedFraction * threshold_w &&
+          group_below(config, s.group, s.peaks_w, kUnfittedFraction * threshold_w)))) {
+        return;
     }
     static const BinnedEcho kNone;
     build_waveform(config, s.group, with_binned ? binned : kNone, s.waveform);

@@ -178,5 +178,46 @@ TEST(WeatherEchoes, LonePulseInClosedFormIsItsSampledFit) {
     report(tally);
 }
 
+// Faint pulses, each below the threshold, a few pulse widths apart (one group): the groups skip
+// those whose summed waveform provably stays below the threshold, and give the whole waveform's
+// echoes bit for bit otherwise (one group is the whole waveform, its unfitted spans below the
+// threshold). Both cases occur.
+TEST(WeatherEchoes, FaintPulsesApartGiveTheWholeWaveformsEchoesExactly) {
+    WaveformConfig config;
+    std::mt19937_64 gen(11);
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    const BinnedEcho none;
+    const double threshold_w = 1e-8;
+    std::size_t below = 0, reaching = 0;
+    for (int i = 0; i < 20000; ++i) {
+        std::vector<EchoContribution> pulses;
+        double range_m = 2.0 + 40.0 * unit(gen);
+        const int n = 2 + static_cast<int>(3.0 * unit(gen));
+        for (int k = 0; k < n; ++k) {
+            pulses.push_back({range_m, threshold_w * (0.3 + 0.69 * unit(gen)), 0.0});
+            range_m += 0.2 + 1.0 * unit(gen);
+        }
+        Waveform w;
+        build_waveform(config, pulses, w);
+        const double highest_w = *std::max_element(w.samples_w.begin(), w.samples_w.end());
+        (highest_w < threshold_w ? below : reaching) += 1;
+        std::vector<Echo> whole, groups;
+        detect_echoes(config, w, threshold_w, threshold_w, whole);
+        detect_echoes_in_groups(config, pulses, none, threshold_w, groups);
+        ASSERT_EQ(whole.size(), groups.size()) << "pulse set " << i;
+        for (std::size_t e = 0; e < whole.size(); ++e) {
+            EXPECT_EQ(groups[e].range_m, whole[e].range_m);
+            EXPECT_EQ(groups[e].amplitude_w, whole[e].amplitude_w);
+            EXPECT_EQ(groups[e].width_ns, whole[e].width_ns);
+            EXPECT_EQ(groups[e].power_w, whole[e].power_w);
+        }
+        if (highest_w < threshold_w) {
+            EXPECT_TRUE(whole.empty());
+        }
+    }
+    EXPECT_GT(below, 1000u);
+    EXPECT_GT(reaching, 1000u);
+}
+
 }  // namespace
 }  // namespace beamtrace

@@ -114,6 +114,8 @@ class ParticleSampler {
     [[nodiscard]] double least_diameter_m(const AtRange& at) const;
     [[nodiscard]] double density_per_m(double range_m) const;  ///< A(r) n(r)
     [[nodiscard]] double range_at(double count) const;         ///< inverse of mu
+    /// std::upper_bound(cumulative_, count)'s index, from the guide.
+    [[nodiscard]] std::size_t upper_bound_of(double count) const;
 
     DropSizeDistribution dsd_;
     double albedo_;
@@ -122,6 +124,9 @@ class ParticleSampler {
     double tan_half_angle_;  ///< tan(beam_.half_angle_rad)
     double step_m_ = 0.0;
     std::vector<double> cumulative_;  ///< mu at start_m + k * step_m_
+    /// guide_[j]: upper_bound of j / guide_per_count_ in cumulative_ (where range_at starts).
+    std::vector<std::size_t> guide_;
+    double guide_per_count_ = 0.0;  ///< guide entries per unit of mu
 };
 
 /// A Poisson-distributed count of mean `mean` from `rng` (inversion; means above 200 are drawn

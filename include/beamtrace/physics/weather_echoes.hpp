@@ -19,7 +19,8 @@ namespace beamtrace {
 /// width; its energy is summed over its samples as detect_echoes does). What it leaves
 /// out: the refit's subtraction of another group's fitted echo beyond that echo's 5 sigma reach.
 /// Spans whose highest sample is below the threshold are not fitted (detect_echoes'
-/// unfitted_below_w) and groups whose pulses' peaks add up to less than it are not sampled.
+/// unfitted_below_w) and groups whose pulses' peaks add up to less than it are not sampled, nor
+/// groups of pulses each below it whose waveform provably stays below it (pulses apart).
 /// Appends to `out` in range order.
 void detect_echoes_in_groups(const WaveformConfig& config,
                              std::span<const EchoContribution> contributions,
