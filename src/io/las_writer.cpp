@@ -8,10 +8,12 @@
 #include <ctime>
 #include <limits>
 #include <string_view>
+#include <type_traits>
 
 #include "beamtrace/core/atomic_file.hpp"
 #include "beamtrace/core/error.hpp"
 #include "beamtrace/io/las_crs.hpp"
+#include "beamtrace/io/point_sink.hpp"
 #include "io/detail/direct_sink.hpp"
 #include "io/detail/laz_chunk_writer.hpp"
 
@@ -547,6 +549,49 @@ void LasWriter::encode_into(const Point& p, LasRecordBlock& block) const {
 void LasWriter::encode(const LasPoint& point, LasRecordBlock& block) const {
     encode_into(point, block);
 }
+
+template <class Point>
+// Flattened: encode_record() and encode_base() inlined into the loop (not the cold rejections).
+[[gnu::flatten]] void LasWriter::encode_points(std::span<const Point> points,
+                                               LasRecordBlock& block) const {
+    static_assert(std::is_base_of_v<LasSimplePoint, Point>);
+    if (points.empty()) {
+        return;
+    }
+    const std::size_t size = header_.point_record_length;
+    const std::size_t need = (block.count + points.size()) * size;
+    if (block.bytes.size() < need) {
+        block.bytes.resize(std::max(need, 2 * block.bytes.size()));
+    }
+    std::int32_t lo[3] = {std::numeric_limits<std::int32_t>::max(),
+                          std::numeric_limits<std::int32_t>::max(),
+                          std::numeric_limits<std::int32_t>::max()};
+    std::int32_t hi[3] = {std::numeric_limits<std::int32_t>::min(),
+                          std::numeric_limits<std::int32_t>::min(),
+                          std::numeric_limits<std::int32_t>::min()};
+    std::uint8_t* r = block.bytes.data() + block.count * size;
+    for (const LasSimplePoint& p : points) {
+        std::int32_t q[3];
+        encode_record(p, block.count, r, q);
+        for (std::size_t k = 0; k < 3; ++k) {
+            lo[k] = std::min(lo[k], q[k]);
+            hi[k] = std::max(hi[k], q[k]);
+        }
+        if (p.return_number >= 1) {
+            ++block.by_return[p.return_number - 1u];
+        }
+        ++block.count;
+        r += size;
+    }
+    const bool first = block.count == points.size();  // the block held no point before
+    for (std::size_t k = 0; k < 3; ++k) {
+        block.lo[k] = first ? lo[k] : std::min(block.lo[k], lo[k]);
+        block.hi[k] = first ? hi[k] : std::max(block.hi[k], hi[k]);
+    }
+}
+
+template void LasWriter::encode_points(std::span<const LasSimplePoint>, LasRecordBlock&) const;
+template void LasWriter::encode_points(std::span<const BlockPoint>, LasRecordBlock&) const;
 
 void LasWriter::encode(const LasSimplePoint& point, LasRecordBlock& block) const {
     encode_into(point, block);

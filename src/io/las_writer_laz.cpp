@@ -10,6 +10,7 @@
 
 #include "beamtrace/core/atomic_file.hpp"
 #include "beamtrace/core/error.hpp"
+#include "beamtrace/core/thread_pool.hpp"
 #include "beamtrace/io/las_writer.hpp"
 #include "io/detail/direct_sink.hpp"
 #include "io/detail/laz_chunk_writer.hpp"
@@ -48,7 +49,7 @@ LazChunkWriter::LazChunkWriter(laz::LazVlr vlr, unsigned threads, std::uint64_t 
         throw OutputError(path_.string() + ": LAZ: chunk size " + std::to_string(chunk_points_) +
                           " (expected 1 to 4294967294 points)");
     }
-    const unsigned n = threads != 0 ? threads : std::max(1u, std::thread::hardware_concurrency());
+    const unsigned n = threads != 0 ? threads : available_cores();
     slots_.resize(n + 2);
     for (unsigned k = 0; k < n; ++k) {
         workers_.emplace_back([this] { worker_loop(); });

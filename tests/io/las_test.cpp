@@ -8,6 +8,7 @@
 #include <iterator>
 #include <random>
 #include <set>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -324,6 +325,46 @@ TEST_F(LasWriterTest, SimplePointsEncodeLikeTheSameLasPointsEvenInReusedBlocks) 
     EXPECT_EQ(reused.by_return, fresh.by_return);
     EXPECT_EQ(std::vector<std::int32_t>(reused.lo, reused.lo + 3),
               std::vector<std::int32_t>(fresh.lo, fresh.lo + 3));
+}
+
+TEST_F(LasWriterTest, EncodePointsGivesWhatEncodingOneByOneGives) {
+    LasWriterConfig config = las_config_for_extent({634000, 4849000, 0}, {636000, 4851000, 200});
+    config.point_format = 7;
+    const LasWriter writer(config);
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    std::vector<LasSimplePoint> points(300);
+    for (std::size_t i = 0; i < points.size(); ++i) {
+        LasSimplePoint& p = points[i];
+        p.x = 634000 + 2000 * u(rng);
+        p.y = 4849000 + 2000 * u(rng);
+        p.z = 200 * u(rng);
+        p.gps_time = static_cast<double>(i) * 1e-5;
+        p.scan_angle_deg = static_cast<float>(60 * u(rng) - 30);
+        p.intensity = static_cast<std::uint16_t>(i * 7);
+        p.return_number = static_cast<std::uint8_t>(i % 4);  // 0: counted in no return
+        p.number_of_returns = 3;
+        p.red = static_cast<std::uint16_t>(i);
+        p.scanner_channel = static_cast<std::uint8_t>(i % 4);
+    }
+    // Into an empty block, then after points already there (its bounds kept).
+    const std::span<const LasSimplePoint> all(points);
+    LasRecordBlock one, batch;
+    for (const LasSimplePoint& p : points) {
+        writer.encode(p, one);
+    }
+    writer.encode_points(all.first(100), batch);
+    writer.encode_points(all.subspan(100, 0), batch);
+    writer.encode_points(all.subspan(100), batch);
+    ASSERT_EQ(batch.count, one.count);
+    const std::size_t size = points.size() * writer.header().point_record_length;
+    EXPECT_TRUE(std::equal(one.bytes.begin(), one.bytes.begin() + static_cast<std::ptrdiff_t>(size),
+                           batch.bytes.begin()));
+    EXPECT_EQ(batch.by_return, one.by_return);
+    EXPECT_EQ(std::vector<std::int32_t>(batch.lo, batch.lo + 3),
+              std::vector<std::int32_t>(one.lo, one.lo + 3));
+    EXPECT_EQ(std::vector<std::int32_t>(batch.hi, batch.hi + 3),
+              std::vector<std::int32_t>(one.hi, one.hi + 3));
 }
 
 TEST_F(LasWriterTest, BlockEncodingRejectsBadPointsWithoutHarmingTheWriter) {

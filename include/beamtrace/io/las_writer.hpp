@@ -169,6 +169,11 @@ class LasWriter {
     /// The same with the wave packet fields (formats 9, 10).
     void encode(const LasSimplePoint& point, const LasWavePacket& packet,
                 LasRecordBlock& block) const;
+    /// encode() of every point of `points` in order (the same bytes, bounds and counts), with
+    /// the space made and the bounds kept once per call rather than per point. `Point` is
+    /// LasSimplePoint or BlockPoint (io/point_sink.hpp), whose LasSimplePoint fields are encoded.
+    template <class Point>
+    void encode_points(std::span<const Point> points, LasRecordBlock& block) const;
     /// Byte offset of the wave packet fields in a record (formats 9, 10).
     [[nodiscard]] std::size_t wave_packet_field() const;
     /// Appends an encoded block (after any points given to write()).
@@ -198,11 +203,13 @@ class LasWriter {
     void encode(const LasPoint& p, std::uint64_t index, std::uint8_t* record);
     void encode_record(const LasPoint& p, std::uint64_t index, std::uint8_t* record,
                        std::int32_t q[3]) const;
-    void encode_record(const LasSimplePoint& p, std::uint64_t index, std::uint8_t* record,
-                       std::int32_t q[3]) const;
+    // Hidden: not interposable in position-independent code, so encode_points() inlines them.
+    [[gnu::visibility("hidden")]] void encode_record(const LasSimplePoint& p, std::uint64_t index,
+                                                     std::uint8_t* record, std::int32_t q[3]) const;
     /// Bytes 0-29, the part every record has (flags: byte 15), after the checks.
-    void encode_base(const LasSimplePoint& p, std::uint8_t flags, std::uint64_t index,
-                     std::uint8_t* record, std::int32_t q[3]) const;
+    [[gnu::visibility("hidden")]] void encode_base(const LasSimplePoint& p, std::uint8_t flags,
+                                                   std::uint64_t index, std::uint8_t* record,
+                                                   std::int32_t q[3]) const;
     template <class Point>
     void encode_into(const Point& p, LasRecordBlock& block) const;
     void flush_chunk();

@@ -3,6 +3,7 @@
 // VLR, the extra bytes of output.extra_bytes with their Extra Bytes VLR. Records are encoded on
 // the pool threads. points.laz: the same file, LASzip-compressed.
 #include <algorithm>
+#include <span>
 
 #include "beamtrace/core/error.hpp"
 #include "beamtrace/io/las_crs.hpp"
@@ -98,9 +99,7 @@ class LasSink final : public PointSink {
         if (waves_) {
             waves_->encode(block, *writer_, las, static_cast<LasBuffer&>(out).packets);
         } else {
-            for (const BlockPoint& p : block.points) {
-                writer_->encode(static_cast<const LasSimplePoint&>(p), las);
-            }
+            writer_->encode_points(std::span<const BlockPoint>(block.points), las);
         }
         encode_las_extra_bytes(extra_, block.points, *writer_, las);
     }

@@ -8,6 +8,7 @@
 // left for the writer thread.
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <limits>
 #include <memory>
@@ -15,7 +16,9 @@
 #include <string>
 #include <system_error>
 #include <thread>
+#include <vector>
 
+#include "beamtrace/core/thread_pool.hpp"
 #include "beamtrace/io/colormap.hpp"
 #include "beamtrace/io/png_writer.hpp"
 #include "beamtrace/io/point_sink.hpp"
@@ -30,10 +33,18 @@ constexpr int kPreviewPixels = 1024;  ///< the footprint's longer side, before c
 constexpr int kGapPixels = 2;         ///< runs of empty pixels closed between two hits
 constexpr float kEmpty = -std::numeric_limits<float>::infinity();
 
-/// Nothing goes through the writer: encode() raises the pixels of a layer itself.
+/// Nothing goes through the writer: encode() raises the pixels of a layer itself. The buffer
+/// holds encode()'s scratch: the block's points that fall on the raster, as pixel and height.
 struct PreviewBuffer final : SinkBuffer {
+    std::vector<std::uint32_t> pixel;
+    std::vector<float> height;
     void clear() override {}
 };
+
+/// Points ahead whose pixel is prefetched while one is raised: a survey's points land all over
+/// a raster of several MB (a spinning scanner's beams fan out from the car), so each raise is a
+/// cache miss; the prefetch overlaps them.
+constexpr std::size_t kPrefetchAhead = 16;
 
 /// Heights of pixels, rows from the north edge down.
 struct Raster {
@@ -91,7 +102,7 @@ void close_gaps(Raster& r, bool rows, int l0, int l1) {
 /// others (the result does not depend on the split). The survey's pool is idle by then.
 template <class F>
 void in_halves(std::size_t n, const F& f) {
-    if (n >= 64 && std::thread::hardware_concurrency() >= 2) {
+    if (n >= 64 && available_cores() >= 2) {
         std::thread other;
         try {
             other = std::thread([&] { f(n / 2, n); });
@@ -248,17 +259,20 @@ class PreviewSink final : public PointSink {
     }
     /// Raises each point's pixel to its height in a layer no other thread uses meanwhile; any
     /// thread, blocks in any order (-0 is taken as +0, so not even its sign depends on it).
-    void encode(const PointBlock& block, SinkBuffer& /*out*/) const override {
+    void encode(const PointBlock& block, SinkBuffer& out) const override {
+        auto& scratch = static_cast<PreviewBuffer&>(out);
+        pixels_of(block, scratch);
         std::unique_ptr<std::vector<float>> layer = take_layer();
         float* z = layer->data();
-        for (const BlockPoint& p : block.points) {
-            const double u = std::floor((p.x - raster_.west) / raster_.cell_m);
-            const double v = std::floor((raster_.north - p.y) / raster_.cell_m);
-            if (u >= 0 && v >= 0 && u < raster_.width && v < raster_.height) {
-                const float h = static_cast<float>(p.z) + 0.0f;
-                float& pixel = z[static_cast<std::size_t>(v * raster_.width + u)];
-                pixel = h > pixel ? h : pixel;
+        const std::uint32_t* pixel = scratch.pixel.data();
+        const float* height = scratch.height.data();
+        const std::size_t n = scratch.pixel.size();
+        for (std::size_t i = 0; i < n; ++i) {
+            if (i + kPrefetchAhead < n) {
+                __builtin_prefetch(z + pixel[i + kPrefetchAhead], 1);
             }
+            float& p = z[pixel[i]];
+            p = height[i] > p ? height[i] : p;
         }
         const std::lock_guard lock(mutex_);
         layers_.push_back(std::move(layer));
@@ -287,6 +301,24 @@ class PreviewSink final : public PointSink {
     [[nodiscard]] std::vector<std::string> notes() const override { return notes_; }
 
   private:
+    /// The pixel and height of each point of `block` that falls on the raster, in block order,
+    /// into `out`.
+    void pixels_of(const PointBlock& block, PreviewBuffer& out) const {
+        out.pixel.resize(block.points.size());
+        out.height.resize(block.points.size());
+        std::size_t n = 0;
+        for (const BlockPoint& p : block.points) {
+            const double u = std::floor((p.x - raster_.west) / raster_.cell_m);
+            const double v = std::floor((raster_.north - p.y) / raster_.cell_m);
+            if (u >= 0 && v >= 0 && u < raster_.width && v < raster_.height) {
+                out.pixel[n] = static_cast<std::uint32_t>(v * raster_.width + u);
+                out.height[n] = static_cast<float>(p.z) + 0.0f;
+                ++n;
+            }
+        }
+        out.pixel.resize(n);
+        out.height.resize(n);
+    }
     /// A spare layer, or a new empty one.
     [[nodiscard]] std::unique_ptr<std::vector<float>> take_layer() const {
         {

@@ -19,6 +19,10 @@ namespace beamtrace::detail {
 /// platform's direction of travel, counter-clockwise seen from behind (so positive to the right),
 /// in degrees, clamped to [-90, 90].
 [[nodiscard]] float las_scan_angle_deg(const Vec3d& dir, const Vec3d& forward);
+/// las_scan_angle_deg() of the directions of rays [first, first + count) into out[0, count):
+/// the same floats, computed a batch at a time (vectorized).
+void las_scan_angles_deg(const RayBatch& rays, std::size_t first, std::size_t count,
+                         const Vec3d& forward, float* out);
 
 struct SurveyRaySource {
     const SurveySpec* spec = nullptr;
