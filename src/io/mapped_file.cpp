@@ -79,9 +79,9 @@ void MappedFile::prefault(std::size_t offset, std::size_t length) const noexcept
 #endif
 }
 
-void MappedFile::write_buffer(std::size_t size) const {
-    for (std::size_t done = 0; done < size;) {
-        const ssize_t n = ::pwrite(fd_, data_ + done, size - done, static_cast<off_t>(done));
+void MappedFile::write_buffer() const {
+    for (std::size_t done = 0; done < size_;) {
+        const ssize_t n = ::pwrite(fd_, data_ + done, size_ - done, static_cast<off_t>(done));
         if (n < 0 && errno == EINTR) {
             continue;
         }
@@ -92,21 +92,14 @@ void MappedFile::write_buffer(std::size_t size) const {
     }
 }
 
-void MappedFile::commit(std::size_t size) {
+void MappedFile::commit() {
     if (fd_ < 0) {
         throw OutputError(path().string() + ": commit called twice");
     }
-    if (size > size_) {
-        throw OutputError(path().string() + ": cannot commit " + std::to_string(size) +
-                          " bytes of " + std::to_string(size_));
-    }
     if (buffer_ != nullptr) {
-        write_buffer(size);
+        write_buffer();
     }
     unmap();
-    if (size < size_ && ::ftruncate(fd_, static_cast<off_t>(size)) != 0) {
-        fail(path(), "cannot truncate to " + std::to_string(size) + " bytes", errno);
-    }
     size_ = 0;
     const int fd = fd_;
     fd_ = -1;

@@ -75,24 +75,6 @@ TEST(MappedFile, ThreadsFillTheirRangesAndCommitRenamesIntoPlace) {
     EXPECT_EQ(test::entry_count(dir.path()), 2u);  // no temporary file left
 }
 
-// A file mapped at an upper bound of its size and committed at its true size: the bytes written
-// and nothing after them (mapped, and through the buffer); more than was mapped is an error.
-TEST(MappedFile, CommitOfAPrefixCutsTheFileToIt) {
-    test::TempDir dir;
-    const std::string expected = random_bytes(1048576 + 12345, 5);
-    for (const bool buffered : {false, true}) {
-        const fs::path path = dir / (buffered ? "buffered.bin" : "mapped.bin");
-        MappedFile file(path, expected.size() + 3 * 4096 + 17, buffered);
-        std::memcpy(file.bytes().data(), expected.data(), expected.size());
-        EXPECT_THROW(file.commit(file.bytes().size() + 1), OutputError);
-        EXPECT_FALSE(fs::exists(path));
-        file.commit(expected.size());
-        EXPECT_EQ(fs::file_size(path), expected.size()) << "buffered " << buffered;
-        EXPECT_TRUE(test::read_file(path) == expected) << "buffered " << buffered;
-    }
-    EXPECT_EQ(test::entry_count(dir.path()), 2u);  // no temporary file left
-}
-
 TEST(MappedFile, AnEmptyFileNeedsNoMapping) {
     test::TempDir dir;
     MappedFile file(dir / "empty", 0);

@@ -39,17 +39,14 @@ class MappedFile {
     /// hint only: nothing happens where the range is not mapped or the kernel lacks it.
     void prefault(std::size_t offset, std::size_t length) const noexcept;
     /// Unmaps (or writes the buffer), closes and renames the file onto its final path.
-    void commit() { commit(size_); }
-    /// The same for a file of the first `size` bytes (at most bytes().size()): the rest, never
-    /// written or not wanted, is cut off (for a writer that knows the size only at the end).
-    void commit(std::size_t size);
+    void commit();
 
     [[nodiscard]] const std::filesystem::path& path() const { return file_.path(); }
     [[nodiscard]] const std::filesystem::path& temp_path() const { return file_.temp_path(); }
 
   private:
     void unmap() noexcept;
-    void write_buffer(std::size_t size) const;
+    void write_buffer() const;
 
     AtomicFile file_;       ///< the temporary name, its removal and the rename
     int fd_ = -1;           ///< the temporary file opened read-write (mmap needs it)

@@ -115,8 +115,7 @@ struct ScanWritten {
     std::vector<std::string> notes;              ///< the outputs' summary lines
 };
 
-/// What run_scan writes, for hits traced already (run_scan writes the same bytes between the
-/// chunks of its trace), on the pool's threads: the outputs config.outputs selects, into
+/// The writing half of run_scan, on the pool's threads: the outputs config.outputs selects, into
 /// config.output_dir (created if missing), for `hits` of `rays` (hit i of ray i). The range
 /// images have `width` x `height` pixels, pixel (v, u) of ray u * height + v; 0 x 0: none (npy
 /// and png are skipped). Only config.output_dir, outputs, exclude_faces, backend (named in
