@@ -100,8 +100,7 @@ SubRayHit make_sub_ray_hit(const Material& material, const PatternFrame& frame, 
                            const Vec3d& point_m, const Vec3d& normal, const Vec3d& direction) {
     SubRayHit h;
     h.range_m = range_m;
-    const double n = length(normal);
-    h.cos_incidence = n > 0 ? std::min(1.0, std::abs(dot(normal, direction)) / n) : 0.0;
+    h.cos_incidence = cos_incidence_of(normal, length(normal), direction);
     h.albedo = albedo(material, frame, point_m);
     h.specular_weight = material.specular_weight;
     h.specular_exponent = material.specular_exponent;

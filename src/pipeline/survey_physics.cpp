@@ -136,7 +136,7 @@ bool SurveyPhysics::one_face_samples(BlockWork& w, std::size_t k, FaceCache& cac
         const Vec3d d{r.dx[h], r.dy[h], r.dz[h]};
         BeamSample& s = samples[j];
         s.hit.range_m = static_cast<double>(w.hits.t[h]);
-        s.hit.cos_incidence = n > 0 ? std::min(1.0, std::abs(dot(f.normal, d)) / n) : 0.0;
+        s.hit.cos_incidence = cos_incidence_of(f.normal, n, d);
         s.hit.albedo = m.reflectance;
         s.hit.specular_weight = m.specular_weight;
         s.hit.specular_exponent = m.specular_exponent;

@@ -21,6 +21,8 @@
 // angles in radians.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <limits>
 #include <optional>
@@ -84,6 +86,13 @@ struct SubRayHit {
     double specular_weight = 0.0;     ///< s of the material
     double specular_exponent = 10.0;  ///< n of the material
 };
+
+/// |n . d| / |n| for a normal of length `normal_length` (0: a degenerate face, 0), at most 1.
+[[nodiscard]] inline double cos_incidence_of(const Vec3d& normal, double normal_length,
+                                             const Vec3d& direction) {
+    return normal_length > 0 ? std::min(1.0, std::abs(dot(normal, direction)) / normal_length)
+                             : 0.0;
+}
 
 /// The SubRayHit of a sub-ray along unit `direction` hitting `material` at `point_m`, `range_m`
 /// away, where the surface normal is `normal` (either orientation; need not be unit). The
