@@ -19,15 +19,21 @@
 namespace beamtrace {
 namespace {
 
+/// A window of 2 x 2 sections of `section_cells` a side at their coarsest of 3 levels.
+HeightFieldConfig small_window(double cell_size, int section_cells) {
+    HeightFieldConfig c;
+    c.cell_size = cell_size;
+    c.levels = 3;
+    c.section_cells = section_cells;
+    c.sections = 2;
+    return c;
+}
+
 TEST(ViewLanes, Avx512KernelRoundsLikeTheScalarWalkWhereARayTouchesATop) {
     if (detail::widest_lanes() < 8) {
         BEAMTRACE_SKIP_HARDWARE("no AVX-512 on this CPU");
     }
-    HeightFieldConfig c;
-    c.cell_size = 1.0;
-    c.levels = 3;
-    c.section_cells = 4;
-    c.sections = 2;
+    const HeightFieldConfig c = small_window(1.0, 4);
     SectionGrid grid(c, {0, 0, 0});
     const double h = 2.0;
     test::fill_grid(grid, [&](std::int64_t, std::int64_t) { return h; });
@@ -81,11 +87,7 @@ TEST(ViewLanes, Avx512KernelRoundsLikeTheScalarWalkWhereARayTouchesATop) {
 }
 
 TEST(ViewLanes, FinestNeighboursAreTheFinestHeightsAroundACell) {
-    HeightFieldConfig c;
-    c.cell_size = 1.0;
-    c.levels = 3;
-    c.section_cells = 2;
-    c.sections = 2;
+    const HeightFieldConfig c = small_window(1.0, 2);
     SectionGrid grid(c, {0, 0, 0});
     test::fill_grid(
         grid, [](std::int64_t x, std::int64_t y) { return static_cast<double>(x * 100 + y); });
@@ -184,11 +186,7 @@ TEST(ViewLanes, RaySetupInLanesIsTheScalarSetupBitForBit) {
     if (detail::widest_lanes() < 4) {
         BEAMTRACE_SKIP_HARDWARE("no AVX2 on this CPU");
     }
-    HeightFieldConfig c;
-    c.cell_size = 0.5;
-    c.levels = 3;
-    c.section_cells = 4;
-    c.sections = 2;
+    const HeightFieldConfig c = small_window(0.5, 4);
     SectionGrid grid(c, {0, 0, 0});
     test::fill_grid(grid, [](std::int64_t x, std::int64_t y) {
         return 1.0 + 0.25 * static_cast<double>((x * 7 + y * 3) % 5);
