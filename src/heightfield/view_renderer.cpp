@@ -190,12 +190,19 @@ class PixelSink {
   public:
     PixelSink(const SectionGrid& grid, const LevelTable& table, const RenderOptions& options,
               ViewImage& image)
-        : grid_(grid), table_(table), options_(options), image_(image) {}
+        : grid_(grid),
+          table_(table),
+          options_(options),
+          image_(image),
+          per_two_cells_(2.0 * grid.config().cell_size) {}
 
     void hit(std::size_t i, const GridRay& r, const GridHit& hit) const {
         detail::shade_hit(
-            grid_, [this](std::int64_t x, std::int64_t y) { return table_.height(0, x, y); }, r,
-            hit, options_, image_.rgb.data() + 3 * i, image_.depth[i]);
+            grid_,
+            [this](std::int64_t x, std::int64_t y, float* out) {
+                table_.finest_neighbours(x, y, out);
+            },
+            per_two_cells_, r, hit, options_, image_.rgb.data() + 3 * i, image_.depth[i]);
     }
     void miss(std::size_t i) const {
         std::uint8_t* out = image_.rgb.data() + 3 * i;
@@ -210,6 +217,7 @@ class PixelSink {
     const LevelTable& table_;
     const RenderOptions& options_;
     ViewImage& image_;
+    detail::ExactDivisor per_two_cells_;
 };
 
 /// A rectangle of pixels [x0, x1) x [y0, y1) of an image `width` pixels wide.
@@ -228,7 +236,7 @@ struct SimdBuffers {
 
 /// The ray directions of a frame's pixels: one at a time (CameraRays::direction_at of the
 /// pixel's column and row coordinates) or, with `lanes` > 1, a row of a beam at a time in SIMD
-/// lanes (detail::ray_directions_lanes: the same values).
+/// lanes with their clipping (detail::ray_setup_lanes: the same values).
 struct PixelDirections {
     const CameraRays& rays;
     std::vector<double> u, v;  ///< image-plane coordinates per column and row
@@ -268,17 +276,32 @@ struct PixelDirections {
         }
         detail::RowDirections dirs;
         const int n = t.x1 - t.x0;
-        detail::ray_directions_lanes(lanes, frame, u.data() + t.x0, v[static_cast<std::size_t>(py)],
-                                     n, dirs);
+        const detail::ClipFrame c = setup.clip_frame();
+        detail::ray_setup_lanes(lanes, frame, c, u.data() + t.x0, v[static_cast<std::size_t>(py)],
+                                n, dirs);
         for (int k = 0; k < n; ++k) {
+            const auto i = base + static_cast<std::size_t>(t.x0 + k);
+            if ((dirs.enter & (1 << k)) == 0) {
+                miss(i);
+                continue;
+            }
+            // What RaySetup::clip sets, from its lanes' values (entered and level: the start).
             GridRay r;
+            r.ox = c.ox;
+            r.oy = c.oy;
+            r.oz = c.oz;
             r.dx = dirs.dx[k];
             r.dy = dirs.dy[k];
             r.dz = dirs.dz[k];
             r.inv_dx = dirs.inv_dx[k];
             r.inv_dy = dirs.inv_dy[k];
-            const auto i = base + static_cast<std::size_t>(t.x0 + k);
-            setup.clip(r, dirs.inv_dz[k]) ? f(i, r) : miss(i);
+            r.sx = r.dx < 0 ? -1 : 1;
+            r.sy = r.dy < 0 ? -1 : 1;
+            r.t_min = dirs.t_min[k];
+            r.t_max = dirs.t_max[k];
+            r.gx = static_cast<std::int64_t>(dirs.gx[k]);
+            r.gy = static_cast<std::int64_t>(dirs.gy[k]);
+            f(i, r);
         }
     }
 };

@@ -80,17 +80,17 @@ int trace_rays_lanes(int lanes, const LevelTable& table, const GridRay* rays, st
                            " lanes are not available on this CPU");
 }
 
-void ray_directions_lanes(int lanes, const DirectionFrame& frame, const double* u, double v,
-                          int count, RowDirections& out) {
+void ray_setup_lanes(int lanes, const DirectionFrame& frame, const ClipFrame& clip, const double* u,
+                     double v, int count, RowDirections& out) {
     if (lanes == 8 && widest_lanes() >= 8) {
-        avx512::directions(frame, u, v, count, out);
+        avx512::directions(frame, clip, u, v, count, out);
         return;
     }
     if (lanes == 4 && widest_lanes() >= 4) {
-        avx2::directions(frame, u, v, count, out);
+        avx2::directions(frame, clip, u, v, count, out);
         return;
     }
-    throw std::logic_error("ray_directions_lanes: " + std::to_string(lanes) +
+    throw std::logic_error("ray_setup_lanes: " + std::to_string(lanes) +
                            " lanes are not available on this CPU");
 }
 
@@ -106,9 +106,9 @@ int trace_rays_lanes(int lanes, const LevelTable&, const GridRay*, std::size_t, 
                            " lanes are not built for this CPU");
 }
 
-void ray_directions_lanes(int lanes, const DirectionFrame&, const double*, double, int,
-                          RowDirections&) {
-    throw std::logic_error("ray_directions_lanes: " + std::to_string(lanes) +
+void ray_setup_lanes(int lanes, const DirectionFrame&, const ClipFrame&, const double*, double, int,
+                     RowDirections&) {
+    throw std::logic_error("ray_setup_lanes: " + std::to_string(lanes) +
                            " lanes are not built for this CPU");
 }
 

@@ -7,9 +7,11 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <random>
 #include <vector>
 
+#include "beamtrace/heightfield/view_camera.hpp"
 #include "heightfield/detail/view_trace_simd.hpp"
 #include "heightfield/heightfield_test_support.hpp"
 #include "test_support.hpp"
@@ -17,15 +19,21 @@
 namespace beamtrace {
 namespace {
 
+/// A window of 2 x 2 sections of `section_cells` a side at their coarsest of 3 levels.
+HeightFieldConfig small_window(double cell_size, int section_cells) {
+    HeightFieldConfig c;
+    c.cell_size = cell_size;
+    c.levels = 3;
+    c.section_cells = section_cells;
+    c.sections = 2;
+    return c;
+}
+
 TEST(ViewLanes, Avx512KernelRoundsLikeTheScalarWalkWhereARayTouchesATop) {
     if (detail::widest_lanes() < 8) {
         BEAMTRACE_SKIP_HARDWARE("no AVX-512 on this CPU");
     }
-    HeightFieldConfig c;
-    c.cell_size = 1.0;
-    c.levels = 3;
-    c.section_cells = 4;
-    c.sections = 2;
+    const HeightFieldConfig c = small_window(1.0, 4);
     SectionGrid grid(c, {0, 0, 0});
     const double h = 2.0;
     test::fill_grid(grid, [&](std::int64_t, std::int64_t) { return h; });
@@ -76,6 +84,141 @@ TEST(ViewLanes, Avx512KernelRoundsLikeTheScalarWalkWhereARayTouchesATop) {
     std::printf("[ touches  ] %d of %zu rays hit their first cell\n", first_cell, rays.size());
     EXPECT_GT(first_cell, 100);
     EXPECT_LT(first_cell, 3900);
+}
+
+TEST(ViewLanes, FinestNeighboursAreTheFinestHeightsAroundACell) {
+    const HeightFieldConfig c = small_window(1.0, 2);
+    SectionGrid grid(c, {0, 0, 0});
+    test::fill_grid(
+        grid, [](std::int64_t x, std::int64_t y) { return static_cast<double>(x * 100 + y); });
+    const detail::LevelTable table(grid);
+    const std::int64_t w = grid.window_cells();
+    ASSERT_GT(w, 8);
+    int read = 0;
+    for (std::int64_t y = 0; y < w; ++y) {
+        for (std::int64_t x = 0; x < w; ++x) {
+            float nb[4];
+            table.finest_neighbours(x, y, nb);
+            const std::int64_t at[4][2] = {{x + 1, y}, {x - 1, y}, {x, y + 1}, {x, y - 1}};
+            for (int k = 0; k < 4; ++k) {
+                const std::int64_t nx = at[k][0], ny = at[k][1];
+                const bool inside = nx >= 0 && ny >= 0 && nx < w && ny < w;
+                const float want = inside ? table.height(0, nx, ny) : kEmptyHeight;
+                ASSERT_EQ(nb[k], want) << x << ", " << y << ", neighbour " << k;
+                read += inside && want == static_cast<float>(nx * 100 + ny) ? 1 : 0;
+            }
+        }
+    }
+    // The heights are the cells' own: every neighbour inside the window was read.
+    EXPECT_EQ(read, static_cast<int>(4 * w * w - 4 * w));
+}
+
+/// The same double, bit for bit (0.0 and -0.0 differ).
+bool same_bits(double a, double b) {
+    return std::memcmp(&a, &b, sizeof a) == 0;
+}
+
+TEST(ViewLanes, ExactDivisorIsTheQuotientBitForBit) {
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<double> unit(-1.0, 1.0);
+    std::uniform_int_distribution<int> exponent(-1074, 1023);
+    int products = 0;
+    for (const double d : {2.0, 0.5, 1.0, 4.0, 0.25, 1024.0, 3.0, 0.2, 10.0, 1e-3, 6.0}) {
+        const detail::ExactDivisor div(d);
+        products += div.is_product() ? 1 : 0;
+        for (int i = 0; i < 20000; ++i) {
+            // Quotients of every size: subnormal, normal, overflowing; zeros of both signs.
+            const double x = i < 4 ? (i < 2 ? 0.0 : -0.0) * (i % 2 == 0 ? 1.0 : 1e-300)
+                                   : std::ldexp(unit(rng), exponent(rng));
+            ASSERT_TRUE(same_bits(div(x), x / d)) << x << " / " << d;
+        }
+    }
+    // The powers of two are products (a division where the divisor would round its inverse).
+    EXPECT_EQ(products, 6);
+}
+
+/// Compares ray_setup_lanes with RaySetup::operator() on every pixel of `camera` (rows of
+/// kRowDirections pixels and a shorter last one); returns the rays that enter.
+int expect_setup_like_scalar(const SectionGrid& grid, const ViewCamera& camera, int lanes) {
+    const CameraRays rays(camera);
+    const detail::RaySetup setup(grid, camera.position);
+    const detail::DirectionFrame frame{
+        rays.forward().x, rays.forward().y, rays.forward().z, rays.right().x, rays.right().y,
+        rays.right().z,   rays.up().x,      rays.up().y,      rays.up().z,    setup.per_cell()};
+    std::vector<double> u;
+    for (int px = 0; px < camera.width; ++px) {
+        u.push_back(rays.u(px));
+    }
+    int entered = 0;
+    for (int py = 0; py < camera.height; ++py) {
+        for (int x0 = 0; x0 < camera.width; x0 += detail::kRowDirections) {
+            const int n = std::min(detail::kRowDirections, camera.width - x0);
+            detail::RowDirections out;
+            detail::ray_setup_lanes(lanes, frame, setup.clip_frame(), u.data() + x0, rays.v(py), n,
+                                    out);
+            for (int k = 0; k < n; ++k) {
+                detail::GridRay r;
+                const bool enters = setup(rays.direction_at(u[x0 + k], rays.v(py)), r);
+                const bool lane = (out.enter & (1 << k)) != 0;
+                EXPECT_EQ(lane, enters) << "pixel " << x0 + k << ", " << py;
+                if (!enters || !lane) {
+                    continue;
+                }
+                ++entered;
+                EXPECT_TRUE(same_bits(out.dx[k], r.dx) && same_bits(out.dy[k], r.dy) &&
+                            same_bits(out.dz[k], r.dz) && same_bits(out.inv_dx[k], r.inv_dx) &&
+                            same_bits(out.inv_dy[k], r.inv_dy))
+                    << "pixel " << x0 + k << ", " << py;
+                EXPECT_TRUE(same_bits(out.t_min[k], r.t_min)) << out.t_min[k] << " " << r.t_min;
+                EXPECT_TRUE(same_bits(out.t_max[k], r.t_max)) << out.t_max[k] << " " << r.t_max;
+                EXPECT_EQ(static_cast<std::int64_t>(out.gx[k]), r.gx);
+                EXPECT_EQ(static_cast<std::int64_t>(out.gy[k]), r.gy);
+            }
+            if (::testing::Test::HasFailure()) {
+                return entered;
+            }
+        }
+    }
+    return entered;
+}
+
+TEST(ViewLanes, RaySetupInLanesIsTheScalarSetupBitForBit) {
+    if (detail::widest_lanes() < 4) {
+        BEAMTRACE_SKIP_HARDWARE("no AVX2 on this CPU");
+    }
+    const HeightFieldConfig c = small_window(0.5, 4);
+    SectionGrid grid(c, {0, 0, 0});
+    test::fill_grid(grid, [](std::int64_t x, std::int64_t y) {
+        return 1.0 + 0.25 * static_cast<double>((x * 7 + y * 3) % 5);
+    });
+    const double w = static_cast<double>(grid.window_cells()) * c.cell_size;
+    const Vec3d corner = grid.window_corner();
+    std::mt19937 rng(21);
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    int entered = 0, cameras = 0;
+    for (int i = 0; i < 120; ++i) {
+        ViewCamera cam;
+        // Inside and outside the window, below, within and above the heights; level rays
+        // (pitch 0), rays along the axes (yaw a multiple of 90 degrees, odd sizes: a centre
+        // column and row) and straight-down ones.
+        cam.position = {corner.x + (1.4 * unit(rng) - 0.2) * w,
+                        corner.y + (1.4 * unit(rng) - 0.2) * w, corner.z + 4.0 * unit(rng) - 0.5};
+        cam.yaw_deg = i % 3 == 0 ? 90.0 * (i % 4) : 360.0 * unit(rng);
+        cam.pitch_deg = i % 5 == 0 ? 0.0 : i % 7 == 0 ? -89.0 : 120.0 * unit(rng) - 80.0;
+        cam.hfov_deg = 20.0 + 100.0 * unit(rng);
+        cam.width = 13 + (i % 4);
+        cam.height = 9 + (i % 3);
+        ++cameras;
+        for (const int lanes : {4, 8}) {
+            if (lanes > detail::widest_lanes()) {
+                continue;
+            }
+            entered += expect_setup_like_scalar(grid, cam, lanes);
+            ASSERT_FALSE(::testing::Test::HasFailure()) << "camera " << i << ", " << lanes;
+        }
+    }
+    // Most cameras see the heights.
+    EXPECT_GT(entered, cameras * 20);
 }
 
 }  // namespace

@@ -44,6 +44,16 @@ struct GridRay {
     return static_cast<std::uint8_t>(i + static_cast<int>(v - static_cast<double>(i) >= 0.5));
 }
 
+/// What RaySetup::clip works with besides the ray, for its copy in SIMD lanes
+/// (ray_setup_lanes, view_trace_simd.hpp).
+struct ClipFrame {
+    double ox = 0, oy = 0, oz = 0;  ///< the camera: x, y in window cells, z above origin.z
+    double w = 0;                   ///< window cells a side
+    double zmax = 0;                ///< the highest loaded height (-inf: none loaded)
+    double floor_dz = 0;            ///< height of the floor below the camera
+    double last = 0;                ///< the window's last cell
+};
+
 /// Rays from one camera position into the window: what depends only on the frame is worked out
 /// once (the window, its height range, the position in cells).
 class RaySetup {
@@ -130,6 +140,10 @@ class RaySetup {
 
     /// 1 / cell size: dx = dir.x * per_cell(), dy = dir.y * per_cell().
     [[nodiscard]] double per_cell() const { return per_cell_; }
+    /// The values clip() works with.
+    [[nodiscard]] ClipFrame clip_frame() const {
+        return {ox_, oy_, oz_, w_, zmax_, floor_dz_, static_cast<double>(last_)};
+    }
 
   private:
     double zmax_, zmin_, cell_, w_;
@@ -205,12 +219,34 @@ struct GridHit {
     return false;
 }
 
-/// Colour and distance of a hit. `finest(x, y)` is grid.height(0, x, y) (a faster lookup of the
-/// same values).
-template <typename Finest>
-inline void shade_hit(const SectionGrid& grid, const Finest& finest, const GridRay& r,
-                      const GridHit& hit, const RenderOptions& options, std::uint8_t* rgb,
-                      float& depth) {
+/// x / d for a divisor d fixed for a frame, as a product x * (1 / d) where d is a power of two:
+/// then 1 / d is exact, and the product and the quotient are the one rounding of the same number
+/// x / 2^k, bit for bit (subnormal, infinite and NaN results included). A division otherwise.
+class ExactDivisor {
+  public:
+    explicit ExactDivisor(double d) : d_(d) {
+        int e = 0;
+        if (std::isfinite(d) && std::frexp(d, &e) == 0.5 && e > -1000 && e < 1000) {
+            inv_ = 1.0 / d;
+        }
+    }
+    [[nodiscard]] double operator()(double x) const { return inv_ != 0 ? x * inv_ : x / d_; }
+    /// Whether the division is a product.
+    [[nodiscard]] bool is_product() const { return inv_ != 0; }
+
+  private:
+    double d_;
+    double inv_ = 0;  ///< 1 / d where d is a power of two, else 0
+};
+
+/// Colour and distance of a hit. `neighbours(x, y, out)` sets out[0..3] to grid.height(0, ...)
+/// of cells (x + 1, y), (x - 1, y), (x, y + 1) and (x, y - 1), kEmptyHeight outside the window
+/// (LevelTable::finest_neighbours: a faster lookup of the same values); `per_two_cells` divides
+/// by 2 * cell size.
+template <typename Neighbours>
+inline void shade_hit(const SectionGrid& grid, const Neighbours& neighbours,
+                      const ExactDivisor& per_two_cells, const GridRay& r, const GridHit& hit,
+                      const RenderOptions& options, std::uint8_t* rgb, float& depth) {
     const double h = hit.h;
     double t = hit.t_in;
     bool top = true;
@@ -254,24 +290,20 @@ inline void shade_hit(const SectionGrid& grid, const Finest& finest, const GridR
         if (hit.bottom) {
             n = {0.0, 0.0, -1.0};
         } else if (top) {
-            const std::int64_t last = grid.window_cells() - 1;
             // With stacks, a neighbour whose top is far above (a bridge over the ground) is not
-            // part of this surface.
+            // part of this surface; outside the window and where nothing is, the cell's own.
             const double above = grid.config().stacks() > 0
                                      ? static_cast<double>(grid.config().stack_gap_or_default())
                                      : kInf;
-            const auto at = [&](std::int64_t x, std::int64_t y) {
-                if (x < 0 || y < 0 || x > last || y > last) {
-                    return h;
-                }
-                const float v = finest(x, y);
+            float nb[4];
+            neighbours(hit.x, hit.y, nb);
+            const auto at = [&](float v) {
                 return v == kEmptyHeight || static_cast<double>(v) > h + above
                            ? h
                            : static_cast<double>(v);
             };
-            const double two_cells = 2.0 * grid.config().cell_size;
-            const double gx = (at(hit.x + 1, hit.y) - at(hit.x - 1, hit.y)) / two_cells;
-            const double gy = (at(hit.x, hit.y + 1) - at(hit.x, hit.y - 1)) / two_cells;
+            const double gx = per_two_cells(at(nb[0]) - at(nb[1]));
+            const double gy = per_two_cells(at(nb[2]) - at(nb[3]));
             n = normalize(Vec3d(-gx, -gy, 1.0));
         } else if (hit.entered_axis == 0) {
             n = {static_cast<double>(-r.sx), 0.0, 0.0};

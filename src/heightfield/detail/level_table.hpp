@@ -132,6 +132,33 @@ class LevelTable {
         return b[static_cast<std::size_t>(((y & mask) << sh) + (x & mask))];
     }
 
+    /// The finest heights of the four neighbours of finest cell (x, y) of a loaded section, in
+    /// out: (x + 1, y), (x - 1, y), (x, y + 1), (x, y - 1); kEmptyHeight for those outside the
+    /// window or in sections not loaded. Those in the cell's own section (all but those of its
+    /// border cells) are read next to it, without a lookup of their section each.
+    void finest_neighbours(std::int64_t x, std::int64_t y, float* out) const {
+        const std::int64_t mask = (std::int64_t{1} << shift_) - 1;
+        const std::int64_t ix = x & mask, iy = y & mask;
+        const float* base = address_[static_cast<std::size_t>((y >> shift_) * n_ + (x >> shift_))];
+        if (base != nullptr && ix > 0 && ix < mask && iy > 0 && iy < mask) {
+            const float* b = base + ((iy << shift_) + ix);
+            const std::ptrdiff_t row = std::ptrdiff_t{1} << shift_;
+            out[0] = b[1];
+            out[1] = b[-1];
+            out[2] = b[row];
+            out[3] = b[-row];
+            return;
+        }
+        const std::int64_t last = cells(0) - 1;
+        const auto at = [&](std::int64_t cx, std::int64_t cy) {
+            return cx < 0 || cy < 0 || cx > last || cy > last ? kEmptyHeight : height(0, cx, cy);
+        };
+        out[0] = at(x + 1, y);
+        out[1] = at(x - 1, y);
+        out[2] = at(x, y + 1);
+        out[3] = at(x, y - 1);
+    }
+
     /// Intervals per finest cell (0: no stacks).
     [[nodiscard]] int stacks() const { return stacks_; }
     /// The stack of finest cell (x, y) of a loaded section.

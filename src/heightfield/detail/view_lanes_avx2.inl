@@ -32,6 +32,8 @@ BT_LANES D subd(D a, D b) { return _mm256_sub_pd(a, b); }
 BT_LANES D muld(D a, D b) { return _mm256_mul_pd(a, b); }
 BT_LANES D divd(D a, D b) { return _mm256_div_pd(a, b); }
 BT_LANES D sqrtd(D a) { return _mm256_sqrt_pd(a); }
+/// std::floor, lane by lane.
+BT_LANES D floord(D a) { return _mm256_floor_pd(a); }
 /// a < b ? a : b, lane by lane (std::min(b, a)).
 BT_LANES D mind(D a, D b) { return _mm256_min_pd(a, b); }
 

@@ -32,6 +32,10 @@ BT_LANES D subd(D a, D b) { return _mm512_sub_pd(a, b); }
 BT_LANES D muld(D a, D b) { return _mm512_mul_round_pd(a, b, _MM_FROUND_CUR_DIRECTION); }
 BT_LANES D divd(D a, D b) { return _mm512_div_pd(a, b); }
 BT_LANES D sqrtd(D a) { return _mm512_sqrt_pd(a); }
+/// std::floor, lane by lane.
+BT_LANES D floord(D a) {
+    return _mm512_roundscale_pd(a, _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC);
+}
 /// a < b ? a : b, lane by lane (std::min(b, a)).
 BT_LANES D mind(D a, D b) { return _mm512_min_pd(a, b); }
 

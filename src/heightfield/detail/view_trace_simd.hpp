@@ -31,19 +31,24 @@ struct DirectionFrame {
     double per_cell = 1;
 };
 
-/// Directions of up to kRowDirections pixels of one row, as RaySetup::operator() works them out.
+/// The rays of up to kRowDirections pixels of one row, as RaySetup::operator() sets them up.
 inline constexpr int kRowDirections = 8;
 struct alignas(64) RowDirections {
     double dx[kRowDirections], dy[kRowDirections], dz[kRowDirections];
     double inv_dx[kRowDirections], inv_dy[kRowDirections], inv_dz[kRowDirections];
+    /// RaySetup::clip's span and start cell (gx, gy as doubles, exact) of the rays in `enter`.
+    double t_min[kRowDirections], t_max[kRowDirections], gx[kRowDirections], gy[kRowDirections];
+    int enter = 0;  ///< bit i: ray i enters the loaded heights (RaySetup::clip is true)
 };
 
 /// For pixels at image-plane coordinates (u[i], v), i < count <= kRowDirections: dx, dy and dz
 /// of the ray along CameraRays::direction_at(u[i], v) in cells (dir.x * per_cell, dir.y *
 /// per_cell, dir.z), inv_dx and inv_dy (1 / d, kInf for 0) and inv_dz = 1 / dz: the values
-/// RaySetup::operator() works out, with the same IEEE operations in the same order (none fused),
-/// `lanes` (4 or 8, at most widest_lanes()) at a time. RaySetup::clip does the rest.
-void ray_directions_lanes(int lanes, const DirectionFrame& frame, const double* u, double v,
-                          int count, RowDirections& out);
+/// RaySetup::operator() works out; then RaySetup::clip's with `clip` (RaySetup::clip_frame()):
+/// which rays enter (out.enter), their t_min, t_max, gx and gy. The same IEEE operations in the
+/// same order (none fused) and the same choices on ties and signed zeros, so every value is the
+/// scalar one bit for bit; `lanes` (4 or 8, at most widest_lanes()) rays at a time.
+void ray_setup_lanes(int lanes, const DirectionFrame& frame, const ClipFrame& clip, const double* u,
+                     double v, int count, RowDirections& out);
 
 }  // namespace beamtrace::detail
