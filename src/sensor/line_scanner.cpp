@@ -1,6 +1,8 @@
 #include "beamtrace/sensor/line_scanner.hpp"
 
+#include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
 #include <numbers>
 #include <utility>
@@ -16,6 +18,10 @@ namespace beamtrace {
 namespace {
 
 constexpr double kDegToRad = std::numbers::pi / 180.0;
+
+/// Slots of the memo of directions (PulseBatch::sincos_memo): more than the pulses of a line
+/// of most scanners, 96 KiB.
+constexpr std::size_t kMemoSlots = 4096;
 
 /// The fractional part of x, in [0, 1).
 double frac(double x) {
@@ -127,14 +133,29 @@ double LineScanner::line_start_time_s(std::uint64_t n) const {
 }
 
 void LineScanner::generate_pulses(std::uint64_t first, std::size_t count, PulseBatch& out) const {
+    // The memo's slot of an angle: its place in [-max, max], so that the angles of one line
+    // (a few thousand pulses) each have a slot of their own.
+    std::vector<SincosMemo::Entry>& memo = out.sincos_memo.entries;
+    if (memo.size() != kMemoSlots) {
+        memo.assign(kMemoSlots, {});
+    }
+    const double a = config_.scan_angle_max_deg;
+    const double slots_per_deg = static_cast<double>(kMemoSlots) / (2.0 * a);
     for (std::size_t j = 0; j < count; ++j) {
         const std::uint64_t i = first + j;
         // The same expression as line_of_pulse, so a pulse's angle and line always agree.
         const double lines = static_cast<double>(i) * lines_per_s_ / config_.pulse_rate_hz;
         const double s_deg = angle_at_lines(lines);
         const double s = s_deg * kDegToRad;
+        const double u = std::min((s_deg + a) * slots_per_deg, kMemoSlots - 1.0);
+        SincosMemo::Entry& e = memo[u >= 0.0 ? static_cast<std::size_t>(u) : 0];
+        if (e.angle_bits != std::bit_cast<std::uint64_t>(s)) {  // not s == key: -0.0 and 0.0
+            e.angle_bits = std::bit_cast<std::uint64_t>(s);
+            e.cos = std::cos(s);
+            e.sin = std::sin(s);
+        }
         out.time_s[j] = pulse_time_s(i);
-        out.direction[j] = {std::cos(s), std::sin(s), 0.0};
+        out.direction[j] = {e.cos, e.sin, 0.0};
         out.channel[j] = 0;
         out.scan_angle_deg[j] = static_cast<float>(s_deg);
     }

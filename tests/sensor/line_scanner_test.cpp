@@ -5,6 +5,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
+#include <bit>
 #include <cmath>
 #include <numbers>
 #include <vector>
@@ -118,6 +120,66 @@ TEST(LineScanner, TimesComeFromThePulseRateAndChunkingDoesNotMatter) {
                 ASSERT_EQ(part.scan_angle_deg[j], whole.scan_angle_deg[i]);
             }
         }
+    }
+}
+
+std::array<std::uint64_t, 3> bits_of(const Vec3d& v) {
+    return {std::bit_cast<std::uint64_t>(v.x), std::bit_cast<std::uint64_t>(v.y),
+            std::bit_cast<std::uint64_t>(v.z)};
+}
+
+/// Pulses of `scanner` from a batch reused in chunks (its sincos memo warm: lines repeat their
+/// angles bit for bit) against each pulse alone from a fresh batch (the memo cold: every sin
+/// and cos computed): the same bits.
+void expect_memo_gives_what_sincos_gives(const LineScanner& scanner) {
+    PulseBatch warm, cold;
+    std::size_t checked = 0;
+    for (std::uint64_t first = 0; first < scanner.pulse_count(); first += 1024) {
+        const auto n =
+            static_cast<std::size_t>(std::min<std::uint64_t>(1024, scanner.pulse_count() - first));
+        scanner.generate(first, n, warm);
+        for (std::size_t j = first % 3; j < n; j += 37) {  // a sample of each chunk's slots
+            cold = PulseBatch{};
+            scanner.generate(first + j, 1, cold);
+            ASSERT_EQ(bits_of(warm.direction[j]), bits_of(cold.direction[0]))
+                << "pulse " << first + j;
+            ++checked;
+        }
+    }
+    EXPECT_GT(checked, scanner.pulse_count() / 40);
+    // Every entry holds an angle and its own cos and sin.
+    ASSERT_FALSE(warm.sincos_memo.entries.empty());
+    for (const SincosMemo::Entry& e : warm.sincos_memo.entries) {
+        const double s = std::bit_cast<double>(e.angle_bits);
+        ASSERT_EQ(std::bit_cast<std::uint64_t>(e.cos), std::bit_cast<std::uint64_t>(std::cos(s)));
+        ASSERT_EQ(std::bit_cast<std::uint64_t>(e.sin), std::bit_cast<std::uint64_t>(std::sin(s)));
+    }
+}
+
+TEST(LineScanner, DirectionsFromTheSincosMemoAreThoseOfSinAndCos) {
+    // 200 lines (binades of the line count up to 128-255) of 1000 pulses, each waveform; and a
+    // pulse rate with no whole number of pulses per line.
+    for (const ScanWaveform waveform :
+         {ScanWaveform::sawtooth, ScanWaveform::triangle, ScanWaveform::sinusoid}) {
+        LineScannerConfig c = config(waveform);
+        c.duration_s = 2.0;
+        expect_memo_gives_what_sincos_gives(LineScanner(c));
+        c.turn_duration_s = waveform == ScanWaveform::triangle ? 1e-3 : 0.0;
+        c.pulse_rate_hz = 33'333.0;
+        c.start_time_s = 1000.5;
+        expect_memo_gives_what_sincos_gives(LineScanner(c));
+    }
+    // A batch reused by another scanner (a wider field of view): the memo's angles still hold.
+    LineScannerConfig c = config(ScanWaveform::sawtooth);
+    PulseBatch batch;
+    LineScanner(c).generate(0, 2000, batch);
+    c.scan_angle_max_deg = 35.0;
+    const LineScanner wide(c);
+    wide.generate(0, 2000, batch);
+    PulseBatch fresh;
+    wide.generate(0, 2000, fresh);
+    for (std::size_t j = 0; j < 2000; ++j) {
+        ASSERT_EQ(batch.direction[j], fresh.direction[j]) << j;
     }
 }
 

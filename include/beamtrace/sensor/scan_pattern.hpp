@@ -17,6 +17,19 @@
 
 namespace beamtrace {
 
+/// sin and cos of angles a pattern met before, kept from batch to batch by whoever reuses the
+/// PulseBatch: a direct-mapped table keyed by the angle's exact bits, so what it gives is what
+/// std::cos and std::sin give. A line scanner's lines repeat their angles bit for bit (within a
+/// binade of the line count), so most of its pulses skip the sincos.
+struct SincosMemo {
+    /// Every entry holds an angle and its cos and sin: at first 0, 1, 0.
+    struct Entry {
+        std::uint64_t angle_bits = 0;
+        double cos = 1.0, sin = 0.0;
+    };
+    std::vector<Entry> entries;  ///< empty until a pattern sizes it
+};
+
 /// A batch of pulses, structure of arrays (every array has size()).
 struct PulseBatch {
     std::vector<double> time_s;          ///< emission time (ScanPattern::pulse_time_s)
@@ -32,6 +45,8 @@ struct PulseBatch {
     /// The index of the scanner that fired the pulse when several scanners share a platform
     /// (ScannerSet, sensor/scanner_set.hpp); 0 for every other pattern.
     std::vector<std::uint8_t> scanner;
+    /// A pattern's scratch, kept across batches (never part of the pulses; resize leaves it).
+    SincosMemo sincos_memo;
 
     [[nodiscard]] std::size_t size() const { return time_s.size(); }
     [[nodiscard]] bool empty() const { return time_s.empty(); }

@@ -23,6 +23,7 @@
 #include "beamtrace/io/png_writer.hpp"
 #include "beamtrace/io/point_sink.hpp"
 #include "io/sinks/preview_font.hpp"
+#include "io/sinks/raster_cells.hpp"
 #include "io/sinks/raster_text.hpp"
 
 namespace beamtrace {
@@ -307,9 +308,10 @@ class PreviewSink final : public PointSink {
         out.pixel.resize(block.points.size());
         out.height.resize(block.points.size());
         std::size_t n = 0;
+        const double per_cell = 1.0 / raster_.cell_m;
         for (const BlockPoint& p : block.points) {
-            const double u = std::floor((p.x - raster_.west) / raster_.cell_m);
-            const double v = std::floor((raster_.north - p.y) / raster_.cell_m);
+            const double u = detail::cells_floor(p.x - raster_.west, raster_.cell_m, per_cell);
+            const double v = detail::cells_floor(raster_.north - p.y, raster_.cell_m, per_cell);
             if (u >= 0 && v >= 0 && u < raster_.width && v < raster_.height) {
                 out.pixel[n] = static_cast<std::uint32_t>(v * raster_.width + u);
                 out.height[n] = static_cast<float>(p.z) + 0.0f;
