@@ -1,8 +1,8 @@
 // The BVH backend's nearest-hit trace on a survey's own rays (the car HDL-64 and the airborne
-// SRTM surveys, first 256 k pulses) against our Embree backend, one thread, packets off and on:
-// the A/B figure for the packet walk's grouping of rays. The hits are checked against Embree's
-// (watertight, the same faces) before anything is timed. CPU time is the figure to read on a
-// shared machine.
+// SRTM surveys, first 256 k pulses) against our Embree backend, one thread, packets off and on
+// (the widest lanes, and 8: the AVX2 kernel on an AVX-512 CPU): the A/B figure for the packet
+// walk's grouping of rays. The hits are checked against Embree's (watertight, the same faces)
+// before anything is timed. CPU time is the figure to read on a shared machine.
 #include <benchmark/benchmark.h>
 
 #include <cstdio>
@@ -13,6 +13,7 @@
 
 #include "beamtrace/accel/backend.hpp"
 #include "beamtrace/accel/backend_registry.hpp"
+#include "beamtrace/accel/bvh.hpp"
 #include "beamtrace/pipeline/survey.hpp"
 #include "beamtrace/scene/demo_scene.hpp"
 #include "beamtrace/scene/scene_builder.hpp"
@@ -43,7 +44,8 @@ const SurveyRays& survey_rays(const std::string& file) {
     return *slot;
 }
 
-enum class Mode { embree, bvh_single, bvh_packets };
+/// bvh_packets8: packets of 8 lanes (the AVX2 kernel) on a CPU that has AVX-512 too.
+enum class Mode { embree, bvh_single, bvh_packets, bvh_packets8 };
 
 void BM_SurveyRays(benchmark::State& state, const std::string& file, Mode mode) {
     const SurveyRays& s = survey_rays(file);
@@ -51,6 +53,13 @@ void BM_SurveyRays(benchmark::State& state, const std::string& file, Mode mode) 
     bt::BackendConfig config;
     if (mode == Mode::bvh_single) {
         config.bvh_trace.packets = bt::BvhPackets::off;
+    }
+    if (mode == Mode::bvh_packets8) {
+        config.bvh_trace.lanes = 8;
+        if (bt::bvh_packet_lanes(config.bvh_trace) != 8) {
+            state.SkipWithError("no AVX2 on this CPU");
+            return;
+        }
     }
     if (mode == Mode::embree && !bt::backend_entry(bt::BackendKind::embree).usable()) {
         state.SkipWithError("no Embree in this build");
@@ -95,6 +104,9 @@ BENCHMARK_CAPTURE(BM_SurveyRays, car_bvh_single, std::string("car_hdl64.yaml"), 
     ->Apply(args);
 BENCHMARK_CAPTURE(BM_SurveyRays, car_bvh_packets, std::string("car_hdl64.yaml"), Mode::bvh_packets)
     ->Apply(args);
+BENCHMARK_CAPTURE(BM_SurveyRays, car_bvh_packets8, std::string("car_hdl64.yaml"),
+                  Mode::bvh_packets8)
+    ->Apply(args);
 BENCHMARK_CAPTURE(BM_SurveyRays, airborne_19_subrays_embree,
                   std::string("airborne_srtm_divergence.yaml"), Mode::embree)
     ->Apply(args);
@@ -108,6 +120,9 @@ BENCHMARK_CAPTURE(BM_SurveyRays, airborne_bvh_single, std::string("airborne_srtm
     ->Apply(args);
 BENCHMARK_CAPTURE(BM_SurveyRays, airborne_bvh_packets, std::string("airborne_srtm.yaml"),
                   Mode::bvh_packets)
+    ->Apply(args);
+BENCHMARK_CAPTURE(BM_SurveyRays, airborne_bvh_packets8, std::string("airborne_srtm.yaml"),
+                  Mode::bvh_packets8)
     ->Apply(args);
 
 }  // namespace

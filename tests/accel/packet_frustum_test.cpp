@@ -259,6 +259,51 @@ TEST(PacketFrustum, LineScansAcrossNadirSplitBySignMatchBruteForce) {
     }
 }
 
+TEST(PacketFrustum, LineScanStagesLeftInOrderMatchBruteForce) {
+    // Line scans whose x component keeps one sign (an airborne scanner's), so a stage's keys rise
+    // but for the scan's turns: a sawtooth of 300 pulses a line turns at most 4 times in a stage
+    // of 1024 (left in order, cut into packets at the turns), one of 100 more often (sorted), and
+    // a triangle wave falls for a whole line (sorted). Each must match the single rays and brute
+    // force bit for bit.
+    const TriangleMesh grid = test::make_grid(48);
+    Tracers tr(grid);
+    for (const int line : {300, 100, -300}) {
+        RayBatch rays;
+        for (int k = 0; k < 3000; ++k) {
+            const double phase = std::fmod(k / double(std::abs(line)), 2.0);
+            const double s = line > 0 ? std::fmod(phase, 1.0) : (phase < 1.0 ? phase : 2.0 - phase);
+            const double angle = (2.0 * s - 1.0) * 0.5236;
+            const Vec3d o{4.0 + 0.013 * k, 24.0, 30.0};
+            rays.push_back(o, normalize(Vec3d{0.02, std::sin(angle), -std::cos(angle)}));
+        }
+        const HitBatch h = expect_exact(tr, rays, "line scan of " + std::to_string(line), true);
+        EXPECT_EQ(hit_count(h), rays.size()) << "line scan of " << line;
+    }
+}
+
+TEST(PacketFrustum, WideFansOverReliefMatchBruteForce) {
+    // A spinning scanner's beams over bumpy ground: a packet is one beam's 16 firings (48 mrad
+    // wide), whose frustum reaches many leaves that only some lanes, or none, enter (at a leaf
+    // only the lanes whose own slab test passes it test its faces).
+    TriangleMesh ground = test::make_grid(48);
+    for (Vec3f& v : ground.vertices) {
+        v.z = 0.4f * std::sin(0.7f * v.x) * std::cos(0.9f * v.y);
+    }
+    RayBatch rays;
+    for (int firing = 0; firing < 600; ++firing) {
+        const double azimuth = 0.003 * firing;
+        for (int beam = 0; beam < 8; ++beam) {
+            const double elevation = -0.05 - 0.05 * beam;
+            rays.push_back(Vec3d{24.0, 24.0, 2.0},
+                           Vec3d{std::cos(elevation) * std::cos(azimuth),
+                                 std::cos(elevation) * std::sin(azimuth), std::sin(elevation)});
+        }
+    }
+    Tracers tr(ground);
+    const HitBatch h = expect_exact(tr, rays, "wide fans over relief", true);
+    EXPECT_GT(hit_count(h), rays.size() * 3 / 4);
+}
+
 TEST(PacketFrustum, PacketsOfOneLaneAndPartialPacketsMatchSingleRays) {
     // Batches of 1, 2, 15, 17 and 33 rays: the last packet of a group has one or a few lanes
     // (the others copy lane 0 and must bound nothing).

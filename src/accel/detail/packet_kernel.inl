@@ -248,8 +248,9 @@ BT_PK void walk_packet(Packet& p, const Bvh& bvh, const TriangleMesh& mesh) {
 /// the bounds show that the slab test of slab_lanes fails in every active lane: float rounding
 /// is monotone, so (c - o) * inv over the lanes lies between the same expression's values at
 /// the bounds' corners, and the padding, the entry's margin and the limits are monotone too.
-/// Every lane then tests the faces of every node the packet enters; the hits stay the single-ray
-/// walk's, since each lane still tests every face its own walk would (see packet_trace.hpp).
+/// At a leaf the packet enters, the lanes whose own slab test passes it test its faces; the hits
+/// stay the single-ray walk's, since each lane still tests every face its own walk would (see
+/// packet_trace.hpp).
 using v4 = float __attribute__((vector_size(16)));
 using v4i = std::int32_t __attribute__((vector_size(16)));
 using v8 = float __attribute__((vector_size(32)));
@@ -417,8 +418,8 @@ BT_PK unsigned frustum_enters_pair(const Frustum& fr, const BvhNode* nodes, floa
     return (tn0 <= tf0 ? 1u : 0u) | (tn1 <= tf1 ? 2u : 0u);
 }
 
-/// walk_packet with interval culling: one test per child for the whole packet, and every
-/// active lane tests the faces of the leaves it reaches; a node is popped while some lane's
+/// walk_packet with interval culling: one test per child for the whole packet, and the lanes
+/// that enter a leaf it reaches test its faces; a node is popped while some lane's
 /// limit may still reach it.
 BT_PK void walk_frustum(Packet& p, Frustum& fr, const Bvh& bvh, const TriangleMesh& mesh) {
     struct Entry {
@@ -436,9 +437,13 @@ BT_PK void walk_frustum(Packet& p, Frustum& fr, const Bvh& bvh, const TriangleMe
     for (;;) {
         const BvhNode& node = nodes[index];
         if (node.is_leaf()) {
+            // The lanes whose own slab test enters the leaf (walk_packet's mask): a leaf that
+            // the frustum reaches but no lane does costs one box test instead of its faces.
+            vf unused;
+            const Mask lanes = slab_lanes(p, node, unused) & p.active;
             bool changed = false;
-            for (std::uint32_t k = node.index; k < node.index + node.count; ++k) {
-                changed = test_face(p, mesh, bvh.prim_ids[k], p.active) || changed;
+            for (std::uint32_t k = node.index; lanes != 0 && k < node.index + node.count; ++k) {
+                changed = test_face(p, mesh, bvh.prim_ids[k], lanes) || changed;
             }
             if (changed) {
                 fr.limit = active_max(p.limit, p.active);
@@ -631,21 +636,26 @@ BT_PK void stage_rays(Stage& st, const RayBatch& rays, std::size_t first, std::s
     }
 }
 
+/// A stage whose keys descend at most this often is left in its order and cut into packets at
+/// the descents (trace_range): a line scanner's stage is one or two rising runs (a sawtooth wraps
+/// once in 2000 pulses), whose sort cost more than the few partial packets at a wrap.
+constexpr std::size_t kMaxDescents = 4;
+
 /// order[0..n) = 0..n-1 sorted by keys; false if that left them in place (a stable LSD radix sort
 /// of the keys less the least, in as few passes of at most 9 bits as their range needs: a line
 /// scanner's stage differs in its across-track slope only, two passes of 6 bits; none when the keys
-/// are in order already).
+/// descend at most kMaxDescents times: they are in order, or a few runs that are).
 BT_PK bool sort_by_key(const std::uint32_t* keys, std::size_t n, std::uint16_t* order,
                        std::uint16_t* scratch) {
     std::uint32_t lo = ~std::uint32_t{0}, hi = 0;
-    bool in_order = true;
+    std::size_t descents = 0;
     for (std::size_t j = 0; j < n; ++j) {
         order[j] = static_cast<std::uint16_t>(j);
-        in_order = in_order && keys[j] >= hi;
+        descents += j > 0 && keys[j] < keys[j - 1] ? 1 : 0;
         lo = std::min(lo, keys[j]);
         hi = std::max(hi, keys[j]);
     }
-    const int bits = n == 0 || in_order ? 0 : std::bit_width(hi - lo);
+    const int bits = n == 0 || descents <= kMaxDescents ? 0 : std::bit_width(hi - lo);
     const int passes = (bits + 8) / 9;
     if (passes == 0) {
         return false;
@@ -696,7 +706,8 @@ BT_PK_ENTRY void trace_range(const Bvh& bvh, const TriangleMesh& mesh, const Ray
                              float min_cos) {
     // A stage of rays is converted to float in lanes, put in the order of their packet group and
     // direction (a spinning scanner's fan of beams then gives packets of one beam's neighbouring
-    // pulses), and each group's run is cut into packets that are loaded whole.
+    // pulses) unless it is a few rising runs already, and each group's rising run is cut into
+    // packets that are loaded whole.
     Stage st;
     for (std::size_t first = begin; first < end; first += StageRays::kRays) {
         const std::size_t n = std::min(StageRays::kRays, end - first);
@@ -704,9 +715,11 @@ BT_PK_ENTRY void trace_range(const Bvh& bvh, const TriangleMesh& mesh, const Ray
         order_stage(st, n);
         std::size_t at = 0;
         while (at < n) {
+            // A run of one packet group whose keys rise (all of a sorted stage's group).
             const std::uint32_t group = packet_group(st.keys[st.order[at]]);
             std::size_t run = at + 1;
-            while (run < n && packet_group(st.keys[st.order[run]]) == group) {
+            while (run < n && packet_group(st.keys[st.order[run]]) == group &&
+                   st.keys[st.order[run]] >= st.keys[st.order[run - 1]]) {
                 ++run;
             }
             while (at < run) {

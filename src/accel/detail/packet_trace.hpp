@@ -7,8 +7,8 @@
 // in which nodes are met, and a lane enters a node on the same slab test as a single ray does.
 // A coherent packet (directions within 0.032 rad, one sign per moving axis) walks the tree as one
 // frustum instead (interval culling, packet_kernel.inl): a node is skipped only if every lane's
-// slab test would fail, and every lane tests the faces of the leaves the packet enters, which
-// is conservative, so the hits are the same.
+// slab test would fail, and at a leaf the lanes whose own slab test enters it test its faces,
+// as in the lane-by-lane walk, so the hits are the same.
 #pragma once
 
 #include <cstddef>
