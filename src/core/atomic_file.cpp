@@ -55,7 +55,7 @@ AtomicFile::AtomicFile(std::filesystem::path final_path, bool fsync_on_commit)
         std::filesystem::remove(temp_path_, ignored);
         fail("cannot open stream", error_number);
     }
-    buffer_ = std::make_unique<char[]>(kBufferBytes);
+    buffer_ = std::make_unique_for_overwrite<char[]>(kBufferBytes);  // touched only if used
     std::setvbuf(file_, buffer_.get(), _IOFBF, kBufferBytes);
 }
 

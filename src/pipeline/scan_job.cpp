@@ -1,15 +1,11 @@
 #include "beamtrace/pipeline/scan_job.hpp"
 
-#include <unistd.h>
-
 #include <algorithm>
 #include <array>
 #include <cassert>
-#include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <cstring>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -20,8 +16,8 @@
 #include "beamtrace/core/error.hpp"
 #include "beamtrace/core/name_table.hpp"
 #include "beamtrace/io/hits_csv.hpp"
-#include "beamtrace/io/mapped_file.hpp"
 #include "beamtrace/io/npy.hpp"
+#include "beamtrace/io/parallel_file.hpp"
 #include "beamtrace/io/png_writer.hpp"
 #include "beamtrace/io/point_cloud_ply.hpp"
 #include "beamtrace/io/point_sink_registry.hpp"
@@ -139,36 +135,6 @@ std::vector<std::filesystem::path> write_scan_laz(const ScanJobConfig& config, c
     return sink->commit();
 }
 
-/// A file that several threads write at once, each its own byte range (pwrite at known offsets,
-/// no per-thread stream), appearing complete or not at all (AtomicFile: temporary file + rename;
-/// destroyed uncommitted, it leaves nothing).
-class ParallelFile {
-  public:
-    explicit ParallelFile(const std::filesystem::path& path)
-        : file_(path), fd_(::fileno(file_.stream())) {}
-    /// Writes `bytes` at `offset`; any thread, ranges that do not overlap.
-    void write_at(std::string_view bytes, std::uint64_t offset) const {
-        while (!bytes.empty()) {
-            const ssize_t n = ::pwrite(fd_, bytes.data(), bytes.size(), static_cast<off_t>(offset));
-            if (n < 0 && errno == EINTR) {
-                continue;
-            }
-            if (n <= 0) {
-                throw OutputError(file_.path().string() +
-                                  ": write failed: " + std::strerror(n < 0 ? errno : EIO));
-            }
-            bytes.remove_prefix(static_cast<std::size_t>(n));
-            offset += static_cast<std::uint64_t>(n);
-        }
-    }
-    void commit() { file_.commit(); }
-    [[nodiscard]] const std::filesystem::path& path() const { return file_.path(); }
-
-  private:
-    AtomicFile file_;
-    int fd_;
-};
-
 /// The counts of every chunk of kTraceChunk rays: what the writers need before they lay out
 /// their files.
 struct ScanTally {
@@ -176,16 +142,55 @@ struct ScanTally {
     std::vector<std::size_t> kept;  ///< per chunk: hits not on excluded faces (points.ply)
 };
 
-/// The range image of `hits` into `image` (row-major w x h metres, misses 0): pixel (v, u) is
-/// ray u * h + v. Bands of rows on the pool's threads, so that the reads (down a column of rays)
-/// and the writes (along the rows) both stay within a few cache lines.
-void range_image(const HitBatch& hits, std::size_t w, std::size_t h, ThreadPool& pool,
-                 float* image) {
-    constexpr std::size_t kBand = 16;
-    pool.parallel_for(h, kBand, [&](std::size_t vb, std::size_t ve) {
-        for (std::size_t u = 0; u < w; ++u) {
-            for (std::size_t v = vb, i = u * h + vb; v < ve; ++v, ++i) {
-                image[v * w + u] = hits.hit(i) ? hits.t[i] : 0.0f;
+/// Rows [vb, ve) (at most kTile) of the range image of `hits` (w x h, ray u * h + v at pixel
+/// (v, u), misses 0) into `band` (row-major). Tiles of kTile x kTile pixels: each column's rays
+/// are read in a row of the tile, then each image row's pixels are stored together (storing a
+/// column at a time, kTile rows 1.5 pages apart share two cache sets and evict each other).
+void range_band(const HitBatch& hits, std::size_t w, std::size_t h, std::size_t vb, std::size_t ve,
+                float* band) {
+    constexpr std::size_t kTile = 16;
+    const std::size_t rows = ve - vb;
+    assert(rows <= kTile);
+    const float* const t = hits.t.data();
+    const std::uint32_t* const face = hits.face.data();
+    alignas(64) float tile[kTile][kTile];  // [column][row]
+    for (std::size_t u0 = 0; u0 < w; u0 += kTile) {
+        const std::size_t columns = std::min(kTile, w - u0);
+        for (std::size_t c = 0; c < columns; ++c) {
+            const std::size_t i = (u0 + c) * h + vb;
+            const float* const tc = t + i;
+            const std::uint32_t* const fc = face + i;
+            for (std::size_t r = 0; r < rows; ++r) {
+                tile[c][r] = fc[r] != kNoFace ? tc[r] : 0.0f;
+            }
+        }
+        for (std::size_t r = 0; r < rows; ++r) {
+            float* const row = band + r * w + u0;
+            for (std::size_t c = 0; c < columns; ++c) {
+                row[c] = tile[c][r];
+            }
+        }
+    }
+}
+
+/// The range image of `hits` (row-major w x h metres, misses 0): pixel (v, u) is ray u * h + v.
+/// Bands of kBand rows on the pool's threads. Each band is made in `image` when given (else in a
+/// buffer of the thread's, reused band after band) and, with `npy`, written there at `npy_at` +
+/// its offset.
+void range_image(const HitBatch& hits, std::size_t w, std::size_t h, ThreadPool& pool, float* image,
+                 const ParallelFile* npy, std::uint64_t npy_at) {
+    constexpr std::size_t kBand = 16;  // range_band's rows at most
+    pool.parallel_for(h, kBand, [&](std::size_t b, std::size_t e) {
+        // A pool of one thread passes every row at once.
+        const std::unique_ptr<float[]> buffer =
+            image != nullptr ? nullptr : std::make_unique_for_overwrite<float[]>(kBand * w);
+        for (std::size_t vb = b; vb < e; vb += kBand) {
+            const std::size_t ve = std::min(e, vb + kBand);
+            float* band = image != nullptr ? image + vb * w : buffer.get();
+            range_band(hits, w, h, vb, ve, band);
+            if (npy != nullptr) {
+                npy->write_at({reinterpret_cast<const char*>(band), (ve - vb) * w * sizeof(float)},
+                              npy_at + vb * w * sizeof(float));
             }
         }
     });
@@ -213,22 +218,29 @@ ScanTally tally_scan(const ScanJobConfig& config, const HitBatch& hits, ThreadPo
     return tally;
 }
 
-/// Encodes the points of chunk `c` (rays [c, c + 1) x kTraceChunk, without the excluded faces)
-/// as points.ply records at `out`; returns the end.
-char* encode_ply_chunk(const ScanJobConfig& config, const RayBatch& rays, const HitBatch& hits,
-                       std::size_t c, char* out) {
+/// Writes the points of chunk `c` (rays [c, c + 1) x kTraceChunk, without the excluded faces)
+/// as points.ply records to `out`.
+void write_ply_chunk(const ScanJobConfig& config, const RayBatch& rays, const HitBatch& hits,
+                     std::size_t c, StagedRange& out) {
     const std::vector<FaceRange>& exclude = config.exclude_faces;
     const std::size_t end = std::min(rays.size(), (c + 1) * kTraceChunk);
+    char* at = out.begin();
+    char* limit = out.limit();
+    static_assert(kPlyRecordBytes <= StagedRange::kSlack);
     for (std::size_t i = c * kTraceChunk; i < end; ++i) {
         if (!hits.hit(i) || (!exclude.empty() && in_ranges(exclude, hits.face[i]))) {
             continue;
         }
         const double t = hits.t[i];  // as scan_points places the points
-        out = encode_ply_record(rays.ox[i] + t * rays.dx[i], rays.oy[i] + t * rays.dy[i],
-                                rays.oz[i] + t * rays.dz[i], hits.t[i], hits.face[i],
-                                static_cast<std::uint32_t>(i), out);
+        at = encode_ply_record(rays.ox[i] + t * rays.dx[i], rays.oy[i] + t * rays.dy[i],
+                               rays.oz[i] + t * rays.dz[i], hits.t[i], hits.face[i],
+                               static_cast<std::uint32_t>(i), at);
+        if (at >= limit) {
+            at = out.flush(at);
+            limit = out.limit();
+        }
     }
-    return out;
+    out.finish(at);
 }
 
 /// The outputs of one scan being written. points.ply and range.npy are mapped files (their
@@ -316,24 +328,22 @@ class ScanWriter {
         }
     }
 
-    /// The range image (row-major, width x height metres, misses 0): written straight into
-    /// range.npy after its header, or into memory of its own for range.png alone.
+    /// The range image (row-major, width x height metres, misses 0): written to range.npy
+    /// band by band, and kept in memory of its own for range.png.
     void make_range_image(ThreadPool& pool) {
         const auto w = static_cast<std::size_t>(width_), h = static_cast<std::size_t>(height_);
-        float* image = nullptr;
+        std::uint64_t at = 0;
         if (config_.outputs.npy) {
             const std::string header = npy_f32_header(h, w);
             npy_.emplace(config_.output_dir / "range.npy", header.size() + w * h * sizeof(float));
-            const std::span<char> bytes = npy_->bytes();
-            std::memcpy(bytes.data(), header.data(), header.size());
-            // The header is 64-byte padded: the floats are aligned.
-            image = reinterpret_cast<float*>(bytes.data() + header.size());
-        } else {
-            range_storage_ = std::make_unique_for_overwrite<float[]>(w * h);
-            image = range_storage_.get();
+            npy_->write_at(header, 0);
+            at = header.size();
         }
-        range_image(hits_, w, h, pool, image);
-        range_ = std::span<const float>(image, w * h);
+        if (config_.outputs.png) {
+            range_storage_ = std::make_unique_for_overwrite<float[]>(w * h);
+            range_ = std::span<const float>(range_storage_.get(), w * h);
+        }
+        range_image(hits_, w, h, pool, range_storage_.get(), npy_ ? &*npy_ : nullptr, at);
     }
 
     void open_ply() {
@@ -345,7 +355,7 @@ class ScanWriter {
         }
         const std::string header = points_ply_header(points, comment);
         ply_.emplace(config_.output_dir / "points.ply", header.size() + points * kPlyRecordBytes);
-        std::memcpy(ply_->bytes().data(), header.data(), header.size());
+        ply_->write_at(header, 0);
         ply_at_.assign(1, header.size());
         for (std::size_t c = 0; c < tally_.kept.size(); ++c) {
             ply_at_.push_back(ply_at_.back() + tally_.kept[c] * kPlyRecordBytes);
@@ -365,13 +375,8 @@ class ScanWriter {
                 break;
             }
             case Kind::ply: {
-                char* const out = ply_->bytes().data() + ply_at_[t.chunk];
-                // One fault-in for the chunk's pages: 1.03-1.06x the end-to-end rate at one
-                // thread (A/B, Intel Xeon); the same for range.npy's bands was slower at two.
-                ply_->prefault(ply_at_[t.chunk], ply_at_[t.chunk + 1] - ply_at_[t.chunk]);
-                [[maybe_unused]] const char* end =
-                    encode_ply_chunk(config_, rays_, hits_, t.chunk, out);
-                assert(end == ply_->bytes().data() + ply_at_[t.chunk + 1]);
+                StagedRange out(*ply_, ply_at_[t.chunk]);
+                write_ply_chunk(config_, rays_, hits_, t.chunk, out);
                 break;
             }
             case Kind::csv:
@@ -429,10 +434,9 @@ class ScanWriter {
     int width_, height_;
     ScanTally tally_;
     std::vector<Task> tasks_;
-    std::optional<MappedFile> ply_, npy_;
-    std::optional<ParallelFile> csv_;
+    std::optional<ParallelFile> ply_, npy_, csv_;
     std::vector<std::uint64_t> ply_at_;  ///< per chunk: offset of its first record, then the end
-    std::span<const float> range_;       ///< the range image, in npy_ or range_storage_
+    std::span<const float> range_;       ///< the range image for range.png, in range_storage_
     std::unique_ptr<float[]> range_storage_;
     std::vector<std::string> csv_rows_;  ///< per chunk: its formatted rows
     std::mutex mutex_;                   ///< guards committed_ and notes_ during the tasks
