@@ -281,7 +281,8 @@ void PulseSimulator::simulate_samples(std::uint64_t seed, std::uint64_t pulse_in
     const WaveformConfig& wf = config_.waveform;
     if (medium_ && !config_.keep_waveform) {  // the weather's pulses, group by group
         detect_echoes_in_groups(wf, out.contributions, binned,
-                                config_.radiometry.detection_threshold_w, out.echoes);
+                                config_.radiometry.detection_threshold_w, out.echoes,
+                                medium_->group_reach_sigmas());
     } else {
         build_waveform(wf, out.contributions, binned, out.waveform);
         detect_echoes(wf, out.waveform, config_.radiometry.detection_threshold_w, out.echoes);

@@ -69,6 +69,11 @@ WeatherMedium::WeatherMedium(const WeatherConfig& weather, const RadiometryConfi
         if (max_range_m_ > weather.overlap.full_m + 1.0) {
             particles_.emplace(particle_sampler(weather, *p, radiometry, beam, extinction_per_m));
             particle_effect_ = particle_effect(p->kind);
+            // Resolved particles (docs/weather.md): each drop apart from its neighbours is its
+            // own pulse; the fog's slabs keep the exact split.
+            if (!weather.fog) {
+                group_reach_sigmas_ = kResolvedReachSigmas;
+            }
         }
     }
 }

@@ -22,8 +22,18 @@ namespace beamtrace {
 /// unfitted_below_w) and groups whose pulses' peaks add up to less than it are not sampled, nor
 /// groups of pulses each below it whose waveform provably stays below it (pulses apart).
 /// Appends to `out` in range order.
+///
+/// `reach_sigmas`: how far each contribution's pulse reaches, in its sigmas, when the pulses are
+/// split into groups (the binned echo always reaches 5 sigma). kExactReachSigmas splits only
+/// where the whole waveform is 0; less also splits pulses whose faint tails overlap, each group
+/// detected without the other groups' tails (docs/weather.md, "Resolved particles").
+inline constexpr double kExactReachSigmas = 5.0;
+/// The reach of rain and snow surveys without fog (WeatherMedium::group_reach_sigmas): pulses
+/// whose centres lie 4 sigma and the least separation (and a bin) apart are detected apart.
+inline constexpr double kResolvedReachSigmas = 2.0;
 void detect_echoes_in_groups(const WaveformConfig& config,
                              std::span<const EchoContribution> contributions,
-                             const BinnedEcho& binned, double threshold_w, std::vector<Echo>& out);
+                             const BinnedEcho& binned, double threshold_w, std::vector<Echo>& out,
+                             double reach_sigmas = kExactReachSigmas);
 
 }  // namespace beamtrace

@@ -12,6 +12,7 @@
 #include "beamtrace/physics/range_equation.hpp"
 #include "beamtrace/physics/waveform.hpp"
 #include "beamtrace/physics/weather.hpp"
+#include "beamtrace/physics/weather_echoes.hpp"
 
 namespace beamtrace {
 
@@ -50,6 +51,11 @@ class WeatherMedium {
     void echoes(std::uint64_t seed, std::uint64_t pulse_index, std::span<BeamShare> shares,
                 MediumEchoes& out) const;
 
+    /// How far each pulse reaches when the echoes are detected in groups, in its sigmas
+    /// (detect_echoes_in_groups): kResolvedReachSigmas with rain or snow and no fog, else the
+    /// exact kExactReachSigmas.
+    [[nodiscard]] double group_reach_sigmas() const { return group_reach_sigmas_; }
+
     /// What the fog's binned slabs of `echoes` add at an echo's peak at `range_m`: their peak
     /// powers / sigma_m weighted by exp(-((r - range_m) / sigma_m)^2 / 2).
     [[nodiscard]] double binned_fog_share(const MediumEchoes& echoes, double range_m,
@@ -74,6 +80,7 @@ class WeatherMedium {
     double max_range_m_ = 0.0;
     std::optional<ParticleSampler> particles_;
     WeatherEffect particle_effect_ = WeatherEffect::none;
+    double group_reach_sigmas_ = kExactReachSigmas;
 };
 
 }  // namespace beamtrace
