@@ -32,55 +32,8 @@ struct Point14Decoder::Fields {
 };
 
 /// The last point of a scanner channel and the models that code its successor.
-struct Point14Decoder::Context : Fields {
-    std::array<std::uint16_t, 8> last_intensity{};
-    std::array<Median5, 12> x_median{};
-    std::array<Median5, 12> y_median{};
-    std::array<std::int32_t, 8> last_z{};
-
-    // GPS time: four sequences of times and their last differences.
-    std::array<std::uint64_t, 4> gps{};
-    std::array<std::int32_t, 4> gps_diff{};
-    std::array<std::int32_t, 4> gps_extreme{};
-    unsigned gps_last = 0, gps_next = 0;
-
-    std::array<ArithmeticModel, 8> changed_values{
-        ArithmeticModel(128, false), ArithmeticModel(128, false), ArithmeticModel(128, false),
-        ArithmeticModel(128, false), ArithmeticModel(128, false), ArithmeticModel(128, false),
-        ArithmeticModel(128, false), ArithmeticModel(128, false)};
-    ArithmeticModel scanner_channel{3, false};
-    std::array<std::unique_ptr<ArithmeticModel>, 16> number_of_returns_models;
-    std::array<std::unique_ptr<ArithmeticModel>, 16> return_number_models;
-    ArithmeticModel return_number_gps_same{13, false};
-    IntegerCompressor dx{32, 2};
-    IntegerCompressor dy{32, 22};
-    IntegerCompressor dz{32, 20};
-    std::array<std::unique_ptr<ArithmeticModel>, 64> classification_models;
-    std::array<std::unique_ptr<ArithmeticModel>, 64> flags_models;
-    std::array<std::unique_ptr<ArithmeticModel>, 64> user_data_models;
-    IntegerCompressor intensity_ic{16, 4};
-    IntegerCompressor scan_angle_ic{16, 2};
-    IntegerCompressor point_source_ic{16};
-    ArithmeticModel gps_multi{kGpsSymbols, false};
-    ArithmeticModel gps_0diff{5, false};
-    IntegerCompressor gps_ic{32, 9};
-
-    Context() {
-        for (ArithmeticModel& m : changed_values) {
-            m.init();
-        }
-        scanner_channel.init();
-        return_number_gps_same.init();
-        dx.init_decompressor();
-        dy.init_decompressor();
-        dz.init_decompressor();
-        intensity_ic.init_decompressor();
-        scan_angle_ic.init_decompressor();
-        point_source_ic.init_decompressor();
-        gps_multi.init();
-        gps_0diff.init();
-        gps_ic.init_decompressor();
-    }
+struct Point14Decoder::Context : Fields, point14::ChannelModels {
+    Context() : ChannelModels(false) {}
 
     /// Starts from the point `from` (the chunk's first, or another channel's last point) of GPS
     /// time bits `gps_time`; the predictors start afresh.
@@ -92,19 +45,6 @@ struct Point14Decoder::Context : Fields {
         gps = {gps_time, 0, 0, 0};
     }
 };
-
-namespace {
-
-/// A lazily created 'symbols'-symbol model (the format creates them on first use).
-ArithmeticModel& lazy_model(std::unique_ptr<ArithmeticModel>& slot, std::uint32_t symbols) {
-    if (!slot) {
-        slot = std::make_unique<ArithmeticModel>(symbols, false);
-        slot->init();
-    }
-    return *slot;
-}
-
-}  // namespace
 
 Point14Decoder::Point14Decoder(const std::uint8_t* first,
                                std::span<const std::span<const std::uint8_t>> layers) {
@@ -182,7 +122,7 @@ void Point14Decoder::decode_returns(Context& c, std::uint32_t changed) {
     const unsigned last_r = c.return_number;
     if ((changed & (1U << 2)) != 0) {
         c.number_of_returns =
-            dec.decode_symbol(lazy_model(c.number_of_returns_models[c.number_of_returns], 16));
+            dec.decode_symbol(c.lazy(c.number_of_returns_models[c.number_of_returns], 16));
     }
     switch (changed & 3U) {
         case 0:
@@ -195,7 +135,7 @@ void Point14Decoder::decode_returns(Context& c, std::uint32_t changed) {
             break;
         default:
             if (gps_change) {
-                c.return_number = dec.decode_symbol(lazy_model(c.return_number_models[last_r], 16));
+                c.return_number = dec.decode_symbol(c.lazy(c.return_number_models[last_r], 16));
             } else {
                 const std::uint32_t sym = dec.decode_symbol(c.return_number_gps_same);
                 c.return_number = (last_r + sym + 2) % 16;
@@ -236,11 +176,11 @@ void Point14Decoder::decode_attributes(Context& c, std::uint32_t changed, unsign
     const unsigned gps_change = (changed >> 4U) & 1U;
     if (Layer& l = *layers_[kClassification]; l.coded) {
         const unsigned ccc = ((c.classification & 0x1FU) << 1U) + (cpr == 3 ? 1U : 0U);
-        c.classification = l.decoder.decode_symbol(lazy_model(c.classification_models[ccc], 256));
+        c.classification = l.decoder.decode_symbol(c.lazy(c.classification_models[ccc], 256));
     }
     if (Layer& l = *layers_[kFlags]; l.coded) {
         const unsigned last = (c.edge << 5U) | (c.scan_direction << 4U) | c.class_flags;
-        const std::uint32_t flags = l.decoder.decode_symbol(lazy_model(c.flags_models[last], 64));
+        const std::uint32_t flags = l.decoder.decode_symbol(c.lazy(c.flags_models[last], 64));
         c.edge = (flags >> 5U) & 1U;
         c.scan_direction = (flags >> 4U) & 1U;
         c.class_flags = flags & 0x0FU;
@@ -255,7 +195,7 @@ void Point14Decoder::decode_attributes(Context& c, std::uint32_t changed, unsign
             c.scan_angle_ic.decompress(l.decoder, c.scan_angle, gps_change));
     }
     if (Layer& l = *layers_[kUserData]; l.coded) {
-        c.user_data = l.decoder.decode_symbol(lazy_model(c.user_data_models[c.user_data / 4], 256));
+        c.user_data = l.decoder.decode_symbol(c.lazy(c.user_data_models[c.user_data / 4], 256));
     }
     if (Layer& l = *layers_[kPointSource]; l.coded && (changed & (1U << 5)) != 0) {
         c.point_source =

@@ -53,15 +53,6 @@ struct Point14Encoder::Fields {
 
 namespace {
 
-/// A lazily created 'symbols'-symbol model (the format creates them on first use).
-ArithmeticModel& lazy_model(std::unique_ptr<ArithmeticModel>& slot, std::uint32_t symbols) {
-    if (!slot) {
-        slot = std::make_unique<ArithmeticModel>(symbols, true);
-        slot->init();
-    }
-    return *slot;
-}
-
 /// LASzip compares GPS times as doubles (so 0.0 and -0.0 are the same time, NaN never is).
 [[nodiscard]] bool same_time(std::uint64_t a, std::uint64_t b) {
     return std::bit_cast<double>(a) == std::bit_cast<double>(b);
@@ -80,52 +71,10 @@ ArithmeticModel& lazy_model(std::unique_ptr<ArithmeticModel>& slot, std::uint32_
 }  // namespace
 
 /// The last point of a scanner channel and the models that code its successor.
-struct Point14Encoder::Context {
+struct Point14Encoder::Context : point14::ChannelModels {
     Fields last;
-    std::array<std::uint16_t, 8> last_intensity{};
-    std::array<Median5, 12> x_median{};
-    std::array<Median5, 12> y_median{};
-    std::array<std::int32_t, 8> last_z{};
 
-    // GPS time: four sequences of times and their last differences.
-    std::array<std::uint64_t, 4> gps{};
-    std::array<std::int32_t, 4> gps_diff{};
-    std::array<std::int32_t, 4> gps_extreme{};
-    unsigned gps_last = 0, gps_next = 0;
-
-    std::array<ArithmeticModel, 8> changed_values{
-        ArithmeticModel(128, true), ArithmeticModel(128, true), ArithmeticModel(128, true),
-        ArithmeticModel(128, true), ArithmeticModel(128, true), ArithmeticModel(128, true),
-        ArithmeticModel(128, true), ArithmeticModel(128, true)};
-    ArithmeticModel scanner_channel{3, true};
-    std::array<std::unique_ptr<ArithmeticModel>, 16> number_of_returns_models;
-    std::array<std::unique_ptr<ArithmeticModel>, 16> return_number_models;
-    ArithmeticModel return_number_gps_same{13, true};
-    IntegerCompressor dx{32, 2};
-    IntegerCompressor dy{32, 22};
-    IntegerCompressor dz{32, 20};
-    std::array<std::unique_ptr<ArithmeticModel>, 64> classification_models;
-    std::array<std::unique_ptr<ArithmeticModel>, 64> flags_models;
-    std::array<std::unique_ptr<ArithmeticModel>, 64> user_data_models;
-    IntegerCompressor intensity_ic{16, 4};
-    IntegerCompressor scan_angle_ic{16, 2};
-    IntegerCompressor point_source_ic{16};
-    ArithmeticModel gps_multi{kGpsSymbols, true};
-    ArithmeticModel gps_0diff{5, true};
-    IntegerCompressor gps_ic{32, 9};
-
-    explicit Context(const Fields& from) : last(from) {
-        for (ArithmeticModel& m : changed_values) {
-            m.init();
-        }
-        scanner_channel.init();
-        return_number_gps_same.init();
-        for (IntegerCompressor* ic :
-             {&dx, &dy, &dz, &intensity_ic, &scan_angle_ic, &point_source_ic, &gps_ic}) {
-            ic->init_compressor();
-        }
-        gps_multi.init();
-        gps_0diff.init();
+    explicit Context(const Fields& from) : ChannelModels(true), last(from) {
         last.gps_time_change = false;
         last_intensity.fill(from.intensity);
         last_z.fill(from.z);
@@ -199,11 +148,11 @@ void Point14Encoder::encode_returns(Context& c, const Fields& p, std::uint32_t c
     const unsigned last_n = c.last.number_of_returns;
     const unsigned last_r = c.last.return_number;
     if ((changed & (1U << 2)) != 0) {
-        enc.encode_symbol(lazy_model(c.number_of_returns_models[last_n], 16), p.number_of_returns);
+        enc.encode_symbol(c.lazy(c.number_of_returns_models[last_n], 16), p.number_of_returns);
     }
     if ((changed & 3U) == 3U) {
         if ((changed & (1U << 4)) != 0) {
-            enc.encode_symbol(lazy_model(c.return_number_models[last_r], 16), p.return_number);
+            enc.encode_symbol(c.lazy(c.return_number_models[last_r], 16), p.return_number);
         } else {
             // r = (last_r + sym + 2) % 16
             enc.encode_symbol(c.return_number_gps_same, (p.return_number + 16 - last_r - 2) % 16);
@@ -240,11 +189,11 @@ void Point14Encoder::encode_attributes(Context& c, const Fields& p, std::uint32_
     EncodeLayer& cl = layers_[kClassification];
     cl.changed |= p.classification != last.classification;
     const unsigned ccc = ((last.classification & 0x1FU) << 1U) + (cpr == 3 ? 1U : 0U);
-    cl.encoder.encode_symbol(lazy_model(c.classification_models[ccc], 256), p.classification);
+    cl.encoder.encode_symbol(c.lazy(c.classification_models[ccc], 256), p.classification);
 
     EncodeLayer& fl = layers_[kFlags];
     fl.changed |= p.flags() != last.flags();
-    fl.encoder.encode_symbol(lazy_model(c.flags_models[last.flags()], 64), p.flags());
+    fl.encoder.encode_symbol(c.lazy(c.flags_models[last.flags()], 64), p.flags());
 
     EncodeLayer& il = layers_[kIntensity];
     il.changed |= p.intensity != last.intensity;
@@ -260,7 +209,7 @@ void Point14Encoder::encode_attributes(Context& c, const Fields& p, std::uint32_
 
     EncodeLayer& ul = layers_[kUserData];
     ul.changed |= p.user_data != last.user_data;
-    ul.encoder.encode_symbol(lazy_model(c.user_data_models[last.user_data / 4], 256), p.user_data);
+    ul.encoder.encode_symbol(c.lazy(c.user_data_models[last.user_data / 4], 256), p.user_data);
 
     if ((changed & (1U << 5)) != 0) {
         layers_[kPointSource].changed = true;

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cstring>
 
+#include "laz/layered_item_models.hpp"
+
 namespace beamtrace::laz {
 
 namespace {
@@ -21,26 +23,8 @@ namespace {
 
 }  // namespace
 
-struct Rgb14Decoder::Context {
-    std::array<std::uint16_t, 4> last{};  ///< red, green, blue, NIR
-    ArithmeticModel byte_used{128, false};
-    std::array<ArithmeticModel, 6> diff{ArithmeticModel(256, false), ArithmeticModel(256, false),
-                                        ArithmeticModel(256, false), ArithmeticModel(256, false),
-                                        ArithmeticModel(256, false), ArithmeticModel(256, false)};
-    ArithmeticModel nir_used{4, false};
-    std::array<ArithmeticModel, 2> nir_diff{ArithmeticModel(256, false),
-                                            ArithmeticModel(256, false)};
-
-    Context() {
-        byte_used.init();
-        for (ArithmeticModel& m : diff) {
-            m.init();
-        }
-        nir_used.init();
-        for (ArithmeticModel& m : nir_diff) {
-            m.init();
-        }
-    }
+struct Rgb14Decoder::Context : rgb14::ChannelModels {
+    Context() : ChannelModels(false) {}
 };
 
 Rgb14Decoder::Rgb14Decoder(const std::uint8_t* first, bool nir, std::span<const std::uint8_t> rgb,

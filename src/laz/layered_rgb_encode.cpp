@@ -4,6 +4,7 @@
 #include <cstring>
 
 #include "laz/arithmetic_model.hpp"
+#include "laz/layered_item_models.hpp"
 
 namespace beamtrace::laz {
 
@@ -24,25 +25,8 @@ namespace {
 
 }  // namespace
 
-struct Rgb14Encoder::Context {
-    std::array<std::uint16_t, 4> last{};  ///< red, green, blue, NIR
-    ArithmeticModel byte_used{128, true};
-    std::array<ArithmeticModel, 6> diff{ArithmeticModel(256, true), ArithmeticModel(256, true),
-                                        ArithmeticModel(256, true), ArithmeticModel(256, true),
-                                        ArithmeticModel(256, true), ArithmeticModel(256, true)};
-    ArithmeticModel nir_used{4, true};
-    std::array<ArithmeticModel, 2> nir_diff{ArithmeticModel(256, true), ArithmeticModel(256, true)};
-
-    Context() {
-        byte_used.init();
-        for (ArithmeticModel& m : diff) {
-            m.init();
-        }
-        nir_used.init();
-        for (ArithmeticModel& m : nir_diff) {
-            m.init();
-        }
-    }
+struct Rgb14Encoder::Context : rgb14::ChannelModels {
+    Context() : ChannelModels(true) {}
 };
 
 Rgb14Encoder::Rgb14Encoder(const std::uint8_t* first, bool nir, unsigned channel)

@@ -1,43 +1,19 @@
 #include "laz/layered_wavepacket.hpp"
 #include "laz/item_bytes.hpp"
+#include "laz/layered_item_models.hpp"
 
 #include <cstring>
 
 namespace beamtrace::laz {
 
-namespace {
+using wavepacket14::kOffset;
+using wavepacket14::kReturnPoint;
+using wavepacket14::kSize;
+using wavepacket14::kXyz;
 
-// Byte offsets of the fields in the item.
-constexpr std::size_t kOffset = 1;
-constexpr std::size_t kSize = 9;
-constexpr std::size_t kReturnPoint = 13;
-constexpr std::size_t kXyz = 17;
-
-}  // namespace
-
-struct WavePacket14Decoder::Context {
-    std::array<std::uint8_t, kBytes> last{};
-    std::int32_t last_offset_diff = 0;
-    std::uint32_t last_offset_code = 0;
-    ArithmeticModel packet_index{256, false};
-    std::array<ArithmeticModel, 4> offset_code{ArithmeticModel(4, false), ArithmeticModel(4, false),
-                                               ArithmeticModel(4, false),
-                                               ArithmeticModel(4, false)};
-    IntegerCompressor offset_diff{32};
-    IntegerCompressor packet_size{32};
-    IntegerCompressor return_point{32};
-    IntegerCompressor xyz{32, 3};
-
-    Context() {
-        packet_index.init();
-        for (ArithmeticModel& m : offset_code) {
-            m.init();
-        }
-        offset_diff.init_decompressor();
-        packet_size.init_decompressor();
-        return_point.init_decompressor();
-        xyz.init_decompressor();
-    }
+struct WavePacket14Decoder::Context : wavepacket14::ChannelModels {
+    static_assert(kBytes == wavepacket14::kItemBytes);
+    Context() : ChannelModels(false) {}
 };
 
 WavePacket14Decoder::WavePacket14Decoder(const std::uint8_t* first,

@@ -5,41 +5,18 @@
 #include "laz/arithmetic_model.hpp"
 #include "laz/integer_compressor.hpp"
 #include "laz/item_bytes.hpp"
+#include "laz/layered_item_models.hpp"
 
 namespace beamtrace::laz {
 
-namespace {
+using wavepacket14::kOffset;
+using wavepacket14::kReturnPoint;
+using wavepacket14::kSize;
+using wavepacket14::kXyz;
 
-// Byte offsets of the fields in the item.
-constexpr std::size_t kOffset = 1;
-constexpr std::size_t kSize = 9;
-constexpr std::size_t kReturnPoint = 13;
-constexpr std::size_t kXyz = 17;
-
-}  // namespace
-
-struct WavePacket14Encoder::Context {
-    std::array<std::uint8_t, kBytes> last{};
-    std::int32_t last_offset_diff = 0;
-    std::uint32_t last_offset_code = 0;
-    ArithmeticModel packet_index{256, true};
-    std::array<ArithmeticModel, 4> offset_code{ArithmeticModel(4, true), ArithmeticModel(4, true),
-                                               ArithmeticModel(4, true), ArithmeticModel(4, true)};
-    IntegerCompressor offset_diff{32};
-    IntegerCompressor packet_size{32};
-    IntegerCompressor return_point{32};
-    IntegerCompressor xyz{32, 3};
-
-    Context() {
-        packet_index.init();
-        for (ArithmeticModel& m : offset_code) {
-            m.init();
-        }
-        offset_diff.init_compressor();
-        packet_size.init_compressor();
-        return_point.init_compressor();
-        xyz.init_compressor();
-    }
+struct WavePacket14Encoder::Context : wavepacket14::ChannelModels {
+    static_assert(kBytes == wavepacket14::kItemBytes);
+    Context() : ChannelModels(true) {}
 };
 
 WavePacket14Encoder::WavePacket14Encoder(const std::uint8_t* first, unsigned channel)
