@@ -307,8 +307,10 @@ class PreviewSink final : public PointSink {
         std::size_t n = 0;
         const double per_cell = 1.0 / raster_.cell_m;
         for (const BlockPoint& p : block.points) {
-            const double u = detail::cells_floor(p.x - raster_.west, raster_.cell_m, per_cell);
-            const double v = detail::cells_floor(raster_.north - p.y, raster_.cell_m, per_cell);
+            double uv[2];
+            detail::cells_floor_pair(p.x - raster_.west, raster_.north - p.y, raster_.cell_m,
+                                     per_cell, uv);
+            const double u = uv[0], v = uv[1];
             if (u >= 0 && v >= 0 && u < raster_.width && v < raster_.height) {
                 const auto pixel = static_cast<std::uint32_t>(v * raster_.width + u);
                 __builtin_prefetch(layer + pixel, 1);
