@@ -408,13 +408,20 @@ namespace {
 
 }  // namespace
 
+LasWriter::RecordConstants LasWriter::record_constants() const {
+    return {{header_.offset[0], header_.offset[1], header_.offset[2]},
+            {steps_per_unit_[0], steps_per_unit_[1], steps_per_unit_[2]},
+            header_.point_record_length,
+            header_.point_format};
+}
+
 void LasWriter::encode_base(const LasSimplePoint& p, std::uint8_t flags, std::uint64_t index,
-                            std::uint8_t* r, std::int32_t q[3]) const {
+                            std::uint8_t* r, std::int32_t q[3], const RecordConstants& c) const {
     const double xyz[3] = {p.x, p.y, p.z};
     for (std::size_t k = 0; k < 3; ++k) {
         // A multiplication, not a division (a quarter of the encoding time): the same steps
         // except where (x - offset) / scale falls within an ulp of a half step.
-        const double steps = (xyz[k] - header_.offset[k]) * steps_per_unit_[k];
+        const double steps = (xyz[k] - c.offset[k]) * c.steps_per_unit[k];
         if (!rounds_into_int32(steps)) [[unlikely]] {
             reject_coordinate(path_, index, k, xyz[k], header_.scale[k], header_.offset[k]);
         }
@@ -461,7 +468,7 @@ void LasWriter::encode_record(const LasPoint& p, std::uint64_t index, std::uint8
     encode_base({p.x, p.y, p.z, p.gps_time, p.scan_angle_deg, p.intensity, p.point_source_id,
                  p.return_number, p.number_of_returns, p.classification, p.user_data, p.red,
                  p.green, p.blue, p.nir, p.scanner_channel},
-                flags, index, r, q);
+                flags, index, r, q, record_constants());
     std::size_t pos = 30;
     if (las_format_has_rgb(header_.point_format)) {
         store<std::uint16_t>(r + 30, p.red);
@@ -485,22 +492,22 @@ void LasWriter::encode_record(const LasPoint& p, std::uint64_t index, std::uint8
 }
 
 void LasWriter::encode_record(const LasSimplePoint& p, std::uint64_t index, std::uint8_t* r,
-                              std::int32_t q[3]) const {
+                              std::int32_t q[3], const RecordConstants& c) const {
     if (p.scanner_channel > 3) [[unlikely]] {
         reject_point(path_, index,
                      "scanner channel " + std::to_string(p.scanner_channel) + " exceeds 3");
     }
-    encode_base(p, static_cast<std::uint8_t>(p.scanner_channel << 4), index, r, q);
+    encode_base(p, static_cast<std::uint8_t>(p.scanner_channel << 4), index, r, q, c);
     // Extra bytes (and wave packet fields, written after) are zero: block bytes are reused.
-    if (header_.point_record_length > 30u) {
-        std::memset(r + 30, 0, header_.point_record_length - 30u);
+    if (c.record_length > 30u) {
+        std::memset(r + 30, 0, c.record_length - 30u);
     }
-    if (las_format_has_rgb(header_.point_format)) {
+    if (las_format_has_rgb(c.point_format)) {
         store<std::uint16_t>(r + 30, p.red);
         store<std::uint16_t>(r + 32, p.green);
         store<std::uint16_t>(r + 34, p.blue);
     }
-    if (las_format_has_nir(header_.point_format)) {
+    if (las_format_has_nir(c.point_format)) {
         store<std::uint16_t>(r + 36, p.nir);
     }
 }
@@ -535,7 +542,12 @@ void LasWriter::encode_into(const Point& p, LasRecordBlock& block) const {
         block.bytes.resize(std::max(need, 2 * block.bytes.size()));
     }
     std::int32_t q[3];
-    encode_record(p, block.count, block.bytes.data() + block.count * size, q);
+    if constexpr (std::is_same_v<Point, LasPoint>) {
+        encode_record(p, block.count, block.bytes.data() + block.count * size, q);
+    } else {
+        encode_record(p, block.count, block.bytes.data() + block.count * size, q,
+                      record_constants());
+    }
     for (std::size_t k = 0; k < 3; ++k) {
         block.lo[k] = block.count == 0 ? q[k] : std::min(block.lo[k], q[k]);
         block.hi[k] = block.count == 0 ? q[k] : std::max(block.hi[k], q[k]);
@@ -570,19 +582,25 @@ template <class Point>
                           std::numeric_limits<std::int32_t>::min(),
                           std::numeric_limits<std::int32_t>::min()};
     std::uint8_t* r = block.bytes.data() + block.count * size;
+    // In locals, kept in registers: see RecordConstants.
+    const RecordConstants c = record_constants();
+    std::size_t count = block.count;
+    std::array<std::uint64_t, 15> by_return = block.by_return;
     for (const LasSimplePoint& p : points) {
         std::int32_t q[3];
-        encode_record(p, block.count, r, q);
+        encode_record(p, count, r, q, c);
         for (std::size_t k = 0; k < 3; ++k) {
             lo[k] = std::min(lo[k], q[k]);
             hi[k] = std::max(hi[k], q[k]);
         }
         if (p.return_number >= 1) {
-            ++block.by_return[p.return_number - 1u];
+            ++by_return[p.return_number - 1u];
         }
-        ++block.count;
+        ++count;
         r += size;
     }
+    block.count = count;
+    block.by_return = by_return;
     const bool first = block.count == points.size();  // the block held no point before
     for (std::size_t k = 0; k < 3; ++k) {
         block.lo[k] = first ? lo[k] : std::min(block.lo[k], lo[k]);

@@ -88,9 +88,11 @@ std::uint16_t SurveyPoints::pulse_source_id(const BlockWork& w, std::size_t k) c
     return 0;
 }
 
-void SurveyPoints::part_fields(BlockPoint& p, const BlockWork& w, std::size_t k, std::size_t r,
-                               std::uint32_t face, const Vec3d& xyz, bool by_pulse,
-                               std::size_t& last_part) const {
+[[gnu::always_inline]] inline void SurveyPoints::part_fields(BlockPoint& p, const BlockWork& w,
+                                                             std::size_t k, std::size_t r,
+                                                             std::uint32_t face, const Vec3d& xyz,
+                                                             bool by_pulse,
+                                                             std::size_t& last_part) const {
     // Neighbouring points mostly hit the same part: try the last one before searching.
     if (const ScenePart& cached = scene->parts[last_part];
         face - cached.first_face >= cached.face_count) {
@@ -121,6 +123,15 @@ void SurveyPoints::part_fields(BlockPoint& p, const BlockWork& w, std::size_t k,
 }
 
 void SurveyPoints::run(BlockWork& w) const {
+    if (physics) {
+        run_pulses<true>(w);
+    } else {
+        run_pulses<false>(w);
+    }
+}
+
+template <bool Physics>
+void SurveyPoints::run_pulses(BlockWork& w) const {
     std::vector<BlockPoint>& out = w.points.points;
     out.reserve(w.pulse_count * max_returns);
     std::size_t last_part = 0;  // the part of the last hit (see part_fields)
@@ -129,7 +140,7 @@ void SurveyPoints::run(BlockWork& w) const {
     // construction per point compiled to `rep stos`, a fifth of the stage's time.
     const BlockPoint blank{};
     for (std::size_t k = 0; k < w.pulse_count; ++k) {
-        const std::size_t n = physics ? w.return_count[k] : (w.hits.hit(k) ? 1 : 0);
+        const std::size_t n = Physics ? w.return_count[k] : (w.hits.hit(k) ? 1 : 0);
         if (no_echo && n == 0) {
             w.points.no_echo.push_back({w.first + k, w.pulses.time_s[k],
                                         w.origin[k] + scene->origin_m, w.axis[k],
@@ -139,10 +150,10 @@ void SurveyPoints::run(BlockWork& w) const {
         const std::uint8_t scanner_channel =
             scanner_channels.empty() ? 0 : scanner_channels[w.pulses.scanner[k]];
         for (std::size_t r = 0; r < n; ++r) {
-            const PulseReturn* ret = physics ? &w.returns[k * max_returns + r] : nullptr;
+            const PulseReturn* ret = Physics ? &w.returns[k * max_returns + r] : nullptr;
             const std::uint32_t face =
-                physics ? w.return_face[k * max_returns + r] : w.hits.face[k];
-            const double t = physics ? ret->range_m : double{w.hits.t[k]};
+                Physics ? w.return_face[k * max_returns + r] : w.hits.face[k];
+            const double t = Physics ? ret->range_m : double{w.hits.t[k]};
             const Vec3d xyz = w.origin[k] + w.axis[k] * t + scene->origin_m;
             BlockPoint& p = out.emplace_back(blank);
             p.x = xyz.x;
@@ -151,18 +162,18 @@ void SurveyPoints::run(BlockWork& w) const {
             p.gps_time = w.pulses.time_s[k];
             p.range_m = static_cast<float>(t);
             p.scan_angle_deg = w.scan_angle[k];
-            p.return_number = ret ? ret->return_number : 1;
-            p.number_of_returns = ret ? ret->number_of_returns : 1;
-            p.intensity = ret ? ret->intensity : 0;
+            p.return_number = Physics ? ret->return_number : 1;
+            p.number_of_returns = Physics ? ret->number_of_returns : 1;
+            p.intensity = Physics ? ret->intensity : 0;
             p.channel = w.pulses.channel[k];
             p.user_data = static_cast<std::uint8_t>(w.pulses.channel[k] & 0xFFu);  // beam / row
             p.pulse = w.first + k;
             p.scanner_channel = scanner_channel;
             p.point_source_id = source;
-            if (ret != nullptr) {
+            if constexpr (Physics) {
                 p.echo_width_ns = static_cast<float>(ret->echo_width_ns);
             }
-            if (ret != nullptr && ret->weather != WeatherEffect::none) {
+            if (Physics && ret->weather != WeatherEffect::none) {
                 medium_point(p, *ret);
                 p.point_source_id = source;
                 continue;

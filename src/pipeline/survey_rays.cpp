@@ -207,8 +207,21 @@ void SurveyRaySource::generate(const PulseBatch& pulses, std::uint64_t first, Ra
     // The scan angles after the rays, a run of pulses at a time with the same `right`.
     std::size_t run = 0;
     Vec3d run_right;
+    // The arrays and the range gate in locals: the stores of doubles below may alias any double
+    // in memory (the gate, the batch's members), which were loaded again for every pulse.
+    double* const rox = rays.ox.data() + ray_offset;
+    double* const roy = rays.oy.data() + ray_offset;
+    double* const roz = rays.oz.data() + ray_offset;
+    double* const rdx = rays.dx.data() + ray_offset;
+    double* const rdy = rays.dy.data() + ray_offset;
+    double* const rdz = rays.dz.data() + ray_offset;
+    double* const rtmin = rays.tmin.data() + ray_offset;
+    double* const rtmax = rays.tmax.data() + ray_offset;
+    const Pose* const platforms = scratch.platform.data();
+    const Vec3d* const directions = pulses.direction.data();
+    const double range_min_m = spec->range_min_m, range_max_m = spec->range_max_m;
     for (std::size_t i = 0; i < pulses.time_s.size(); ++i) {
-        const Pose& platform = scratch.platform[i];
+        const Pose& platform = platforms[i];
         if (frame.update(platform.attitude, mount)) {
             scan_angles_about(rays, run, i, ray_offset, run_right, scan_angle);
             run = i;
@@ -217,7 +230,7 @@ void SurveyRaySource::generate(const PulseBatch& pulses, std::uint64_t first, Ra
         // platform * mount, term by term; written out (not store_beam) to keep every value in
         // a register: this loop is the whole cost of a survey's rays without physics.
         const Vec3d o = platform.position_m + frame.lever_world;
-        const Vec3d dir = frame.sensor_rotation * pulses.direction[i];
+        const Vec3d dir = frame.sensor_rotation * directions[i];
         const double ox = o.x, oy = o.y, oz = o.z;
         const double dx = dir.x, dy = dir.y, dz = dir.z;
         origin[i].x = ox;
@@ -226,15 +239,14 @@ void SurveyRaySource::generate(const PulseBatch& pulses, std::uint64_t first, Ra
         axis[i].x = dx;
         axis[i].y = dy;
         axis[i].z = dz;
-        const std::size_t r = ray_offset + i;
-        rays.ox[r] = ox;
-        rays.oy[r] = oy;
-        rays.oz[r] = oz;
-        rays.dx[r] = dx;
-        rays.dy[r] = dy;
-        rays.dz[r] = dz;
-        rays.tmin[r] = spec->range_min_m;
-        rays.tmax[r] = spec->range_max_m;
+        rox[i] = ox;
+        roy[i] = oy;
+        roz[i] = oz;
+        rdx[i] = dx;
+        rdy[i] = dy;
+        rdz[i] = dz;
+        rtmin[i] = range_min_m;
+        rtmax[i] = range_max_m;
     }
     scan_angles_about(rays, run, pulses.time_s.size(), ray_offset, run_right, scan_angle);
 }

@@ -41,7 +41,11 @@ RotatingScannerConfig preset(std::vector<double> elevations_deg, double resoluti
 /// `deg` wrapped into [-180, 180).
 double wrap_deg(double deg) {
     double w = deg + 180.0;
-    if (!(w >= 0.0 && w < 360.0)) {  // fmod only when needed (the same value otherwise)
+    if (w >= 360.0 && w < 720.0) {
+        // fmod(w, 360) is w - 360 here, and that difference is exact (Sterbenz: w <= 2 x 360):
+        // a spinning head's azimuths past 180 degrees take this path, not fmod.
+        w -= 360.0;
+    } else if (!(w >= 0.0 && w < 360.0)) {  // fmod only when needed (the same value otherwise)
         w = std::fmod(w, 360.0);
         if (w < 0.0) {
             w += 360.0;
@@ -231,6 +235,12 @@ void RotatingScanner::generate_pulses(std::uint64_t first, std::size_t count,
     const std::uint64_t beams = beam_count();
     const double res = step_deg_;
     const double sign = config_.spin_clockwise ? -1.0 : 1.0;
+    // Uniform times (no timing table): start + i / rate, as ScanPattern::pulse_time_s gives
+    // them, without its two virtual calls a pulse.
+    const bool uniform_times = config_.beam_time_offsets_s.empty();
+    const double start_s = config_.start_time_s;
+    const double* within = within_deg_.data();
+    const double* offset = config_.beam_azimuth_offsets_deg.data();
     // The firing's heading, as cos/sin, computed once per firing: a beam's direction is the
     // heading rotated by the beam's own azimuth (angle addition, within 1e-15 of a direct sincos).
     std::uint64_t firing = std::numeric_limits<std::uint64_t>::max();
@@ -254,11 +264,11 @@ void RotatingScanner::generate_pulses(std::uint64_t first, std::size_t count,
             sin_head = std::sin(head);
         }
         const double az_deg =
-            wrap_deg(config_.start_azimuth_deg + sign * (head_deg + within_deg_[b]) +
-                     config_.beam_azimuth_offsets_deg[b]);
+            wrap_deg(config_.start_azimuth_deg + sign * (head_deg + within[b]) + offset[b]);
         const double cos_az = cos_head * cos_beam_azimuth_[b] - sin_head * sin_beam_azimuth_[b];
         const double sin_az = sin_head * cos_beam_azimuth_[b] + cos_head * sin_beam_azimuth_[b];
-        out.time_s[j] = beam_time_s(i, k, b);
+        out.time_s[j] = uniform_times ? start_s + static_cast<double>(i) / pulse_rate_hz_
+                                      : beam_time_s(i, k, b);
         out.direction[j] = {cos_elevation_[b] * cos_az, cos_elevation_[b] * sin_az,
                             sin_elevation_[b]};
         out.channel[j] = config_.beam_channels.empty() ? static_cast<std::uint16_t>(b)

@@ -109,6 +109,27 @@ TEST(RotatingScanner, OneRevolutionCoversTheCircleWithBeamsTimes360OverResolutio
     }
 }
 
+/// The scan angle is the head's azimuth wrapped into [-180, 180) exactly as std::fmod wraps it,
+/// float for float, whether the azimuth lies past 180 degrees (the sum 180 + azimuth in [360,
+/// 720), which the scanner wraps by a subtraction), within [-180, 180) or far outside.
+TEST(RotatingScanner, ScanAnglesAreTheAzimuthWrappedAsFmodWrapsIt) {
+    for (const double start_deg : {170.0, -10.0, -900.5, 1000.25}) {
+        RotatingScannerConfig c = vlp16();
+        c.start_azimuth_deg = start_deg;
+        const RotatingScanner scanner(c);
+        const PulseBatch p = all_pulses(scanner);
+        const std::size_t beams = 16;
+        const double step = c.azimuth_step_deg();
+        for (std::size_t i = 0; i < p.size(); ++i) {
+            const std::size_t k = i / beams, b = i % beams;
+            const double within = step * static_cast<double>(b) / static_cast<double>(beams);
+            const double az = start_deg + 1.0 * (static_cast<double>(k) * step + within) + 0.0;
+            ASSERT_EQ(p.scan_angle_deg[i], static_cast<float>(wrap(az)))
+                << "start " << start_deg << " pulse " << i << " azimuth " << az;
+        }
+    }
+}
+
 TEST(RotatingScanner, TimesComeFromThePulseRate) {
     RotatingScannerConfig c = vlp16();
     c.start_time_s = 1000.5;

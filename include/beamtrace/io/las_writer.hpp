@@ -200,16 +200,28 @@ class LasWriter {
     static void append_vlr(const LasVlr& v, std::vector<std::uint8_t>& out);
     /// encode_header() and the VLRs (not the LASzip one).
     [[nodiscard]] std::vector<std::uint8_t> header_and_vlrs(const LasHeader& h) const;
+    /// What encoding a record reads of the writer, copied into the encoding loop's locals: the
+    /// records are stored through byte pointers, which may alias any member, so a member read
+    /// in the loop was loaded again after every store.
+    struct RecordConstants {
+        double offset[3];
+        double steps_per_unit[3];
+        std::size_t record_length;
+        int point_format;
+    };
+    [[nodiscard]] RecordConstants record_constants() const;
     void encode(const LasPoint& p, std::uint64_t index, std::uint8_t* record);
     void encode_record(const LasPoint& p, std::uint64_t index, std::uint8_t* record,
                        std::int32_t q[3]) const;
     // Hidden: not interposable in position-independent code, so encode_points() inlines them.
     [[gnu::visibility("hidden")]] void encode_record(const LasSimplePoint& p, std::uint64_t index,
-                                                     std::uint8_t* record, std::int32_t q[3]) const;
+                                                     std::uint8_t* record, std::int32_t q[3],
+                                                     const RecordConstants& c) const;
     /// Bytes 0-29, the part every record has (flags: byte 15), after the checks.
     [[gnu::visibility("hidden")]] void encode_base(const LasSimplePoint& p, std::uint8_t flags,
                                                    std::uint64_t index, std::uint8_t* record,
-                                                   std::int32_t q[3]) const;
+                                                   std::int32_t q[3],
+                                                   const RecordConstants& c) const;
     template <class Point>
     void encode_into(const Point& p, LasRecordBlock& block) const;
     void flush_chunk();

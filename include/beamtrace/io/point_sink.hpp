@@ -155,6 +155,10 @@ class PointSink {
     virtual void write(const SinkBuffer& encoded) = 0;
     /// Finishes the files and renames them into place; returns them. Called once.
     [[nodiscard]] virtual std::vector<std::filesystem::path> commit() = 0;
+    /// True when commit() may run on a thread of its own, beside the other sinks' commits (it
+    /// touches nothing but the sink and its own files): a sink whose commit is long work for
+    /// the CPU (preview.png) then overlaps one that waits for the disk (points.las).
+    [[nodiscard]] virtual bool commits_beside() const { return false; }
     /// Removes whatever was written; the sink accepts nothing afterwards.
     virtual void abort() noexcept = 0;
     /// After commit(): lines for the run's summary (e.g. the span of range.png's colours).

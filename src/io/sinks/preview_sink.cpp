@@ -36,16 +36,14 @@ constexpr float kEmpty = -std::numeric_limits<float>::infinity();
 
 /// Nothing goes through the writer: encode() raises the pixels of a layer itself. The buffer
 /// holds encode()'s scratch: the block's points that fall on the raster, as pixel and height.
+/// A survey's points land all over a raster of several MB (a spinning scanner's beams fan out
+/// from the car), so each raise would be a cache miss: pixels_of() prefetches each pixel while it
+/// computes the next ones, and the raises then find them in the cache.
 struct PreviewBuffer final : SinkBuffer {
     std::vector<std::uint32_t> pixel;
     std::vector<float> height;
     void clear() override {}
 };
-
-/// Points ahead whose pixel is prefetched while one is raised: a survey's points land all over
-/// a raster of several MB (a spinning scanner's beams fan out from the car), so each raise is a
-/// cache miss; the prefetch overlaps them.
-constexpr std::size_t kPrefetchAhead = 16;
 
 /// Heights of pixels, rows from the north edge down.
 struct Raster {
@@ -262,16 +260,13 @@ class PreviewSink final : public PointSink {
     /// thread, blocks in any order (-0 is taken as +0, so not even its sign depends on it).
     void encode(const PointBlock& block, SinkBuffer& out) const override {
         auto& scratch = static_cast<PreviewBuffer&>(out);
-        pixels_of(block, scratch);
         std::unique_ptr<std::vector<float>> layer = take_layer();
         float* z = layer->data();
+        pixels_of(block, scratch, z);
         const std::uint32_t* pixel = scratch.pixel.data();
         const float* height = scratch.height.data();
         const std::size_t n = scratch.pixel.size();
         for (std::size_t i = 0; i < n; ++i) {
-            if (i + kPrefetchAhead < n) {
-                __builtin_prefetch(z + pixel[i + kPrefetchAhead], 1);
-            }
             float& p = z[pixel[i]];
             p = height[i] > p ? height[i] : p;
         }
@@ -298,22 +293,28 @@ class PreviewSink final : public PointSink {
         notes_.emplace_back(line);
         return {path_};
     }
+    /// The commit is work for the CPU (merging, shading, compressing), on this sink alone.
+    [[nodiscard]] bool commits_beside() const override { return true; }
     void abort() noexcept override {}  // nothing is written before commit()
     [[nodiscard]] std::vector<std::string> notes() const override { return notes_; }
 
   private:
     /// The pixel and height of each point of `block` that falls on the raster, in block order,
-    /// into `out`.
-    void pixels_of(const PointBlock& block, PreviewBuffer& out) const {
+    /// into `out`; each pixel of `layer` is prefetched as soon as it is known.
+    void pixels_of(const PointBlock& block, PreviewBuffer& out, const float* layer) const {
         out.pixel.resize(block.points.size());
         out.height.resize(block.points.size());
         std::size_t n = 0;
         const double per_cell = 1.0 / raster_.cell_m;
         for (const BlockPoint& p : block.points) {
-            const double u = detail::cells_floor(p.x - raster_.west, raster_.cell_m, per_cell);
-            const double v = detail::cells_floor(raster_.north - p.y, raster_.cell_m, per_cell);
+            double uv[2];
+            detail::cells_floor_pair(p.x - raster_.west, raster_.north - p.y, raster_.cell_m,
+                                     per_cell, uv);
+            const double u = uv[0], v = uv[1];
             if (u >= 0 && v >= 0 && u < raster_.width && v < raster_.height) {
-                out.pixel[n] = static_cast<std::uint32_t>(v * raster_.width + u);
+                const auto pixel = static_cast<std::uint32_t>(v * raster_.width + u);
+                __builtin_prefetch(layer + pixel, 1);
+                out.pixel[n] = pixel;
                 out.height[n] = static_cast<float>(p.z) + 0.0f;
                 ++n;
             }

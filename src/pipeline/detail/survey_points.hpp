@@ -47,6 +47,9 @@ struct SurveyPoints {
     void run(BlockWork& w) const;
 
   private:
+    /// run() with or without physics, the choice made once a block.
+    template <bool Physics>
+    void run_pulses(BlockWork& w) const;
     /// The point source ID of pulse k's points when it is the pulse's (leg or scanner; 0 when
     /// it is the part's).
     [[nodiscard]] std::uint16_t pulse_source_id(const BlockWork& w, std::size_t k) const;
