@@ -7,6 +7,7 @@
 #include <atomic>
 #include <cmath>
 #include <cstdio>
+#include <memory>
 #include <vector>
 
 #include "beamtrace/core/thread_pool.hpp"
@@ -189,12 +190,13 @@ template <int SX, int SY, bool DOWN>
 class PixelSink {
   public:
     PixelSink(const SectionGrid& grid, const LevelTable& table, const RenderOptions& options,
-              ViewImage& image)
+              ViewImage& image, double oz)
         : grid_(grid),
           table_(table),
           options_(options),
           image_(image),
-          per_two_cells_(2.0 * grid.config().cell_size) {}
+          per_two_cells_(2.0 * grid.config().cell_size),
+          frame_(detail::shade_frame(grid, options, oz)) {}
 
     void hit(std::size_t i, const GridRay& r, const GridHit& hit) const {
         detail::shade_hit(
@@ -203,6 +205,29 @@ class PixelSink {
                 table_.finest_neighbours(x, y, out);
             },
             per_two_cells_, r, hit, options_, image_.rgb.data() + 3 * i, image_.depth[i]);
+    }
+    /// hit() of the hits among rays[0, count) (found[j] != 0; miss() of the others), without
+    /// height stacks, `lanes` at a time in SIMD lanes (detail::shade_lanes): the same image.
+    void hits_in_lanes(int lanes, const GridRay* rays, const GridHit* hits,
+                       const std::uint8_t* found, const std::size_t* pixels, std::size_t count,
+                       detail::ShadeBatch& b) const {
+        std::array<std::size_t, detail::kShadeBatch> slot;
+        int m = 0;
+        for (std::size_t j = 0; j < count; ++j) {
+            if (found[j] == 0) {
+                miss(pixels[j]);
+                continue;
+            }
+            detail::gather_shade(grid_, table_, frame_.shading, rays[j], hits[j], b, m);
+            slot[static_cast<std::size_t>(m)] = pixels[j];
+            if (++m == detail::kShadeBatch) {
+                shade_batch(lanes, b, slot.data(), m);
+                m = 0;
+            }
+        }
+        if (m > 0) {
+            shade_batch(lanes, b, slot.data(), m);
+        }
     }
     void miss(std::size_t i) const {
         std::uint8_t* out = image_.rgb.data() + 3 * i;
@@ -213,11 +238,29 @@ class PixelSink {
     }
 
   private:
+    /// Shades the batch's m hits and writes them to their pixels slot[0, m).
+    void shade_batch(int lanes, detail::ShadeBatch& b, const std::size_t* slot, int m) const {
+        // The slots up to a whole number of lanes: copies of the last hit (shaded, not written).
+        const int padded = (m + lanes - 1) / lanes * lanes;
+        for (int k = m; k < padded; ++k) {
+            detail::copy_shade_slot(b, m - 1, k);
+        }
+        detail::shade_lanes(lanes, frame_, b, padded);
+        for (int k = 0; k < m; ++k) {
+            const auto q = static_cast<std::size_t>(k);
+            std::uint8_t* out = image_.rgb.data() + 3 * slot[q];
+            out[0] = static_cast<std::uint8_t>(b.rgb[0][q]);
+            out[1] = static_cast<std::uint8_t>(b.rgb[1][q]);
+            out[2] = static_cast<std::uint8_t>(b.rgb[2][q]);
+            image_.depth[slot[q]] = b.depth[q];
+        }
+    }
     const SectionGrid& grid_;
     const LevelTable& table_;
     const RenderOptions& options_;
     ViewImage& image_;
     detail::ExactDivisor per_two_cells_;
+    detail::ShadeFrame frame_;
 };
 
 /// A rectangle of pixels [x0, x1) x [y0, y1) of an image `width` pixels wide.
@@ -232,6 +275,7 @@ struct SimdBuffers {
     std::vector<std::size_t> pixels;
     std::vector<GridHit> hits;
     std::vector<std::uint8_t> found;
+    std::unique_ptr<detail::ShadeBatch> shade;  ///< for shading in lanes
 };
 
 /// The ray directions of a frame's pixels: one at a time (CameraRays::direction_at of the
@@ -409,6 +453,14 @@ int render_tiles(const SectionGrid& grid, const LevelTable& table, const PixelDi
             }
         }
         touch_attributes(grid, buffers.hits.data(), buffers.found.data(), count);
+        if (lanes > 1) {
+            if (!buffers.shade) {
+                buffers.shade = std::make_unique<detail::ShadeBatch>();
+            }
+            sink.hits_in_lanes(lanes, buffers.rays.data(), buffers.hits.data(),
+                               buffers.found.data(), buffers.pixels.data(), count, *buffers.shade);
+            continue;
+        }
         for (std::size_t j = 0; j < count; ++j) {
             if (buffers.found[j] != 0) {
                 sink.hit(buffers.pixels[j], buffers.rays[j], buffers.hits[j]);
@@ -439,7 +491,7 @@ void render(const SectionGrid& grid, const ViewCamera& camera, const RenderOptio
     const detail::RaySetup setup(grid, camera.position);
     // The reference sets up one ray at a time, the hierarchical renderer in its lanes.
     const PixelDirections direction(rays, camera, setup.per_cell(), beams ? lanes : 1);
-    const PixelSink sink(grid, table, options, image);
+    const PixelSink sink(grid, table, options, image, setup.clip_frame().oz);
     const int tile = std::max(1, options.tile_pixels);
     const int tiles_x = (camera.width + tile - 1) / tile;
     const int tiles_y = (camera.height + tile - 1) / tile;

@@ -8,7 +8,9 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <memory>
 #include <random>
+#include <utility>
 #include <vector>
 
 #include "beamtrace/heightfield/view_camera.hpp"
@@ -219,6 +221,109 @@ TEST(ViewLanes, RaySetupInLanesIsTheScalarSetupBitForBit) {
     }
     // Most cameras see the heights.
     EXPECT_GT(entered, cameras * 20);
+}
+
+/// Hits for the shading test: cells of `grid` that hold a height, rays going down, up and level,
+/// every face, spans that start on, before and past the top's plane.
+std::vector<std::pair<detail::GridRay, detail::GridHit>> shading_hits(const SectionGrid& grid,
+                                                                      std::mt19937& rng) {
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    const std::int64_t w = grid.window_cells();
+    std::vector<std::pair<detail::GridRay, detail::GridHit>> out;
+    while (out.size() < 3000) {
+        detail::GridHit hit;
+        hit.x = static_cast<std::int64_t>(u(rng) * static_cast<double>(w));
+        hit.y = static_cast<std::int64_t>(u(rng) * static_cast<double>(w));
+        hit.h = grid.height(0, hit.x, hit.y);
+        if (hit.h == kEmptyHeight) {
+            continue;
+        }
+        detail::GridRay r;
+        // One origin height (the camera's) for every 8 hits.
+        r.oz = out.size() % 8 == 0 ? 40.0 * u(rng) - 5.0 : out.back().first.oz;
+        const int kind = static_cast<int>(out.size() % 5);
+        r.dz = kind == 4 ? 0.0 : (kind == 3 ? 1.0 : -1.0) * (0.05 + u(rng));
+        r.sx = u(rng) < 0.5 ? -1 : 1;
+        r.sy = u(rng) < 0.5 ? -1 : 1;
+        hit.entered_axis = static_cast<int>(3.0 * u(rng)) - 1;
+        const double t_top = (static_cast<double>(hit.h) - r.oz) / r.dz;
+        // On the top's plane, just before it, or anywhere.
+        hit.t_in = kind == 0 && t_top > 0 ? t_top : (kind == 1 ? t_top - u(rng) : 60.0 * u(rng));
+        hit.t_in = std::max(hit.t_in, 0.0);
+        hit.t_out = hit.t_in + (kind == 2 ? 0.0 : 2.0 * u(rng));
+        out.emplace_back(r, hit);
+    }
+    return out;
+}
+
+/// shade_lanes against shade_hit, bit for bit, on every hit of shading_hits.
+void expect_shading_like_scalar(const SectionGrid& grid, const RenderOptions& options, int lanes,
+                                std::mt19937& rng) {
+    const detail::LevelTable table(grid);
+    const detail::ExactDivisor per_two(2.0 * grid.config().cell_size);
+    const auto hits = shading_hits(grid, rng);
+    const auto batch = std::make_unique<detail::ShadeBatch>();
+    const auto n = static_cast<std::size_t>(lanes);
+    for (std::size_t first = 0; first + n <= hits.size(); first += n) {
+        // The lanes' hits share their origin's height (shading_hits: 8 hits a height).
+        const detail::ShadeFrame frame = detail::shade_frame(grid, options, hits[first].first.oz);
+        for (std::size_t j = 0; j < n; ++j) {
+            detail::gather_shade(grid, table, options.shading, hits[first + j].first,
+                                 hits[first + j].second, *batch, static_cast<int>(j));
+        }
+        detail::shade_lanes(lanes, frame, *batch, lanes);
+        for (std::size_t j = 0; j < n; ++j) {
+            std::uint8_t rgb[3];
+            float depth = 0;
+            detail::shade_hit(
+                grid,
+                [&](std::int64_t x, std::int64_t y, float* nb) {
+                    table.finest_neighbours(x, y, nb);
+                },
+                per_two, hits[first + j].first, hits[first + j].second, options, rgb, depth);
+            ASSERT_EQ(std::memcmp(&depth, batch->depth + j, sizeof depth), 0) << first + j;
+            for (std::size_t c = 0; c < 3; ++c) {
+                ASSERT_EQ(static_cast<int>(rgb[c]), batch->rgb[c][j]) << first + j << ", " << c;
+            }
+        }
+    }
+}
+
+TEST(ViewLanes, ShadingInLanesIsShadeHitBitForBit) {
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    int ran = 0;
+    for (const int lanes : {4, 8}) {
+        if (detail::widest_lanes() < lanes) {
+            continue;
+        }
+        // 1 ft cells divide by a product, 0.3 ft cells by a division; rgb and height colours.
+        for (const double cell : {1.0, 0.3}) {
+            HeightFieldConfig c = small_window(cell, 4);
+            c.color = cell == 1.0 ? ColorMode::rgb : ColorMode::height;
+            SectionGrid grid(c, {0, 0, 0});
+            // Steps and slopes, a tenth of the cells empty (their neighbours shade with their
+            // own height).
+            test::fill_grid(grid, [&](std::int64_t x, std::int64_t y) {
+                return u(rng) < 0.1 ? std::nan("")
+                                    : 0.7 * static_cast<double>(x) - 0.3 * static_cast<double>(y) +
+                                          (u(rng) < 0.3 ? 4.0 * u(rng) : 0.0);
+            });
+            for (const bool shading : {true, false}) {
+                for (const double fog : {0.0, 25.0}) {
+                    RenderOptions options;
+                    options.shading = shading;
+                    options.fog_distance = fog;
+                    options.sky = {200, 100, 250};
+                    expect_shading_like_scalar(grid, options, lanes, rng);
+                    ++ran;
+                }
+            }
+        }
+    }
+    if (ran == 0) {
+        BEAMTRACE_SKIP_HARDWARE("no AVX2 on this CPU");
+    }
 }
 
 }  // namespace

@@ -34,6 +34,16 @@ BT_LANES D divd(D a, D b) { return _mm256_div_pd(a, b); }
 BT_LANES D sqrtd(D a) { return _mm256_sqrt_pd(a); }
 /// std::floor, lane by lane.
 BT_LANES D floord(D a) { return _mm256_floor_pd(a); }
+/// std::trunc, lane by lane.
+BT_LANES D truncd(D a) { return _mm256_round_pd(a, _MM_FROUND_TO_ZERO | _MM_FROUND_NO_EXC); }
+/// -a (the sign flipped, zeros and infinities included).
+BT_LANES D negd(D a) { return _mm256_xor_pd(a, _mm256_set1_pd(-0.0)); }
+/// static_cast<float> of the lanes into p[0, kLanes).
+BT_LANES void store_floats(float* p, D a) { _mm_storeu_ps(p, _mm256_cvtpd_ps(a)); }
+/// static_cast<std::int32_t> (truncation) of the lanes into p[0, kLanes).
+BT_LANES void store_ints(std::int32_t* p, D a) {
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(p), _mm256_cvttpd_epi32(a));
+}
 /// a < b ? a : b, lane by lane (std::min(b, a)).
 BT_LANES D mind(D a, D b) { return _mm256_min_pd(a, b); }
 

@@ -38,6 +38,18 @@ BT_LANES D floord(D a) {
 }
 /// a < b ? a : b, lane by lane (std::min(b, a)).
 BT_LANES D mind(D a, D b) { return _mm512_min_pd(a, b); }
+/// std::trunc, lane by lane.
+BT_LANES D truncd(D a) {
+    return _mm512_roundscale_pd(a, _MM_FROUND_TO_ZERO | _MM_FROUND_NO_EXC);
+}
+/// -a (the sign flipped, zeros and infinities included).
+BT_LANES D negd(D a) { return _mm512_xor_pd(a, _mm512_set1_pd(-0.0)); }
+/// static_cast<float> of the lanes into p[0, kLanes).
+BT_LANES void store_floats(float* p, D a) { _mm256_storeu_ps(p, _mm512_cvtpd_ps(a)); }
+/// static_cast<std::int32_t> (truncation) of the lanes into p[0, kLanes).
+BT_LANES void store_ints(std::int32_t* p, D a) {
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(p), _mm512_cvttpd_epi32(a));
+}
 
 BT_LANES M gt(I a, I b) { return _mm512_cmpgt_epi64_mask(a, b); }
 BT_LANES M eq(I a, I b) { return _mm512_cmpeq_epi64_mask(a, b); }
