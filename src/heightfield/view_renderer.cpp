@@ -319,36 +319,94 @@ struct PixelDirections {
             return;
         }
         detail::RowDirections dirs;
-        const int n = t.x1 - t.x0;
+        row_lanes(setup, t, py, dirs);
         const detail::ClipFrame c = setup.clip_frame();
-        detail::ray_setup_lanes(lanes, frame, c, u.data() + t.x0, v[static_cast<std::size_t>(py)],
-                                n, dirs);
-        for (int k = 0; k < n; ++k) {
+        for (int k = 0; k < t.x1 - t.x0; ++k) {
             const auto i = base + static_cast<std::size_t>(t.x0 + k);
             if ((dirs.enter & (1 << k)) == 0) {
                 miss(i);
                 continue;
             }
-            // What RaySetup::clip sets, from its lanes' values (entered and level: the start).
             GridRay r;
-            r.ox = c.ox;
-            r.oy = c.oy;
-            r.oz = c.oz;
-            r.dx = dirs.dx[k];
-            r.dy = dirs.dy[k];
-            r.dz = dirs.dz[k];
-            r.inv_dx = dirs.inv_dx[k];
-            r.inv_dy = dirs.inv_dy[k];
-            r.sx = r.dx < 0 ? -1 : 1;
-            r.sy = r.dy < 0 ? -1 : 1;
-            r.t_min = dirs.t_min[k];
-            r.t_max = dirs.t_max[k];
-            r.gx = static_cast<std::int64_t>(dirs.gx[k]);
-            r.gy = static_cast<std::int64_t>(dirs.gy[k]);
+            set_ray(c, dirs, k, r);
             f(i, r);
         }
     }
+
+    /// detail::ray_setup_lanes of the pixels [t.x0, t.x1) of row py (lanes > 1).
+    void row_lanes(const detail::RaySetup& setup, const Tile& t, int py,
+                   detail::RowDirections& dirs) const {
+        detail::ray_setup_lanes(lanes, frame, setup.clip_frame(), u.data() + t.x0,
+                                v[static_cast<std::size_t>(py)], t.x1 - t.x0, dirs);
+    }
+
+    /// What RaySetup::clip sets (entered and level: the start), from the lanes' values of ray k.
+    static void set_ray(const detail::ClipFrame& c, const detail::RowDirections& dirs, int k,
+                        GridRay& r) {
+        r.ox = c.ox;
+        r.oy = c.oy;
+        r.oz = c.oz;
+        r.dx = dirs.dx[k];
+        r.dy = dirs.dy[k];
+        r.dz = dirs.dz[k];
+        r.inv_dx = dirs.inv_dx[k];
+        r.inv_dy = dirs.inv_dy[k];
+        r.sx = r.dx < 0 ? -1 : 1;
+        r.sy = r.dy < 0 ? -1 : 1;
+        r.t_min = dirs.t_min[k];
+        r.t_max = dirs.t_max[k];
+        r.gx = static_cast<std::int64_t>(dirs.gx[k]);
+        r.gy = static_cast<std::int64_t>(dirs.gy[k]);
+    }
 };
+
+/// set_up_rays of one beam of pixels (`block`, at most kBeamPixels a side) in SIMD lanes: the
+/// rows' rays set up (ray_setup_lanes), the beam's start (detail::beam_start) and each ray's
+/// jump to it (detail::start_rays_lanes) in lanes, only the rays that go on written out.
+void set_up_beam_lanes(const Tile& block, const PixelDirections& directions,
+                       const detail::RaySetup& setup, const LevelTable& beams,
+                       const PixelSink& sink, SimdBuffers& buffers) {
+    std::array<detail::RowDirections, detail::kBeamPixels> rows;
+    const int n = block.x1 - block.x0;
+    detail::Beam beam;
+    const detail::ClipFrame c = setup.clip_frame();
+    int entering = 0;
+    for (int py = block.y0; py < block.y1; ++py) {
+        detail::RowDirections& dirs = rows[static_cast<std::size_t>(py - block.y0)];
+        directions.row_lanes(setup, block, py, dirs);
+        entering |= dirs.enter;
+        for (int left = dirs.enter; left != 0; left &= left - 1) {
+            const int k = __builtin_ctz(static_cast<unsigned>(left));
+            beam.add(c.ox, c.oy, c.oz, dirs.dx[k], dirs.dy[k], dirs.dz[k], dirs.t_min[k],
+                     dirs.t_max[k]);
+        }
+    }
+    const detail::BeamStart start =
+        entering != 0 ? detail::beam_start(beams, beam) : detail::BeamStart{};
+    for (int py = block.y0; py < block.y1; ++py) {
+        detail::RowDirections& dirs = rows[static_cast<std::size_t>(py - block.y0)];
+        const std::size_t base =
+            static_cast<std::size_t>(py) * static_cast<std::size_t>(block.width) +
+            static_cast<std::size_t>(block.x0);
+        const int go_on = dirs.enter != 0 ? detail::start_rays_lanes(directions.lanes, c, start.t,
+                                                                     beams.cells(0), dirs)
+                                          : 0;
+        for (int k = 0; k < n; ++k) {
+            if ((go_on & (1 << k)) == 0) {
+                sink.miss(base + static_cast<std::size_t>(k));
+                continue;
+            }
+            // Every field set here (not a value-initialised element then written: a `rep stos`
+            // a ray, a quarter of this function's time).
+            GridRay r;
+            PixelDirections::set_ray(c, dirs, k, r);
+            r.entered = static_cast<int>(dirs.entered[k]);
+            r.level = start.level;
+            buffers.rays.push_back(r);
+            buffers.pixels.push_back(base + static_cast<std::size_t>(k));
+        }
+    }
+}
 
 /// Sets up the rays of the pixels of `tile` into `buffers` (sky for those that miss the loaded
 /// heights), kBeamPixels x kBeamPixels at a time. With a `beams` table, the rays of each such
@@ -365,6 +423,10 @@ void set_up_rays(const Tile& tile, const PixelDirections& directions, const deta
         for (int bx = tile.x0; bx < tile.x1; bx += kBeam) {
             const Tile block{bx, by, std::min(bx + kBeam, tile.x1), std::min(by + kBeam, tile.y1),
                              tile.width};
+            if (beams != nullptr && directions.lanes > 1) {
+                set_up_beam_lanes(block, directions, setup, *beams, sink, buffers);
+                continue;
+            }
             const std::size_t first = buffers.rays.size();
             detail::Beam beam;
             for (int py = block.y0; py < block.y1; ++py) {

@@ -97,6 +97,18 @@ void ray_setup_lanes(int lanes, const DirectionFrame& frame, const ClipFrame& cl
                            " lanes are not available on this CPU");
 }
 
+int start_rays_lanes(int lanes, const ClipFrame& clip, double t, std::int64_t cells,
+                     RowDirections& rows) {
+    if (lanes == 8 && widest_lanes() >= 8) {
+        return avx512::start_rays(clip, t, cells, rows);
+    }
+    if (lanes == 4 && widest_lanes() >= 4) {
+        return avx2::start_rays(clip, t, cells, rows);
+    }
+    throw std::logic_error("start_rays_lanes: " + std::to_string(lanes) +
+                           " lanes are not available on this CPU");
+}
+
 void shade_lanes(int lanes, const ShadeFrame& frame, ShadeBatch& batch, int count) {
     if (lanes == 8 && widest_lanes() >= 8) {
         avx512::shade(frame, batch, count);
@@ -125,6 +137,11 @@ int trace_rays_lanes(int lanes, const LevelTable&, const GridRay*, std::size_t, 
 void ray_setup_lanes(int lanes, const DirectionFrame&, const ClipFrame&, const double*, double, int,
                      RowDirections&) {
     throw std::logic_error("ray_setup_lanes: " + std::to_string(lanes) +
+                           " lanes are not built for this CPU");
+}
+
+int start_rays_lanes(int lanes, const ClipFrame&, double, std::int64_t, RowDirections&) {
+    throw std::logic_error("start_rays_lanes: " + std::to_string(lanes) +
                            " lanes are not built for this CPU");
 }
 

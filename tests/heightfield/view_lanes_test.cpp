@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "beamtrace/heightfield/view_camera.hpp"
+#include "heightfield/detail/view_beam.hpp"
 #include "heightfield/detail/view_trace_simd.hpp"
 #include "heightfield/heightfield_test_support.hpp"
 #include "test_support.hpp"
@@ -139,9 +140,63 @@ TEST(ViewLanes, ExactDivisorIsTheQuotientBitForBit) {
     EXPECT_EQ(products, 6);
 }
 
+/// Compares start_rays_lanes with start_ray_at on the rays of `row` (ray_setup_lanes' `n` rays of
+/// a row of pixels) at distances that leave the rays' starts, move them on (to a cell's exit
+/// exactly, where the walk's comparisons decide) and end them; returns the rays that moved.
+int expect_jump_like_scalar(const detail::RaySetup& setup, const detail::RowDirections& row, int n,
+                            int lanes, std::int64_t cells) {
+    std::vector<detail::GridRay> rays(static_cast<std::size_t>(n));
+    std::vector<double> ts;
+    for (int k = 0; k < n; ++k) {
+        detail::GridRay& r = rays[static_cast<std::size_t>(k)];
+        r.dx = row.dx[k];
+        r.dy = row.dy[k];
+        r.dz = row.dz[k];
+        r.inv_dx = row.inv_dx[k];
+        r.inv_dy = row.inv_dy[k];
+        if ((row.enter & (1 << k)) == 0 || !setup.clip(r, row.inv_dz[k])) {
+            continue;
+        }
+        double tx = 0, ty = 0;
+        detail::cell_exits(r, r.gx, r.gy, 0, tx, ty);
+        for (const double t : {r.t_min, 0.5 * (r.t_min + r.t_max), r.t_max, tx, ty,
+                               r.t_min + 0.9 * (r.t_max - r.t_min)}) {
+            if (std::isfinite(t) && ts.size() < 12) {
+                ts.push_back(t);
+            }
+        }
+    }
+    int moved = 0;
+    for (const double t : ts) {
+        detail::RowDirections lanes_row = row;
+        const int go_on = detail::start_rays_lanes(lanes, setup.clip_frame(), t, cells, lanes_row);
+        for (int k = 0; k < n; ++k) {
+            if ((row.enter & (1 << k)) == 0) {
+                EXPECT_EQ(go_on & (1 << k), 0);
+                continue;
+            }
+            detail::GridRay r = rays[static_cast<std::size_t>(k)];
+            const bool scalar = detail::start_ray_at(r, t, cells);
+            EXPECT_EQ((go_on & (1 << k)) != 0, scalar) << "ray " << k << " at " << t;
+            if (!scalar) {
+                continue;
+            }
+            moved += r.entered >= 0 ? 1 : 0;
+            EXPECT_TRUE(same_bits(lanes_row.t_min[k], r.t_min))
+                << lanes_row.t_min[k] << " " << r.t_min;
+            EXPECT_EQ(static_cast<std::int64_t>(lanes_row.gx[k]), r.gx);
+            EXPECT_EQ(static_cast<std::int64_t>(lanes_row.gy[k]), r.gy);
+            EXPECT_EQ(static_cast<int>(lanes_row.entered[k]), r.entered);
+        }
+    }
+    return moved;
+}
+
 /// Compares ray_setup_lanes with RaySetup::operator() on every pixel of `camera` (rows of
-/// kRowDirections pixels and a shorter last one); returns the rays that enter.
-int expect_setup_like_scalar(const SectionGrid& grid, const ViewCamera& camera, int lanes) {
+/// kRowDirections pixels and a shorter last one), and start_rays_lanes with start_ray_at on
+/// them (expect_jump_like_scalar; `jumped` counts the rays moved); returns the rays that enter.
+int expect_setup_like_scalar(const SectionGrid& grid, const ViewCamera& camera, int lanes,
+                             int& jumped) {
     const CameraRays rays(camera);
     const detail::RaySetup setup(grid, camera.position);
     const detail::DirectionFrame frame{
@@ -179,6 +234,7 @@ int expect_setup_like_scalar(const SectionGrid& grid, const ViewCamera& camera, 
             if (::testing::Test::HasFailure()) {
                 return entered;
             }
+            jumped += expect_jump_like_scalar(setup, out, n, lanes, grid.window_cells());
         }
     }
     return entered;
@@ -197,7 +253,7 @@ TEST(ViewLanes, RaySetupInLanesIsTheScalarSetupBitForBit) {
     const Vec3d corner = grid.window_corner();
     std::mt19937 rng(21);
     std::uniform_real_distribution<double> unit(0.0, 1.0);
-    int entered = 0, cameras = 0;
+    int entered = 0, cameras = 0, jumped = 0;
     for (int i = 0; i < 120; ++i) {
         ViewCamera cam;
         // Inside and outside the window, below, within and above the heights; level rays
@@ -215,12 +271,63 @@ TEST(ViewLanes, RaySetupInLanesIsTheScalarSetupBitForBit) {
             if (lanes > detail::widest_lanes()) {
                 continue;
             }
-            entered += expect_setup_like_scalar(grid, cam, lanes);
+            entered += expect_setup_like_scalar(grid, cam, lanes, jumped);
             ASSERT_FALSE(::testing::Test::HasFailure()) << "camera " << i << ", " << lanes;
         }
     }
-    // Most cameras see the heights.
+    // Most cameras see the heights; many rays move on to a later cell.
     EXPECT_GT(entered, cameras * 20);
+    EXPECT_GT(jumped, entered);
+    std::printf("[ jumps    ] %d rays entered, %d moved on\n", entered, jumped);
+}
+
+TEST(ViewLanes, JumpInLanesThroughACornerEntersThroughXAsTheScalarJump) {
+    // Diagonal rays from a cell's centre cross both borders at once at every corner: the walk
+    // steps in x and y and reports the x face.
+    detail::ClipFrame clip;
+    clip.ox = 8.5;
+    clip.oy = 8.5;
+    detail::RowDirections row{};
+    for (int k = 0; k < detail::kRowDirections; ++k) {
+        const double d = k % 2 == 0 ? 0.5 + 0.1 * k : -(0.5 + 0.1 * k);
+        row.dx[k] = row.dy[k] = d;
+        row.inv_dx[k] = row.inv_dy[k] = 1.0 / d;
+        row.dz[k] = -0.5;
+        row.t_min[k] = 0.0;
+        row.t_max[k] = 100.0;
+        row.gx[k] = row.gy[k] = 8.0;
+    }
+    row.enter = (1 << detail::kRowDirections) - 1;
+    for (const int lanes : {4, 8}) {
+        if (lanes > detail::widest_lanes()) {
+            continue;
+        }
+        for (const double t : {2.0, 3.3, 5.0}) {
+            detail::RowDirections out = row;
+            const int go_on = detail::start_rays_lanes(lanes, clip, t, 16, out);
+            for (int k = 0; k < detail::kRowDirections; ++k) {
+                detail::GridRay r;
+                r.ox = clip.ox;
+                r.oy = clip.oy;
+                r.dx = row.dx[k];
+                r.dy = row.dy[k];
+                r.inv_dx = row.inv_dx[k];
+                r.inv_dy = row.inv_dy[k];
+                r.sx = r.sy = row.dx[k] < 0 ? -1 : 1;
+                r.t_min = 0.0;
+                r.t_max = 100.0;
+                r.gx = r.gy = 8;
+                ASSERT_TRUE(detail::start_ray_at(r, t, 16));
+                ASSERT_NE(go_on & (1 << k), 0) << k;
+                ASSERT_NE(r.gx, 8) << k << " at " << t;
+                EXPECT_EQ(r.entered, 0);
+                EXPECT_EQ(static_cast<int>(out.entered[k]), r.entered) << k << " at " << t;
+                EXPECT_EQ(static_cast<std::int64_t>(out.gx[k]), r.gx);
+                EXPECT_EQ(static_cast<std::int64_t>(out.gy[k]), r.gy);
+                EXPECT_TRUE(same_bits(out.t_min[k], r.t_min));
+            }
+        }
+    }
 }
 
 /// Hits for the shading test: cells of `grid` that hold a height, rays going down, up and level,

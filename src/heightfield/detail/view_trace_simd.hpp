@@ -39,6 +39,8 @@ struct alignas(64) RowDirections {
     double inv_dx[kRowDirections], inv_dy[kRowDirections], inv_dz[kRowDirections];
     /// RaySetup::clip's span and start cell (gx, gy as doubles, exact) of the rays in `enter`.
     double t_min[kRowDirections], t_max[kRowDirections], gx[kRowDirections], gy[kRowDirections];
+    /// After start_rays_lanes: how the walk enters (gx, gy) at t_min (GridRay::entered).
+    double entered[kRowDirections];
     int enter = 0;  ///< bit i: ray i enters the loaded heights (RaySetup::clip is true)
 };
 
@@ -51,6 +53,15 @@ struct alignas(64) RowDirections {
 /// scalar one bit for bit; `lanes` (4 or 8, at most widest_lanes()) rays at a time.
 void ray_setup_lanes(int lanes, const DirectionFrame& frame, const ClipFrame& clip, const double* u,
                      double v, int count, RowDirections& out);
+
+/// start_ray_at (view_beam.hpp) of the rays of `rows` in rows.enter (their origin clip.ox,
+/// clip.oy; their sx and sy the signs of dx and dy) at distance t in a window of `cells` a
+/// side: moves their t_min, gx and gy and sets `entered` (-1 where the start stays) as
+/// start_ray_at does, with the same products and comparisons bit for bit. Returns the bits of
+/// the rays that go on (start_ray_at true); the others end before t (misses). `lanes` (4 or 8,
+/// at most widest_lanes()) rays at a time.
+[[nodiscard]] int start_rays_lanes(int lanes, const ClipFrame& clip, double t, std::int64_t cells,
+                                   RowDirections& rows);
 
 /// What shade_hit's arithmetic depends on besides the hit, for a frame without height stacks.
 struct ShadeFrame {
