@@ -73,6 +73,12 @@ BT_LANES I keep(M m, I a) { return _mm256_and_si256(m, a); }
 BT_LANES I max64(I a, I b) { return sel(gt(a, b), a, b); }
 BT_LANES I min64(I a, I b) { return sel(gt(a, b), b, a); }
 
+/// v with lane j set to x.
+BT_LANES D put(D v, int j, double x) {
+    return _mm256_blendv_pd(v, _mm256_set1_pd(x), _mm256_castsi256_pd(mask_of_bits(1 << j)));
+}
+BT_LANES I put(I v, int j, std::int64_t x) { return sel(mask_of_bits(1 << j), set1(x), v); }
+
 /// v as doubles, exactly, for 0 <= v < 2^52 (AVX2 has no 64-bit integer conversion).
 BT_LANES D to_double(I v) {
     const I magic = _mm256_set1_epi64x(0x4330000000000000);

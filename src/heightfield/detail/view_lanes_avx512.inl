@@ -74,6 +74,14 @@ BT_LANES I keep(M m, I a) { return _mm512_maskz_mov_epi64(m, a); }
 BT_LANES I max64(I a, I b) { return _mm512_max_epi64(a, b); }
 BT_LANES I min64(I a, I b) { return _mm512_min_epi64(a, b); }
 
+/// v with lane j set to x.
+BT_LANES D put(D v, int j, double x) {
+    return _mm512_mask_broadcastsd_pd(v, static_cast<__mmask8>(1u << j), _mm_set_sd(x));
+}
+BT_LANES I put(I v, int j, std::int64_t x) {
+    return _mm512_mask_set1_epi64(v, static_cast<__mmask8>(1u << j), x);
+}
+
 /// v as doubles, exactly, for |v| < 2^53.
 BT_LANES D to_double(I v) { return _mm512_cvtepi64_pd(v); }
 
