@@ -328,7 +328,7 @@ struct PixelDirections {
                 continue;
             }
             GridRay r;
-            set_ray(c, dirs, k, r);
+            detail::lane_ray(c, dirs, k, r);
             f(i, r);
         }
     }
@@ -338,25 +338,6 @@ struct PixelDirections {
                    detail::RowDirections& dirs) const {
         detail::ray_setup_lanes(lanes, frame, setup.clip_frame(), u.data() + t.x0,
                                 v[static_cast<std::size_t>(py)], t.x1 - t.x0, dirs);
-    }
-
-    /// What RaySetup::clip sets (entered and level: the start), from the lanes' values of ray k.
-    static void set_ray(const detail::ClipFrame& c, const detail::RowDirections& dirs, int k,
-                        GridRay& r) {
-        r.ox = c.ox;
-        r.oy = c.oy;
-        r.oz = c.oz;
-        r.dx = dirs.dx[k];
-        r.dy = dirs.dy[k];
-        r.dz = dirs.dz[k];
-        r.inv_dx = dirs.inv_dx[k];
-        r.inv_dy = dirs.inv_dy[k];
-        r.sx = r.dx < 0 ? -1 : 1;
-        r.sy = r.dy < 0 ? -1 : 1;
-        r.t_min = dirs.t_min[k];
-        r.t_max = dirs.t_max[k];
-        r.gx = static_cast<std::int64_t>(dirs.gx[k]);
-        r.gy = static_cast<std::int64_t>(dirs.gy[k]);
     }
 };
 
@@ -399,7 +380,7 @@ void set_up_beam_lanes(const Tile& block, const PixelDirections& directions,
             // Every field set here (not a value-initialised element then written: a `rep stos`
             // a ray, a quarter of this function's time).
             GridRay r;
-            PixelDirections::set_ray(c, dirs, k, r);
+            detail::lane_ray(c, dirs, k, r);
             r.entered = static_cast<int>(dirs.entered[k]);
             r.level = start.level;
             buffers.rays.push_back(r);

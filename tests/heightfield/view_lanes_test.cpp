@@ -307,16 +307,7 @@ TEST(ViewLanes, JumpInLanesThroughACornerEntersThroughXAsTheScalarJump) {
             const int go_on = detail::start_rays_lanes(lanes, clip, t, 16, out);
             for (int k = 0; k < detail::kRowDirections; ++k) {
                 detail::GridRay r;
-                r.ox = clip.ox;
-                r.oy = clip.oy;
-                r.dx = row.dx[k];
-                r.dy = row.dy[k];
-                r.inv_dx = row.inv_dx[k];
-                r.inv_dy = row.inv_dy[k];
-                r.sx = r.sy = row.dx[k] < 0 ? -1 : 1;
-                r.t_min = 0.0;
-                r.t_max = 100.0;
-                r.gx = r.gy = 8;
+                detail::lane_ray(clip, row, k, r);
                 ASSERT_TRUE(detail::start_ray_at(r, t, 16));
                 ASSERT_NE(go_on & (1 << k), 0) << k;
                 ASSERT_NE(r.gx, 8) << k << " at " << t;

@@ -54,6 +54,25 @@ struct alignas(64) RowDirections {
 void ray_setup_lanes(int lanes, const DirectionFrame& frame, const ClipFrame& clip, const double* u,
                      double v, int count, RowDirections& out);
 
+/// What RaySetup::clip sets in `r` (entered and level: the start), from the values of ray k
+/// of `row` (ray_setup_lanes with `clip`).
+inline void lane_ray(const ClipFrame& clip, const RowDirections& row, int k, GridRay& r) {
+    r.ox = clip.ox;
+    r.oy = clip.oy;
+    r.oz = clip.oz;
+    r.dx = row.dx[k];
+    r.dy = row.dy[k];
+    r.dz = row.dz[k];
+    r.inv_dx = row.inv_dx[k];
+    r.inv_dy = row.inv_dy[k];
+    r.sx = r.dx < 0 ? -1 : 1;
+    r.sy = r.dy < 0 ? -1 : 1;
+    r.t_min = row.t_min[k];
+    r.t_max = row.t_max[k];
+    r.gx = static_cast<std::int64_t>(row.gx[k]);
+    r.gy = static_cast<std::int64_t>(row.gy[k]);
+}
+
 /// start_ray_at (view_beam.hpp) of the rays of `rows` in rows.enter (their origin clip.ox,
 /// clip.oy; their sx and sy the signs of dx and dy) at distance t in a window of `cells` a
 /// side: moves their t_min, gx and gy and sets `entered` (-1 where the start stays) as
