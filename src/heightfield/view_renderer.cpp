@@ -268,6 +268,15 @@ struct Tile {
     int x0, y0, x1, y1, width;
 };
 
+/// A beam of pixels (`block`, at most kBeamPixels a side) with its rows' rays set up in lanes
+/// (ray_setup_lanes) and their bounds.
+struct LaneBeam {
+    Tile block{};
+    std::array<detail::RowDirections, detail::kBeamPixels> rows;
+    detail::Beam beam;
+    int entering = 0;  ///< bits of the lanes of any row whose rays enter the heights
+};
+
 /// The rays of a tile that enter the loaded heights, with their pixels, hits and whether they
 /// hit: the thread's buffers, reused from tile to tile.
 struct SimdBuffers {
@@ -276,6 +285,7 @@ struct SimdBuffers {
     std::vector<GridHit> hits;
     std::vector<std::uint8_t> found;
     std::unique_ptr<detail::ShadeBatch> shade;  ///< for shading in lanes
+    std::vector<LaneBeam> beams;                ///< a tile's beams, set up in lanes
 };
 
 /// The ray directions of a frame's pixels: one at a time (CameraRays::direction_at of the
@@ -341,37 +351,36 @@ struct PixelDirections {
     }
 };
 
-/// set_up_rays of one beam of pixels (`block`, at most kBeamPixels a side) in SIMD lanes: the
-/// rows' rays set up (ray_setup_lanes), the beam's start (detail::beam_start) and each ray's
-/// jump to it (detail::start_rays_lanes) in lanes, only the rays that go on written out.
-void set_up_beam_lanes(const Tile& block, const PixelDirections& directions,
-                       const detail::RaySetup& setup, const LevelTable& beams,
-                       const PixelSink& sink, SimdBuffers& buffers) {
-    std::array<detail::RowDirections, detail::kBeamPixels> rows;
-    const int n = block.x1 - block.x0;
-    detail::Beam beam;
+/// Sets up the rows of `b.block` and their bounds.
+void collect_beam_lanes(const PixelDirections& directions, const detail::RaySetup& setup,
+                        LaneBeam& b) {
     const detail::ClipFrame c = setup.clip_frame();
-    int entering = 0;
-    for (int py = block.y0; py < block.y1; ++py) {
-        detail::RowDirections& dirs = rows[static_cast<std::size_t>(py - block.y0)];
-        directions.row_lanes(setup, block, py, dirs);
-        entering |= dirs.enter;
+    b.beam = {};
+    b.entering = 0;
+    for (int py = b.block.y0; py < b.block.y1; ++py) {
+        detail::RowDirections& dirs = b.rows[static_cast<std::size_t>(py - b.block.y0)];
+        directions.row_lanes(setup, b.block, py, dirs);
+        b.entering |= dirs.enter;
         for (int left = dirs.enter; left != 0; left &= left - 1) {
             const int k = __builtin_ctz(static_cast<unsigned>(left));
-            beam.add(c.ox, c.oy, c.oz, dirs.dx[k], dirs.dy[k], dirs.dz[k], dirs.t_min[k],
-                     dirs.t_max[k]);
+            b.beam.add(c.ox, c.oy, c.oz, dirs.dx[k], dirs.dy[k], dirs.dz[k], dirs.t_min[k],
+                       dirs.t_max[k]);
         }
     }
-    const detail::BeamStart start =
-        entering != 0 ? detail::beam_start(beams, beam) : detail::BeamStart{};
-    for (int py = block.y0; py < block.y1; ++py) {
-        detail::RowDirections& dirs = rows[static_cast<std::size_t>(py - block.y0)];
+}
+
+/// The rays of beam `b` from `start` (their jump to it in lanes, detail::start_rays_lanes) into
+/// `buffers`, the others sky.
+void emit_beam_lanes(int lanes, const detail::ClipFrame& c, const detail::BeamStart& start,
+                     std::int64_t cells, LaneBeam& b, const PixelSink& sink, SimdBuffers& buffers) {
+    const int n = b.block.x1 - b.block.x0;
+    for (int py = b.block.y0; py < b.block.y1; ++py) {
+        detail::RowDirections& dirs = b.rows[static_cast<std::size_t>(py - b.block.y0)];
         const std::size_t base =
-            static_cast<std::size_t>(py) * static_cast<std::size_t>(block.width) +
-            static_cast<std::size_t>(block.x0);
-        const int go_on = dirs.enter != 0 ? detail::start_rays_lanes(directions.lanes, c, start.t,
-                                                                     beams.cells(0), dirs)
-                                          : 0;
+            static_cast<std::size_t>(py) * static_cast<std::size_t>(b.block.width) +
+            static_cast<std::size_t>(b.block.x0);
+        const int go_on =
+            dirs.enter != 0 ? detail::start_rays_lanes(lanes, c, start.t, cells, dirs) : 0;
         for (int k = 0; k < n; ++k) {
             if ((go_on & (1 << k)) == 0) {
                 sink.miss(base + static_cast<std::size_t>(k));
@@ -389,6 +398,44 @@ void set_up_beam_lanes(const Tile& block, const PixelDirections& directions,
     }
 }
 
+/// set_up_rays in SIMD lanes: the rows of every beam of the tile set up, then one coarse walk of
+/// the tile's bounding beam (detail::beam_start) gives a distance before which no ray of the
+/// tile meets a column; each beam's own walk starts there (its rays are among the tile's, so
+/// its start stays conservative) and its rays jump to the beam's start in lanes.
+void set_up_tile_lanes(const Tile& tile, const PixelDirections& directions,
+                       const detail::RaySetup& setup, const LevelTable& table,
+                       const PixelSink& sink, SimdBuffers& buffers) {
+    constexpr int kBeam = detail::kBeamPixels;
+    std::size_t count = 0;
+    detail::Beam all;
+    for (int by = tile.y0; by < tile.y1; by += kBeam) {
+        for (int bx = tile.x0; bx < tile.x1; bx += kBeam) {
+            if (buffers.beams.size() <= count) {
+                buffers.beams.emplace_back();
+            }
+            LaneBeam& b = buffers.beams[count++];
+            b.block = {bx, by, std::min(bx + kBeam, tile.x1), std::min(by + kBeam, tile.y1),
+                       tile.width};
+            collect_beam_lanes(directions, setup, b);
+            if (b.entering != 0) {
+                all.add(b.beam);
+            }
+        }
+    }
+    const double t_tile = count > 1 && all.t_lo < kInf ? detail::beam_start(table, all).t : 0.0;
+    for (std::size_t j = 0; j < count; ++j) {
+        LaneBeam& b = buffers.beams[j];
+        detail::BeamStart start;
+        if (b.entering != 0) {
+            detail::Beam beam = b.beam;
+            beam.t_lo = std::max(beam.t_lo, t_tile);
+            start = detail::beam_start(table, beam);
+        }
+        emit_beam_lanes(directions.lanes, setup.clip_frame(), start, table.cells(0), b, sink,
+                        buffers);
+    }
+}
+
 /// Sets up the rays of the pixels of `tile` into `buffers` (sky for those that miss the loaded
 /// heights), kBeamPixels x kBeamPixels at a time. With a `beams` table, the rays of each such
 /// beam start where the first of them may meet a column (detail::beam_start) and those that end
@@ -399,15 +446,15 @@ void set_up_rays(const Tile& tile, const PixelDirections& directions, const deta
     buffers.pixels.clear();
     constexpr int kBeam = detail::kBeamPixels;
     static_assert(kBeam <= detail::kRowDirections);
+    if (beams != nullptr && directions.lanes > 1) {
+        set_up_tile_lanes(tile, directions, setup, *beams, sink, buffers);
+        return;
+    }
     const auto miss = [&](std::size_t i) { sink.miss(i); };
     for (int by = tile.y0; by < tile.y1; by += kBeam) {
         for (int bx = tile.x0; bx < tile.x1; bx += kBeam) {
             const Tile block{bx, by, std::min(bx + kBeam, tile.x1), std::min(by + kBeam, tile.y1),
                              tile.width};
-            if (beams != nullptr && directions.lanes > 1) {
-                set_up_beam_lanes(block, directions, setup, *beams, sink, buffers);
-                continue;
-            }
             const std::size_t first = buffers.rays.size();
             detail::Beam beam;
             for (int py = block.y0; py < block.y1; ++py) {

@@ -25,6 +25,11 @@ struct Beam {
     double t_lo = kInf, t_hi = -kInf;
 
     void add(const GridRay& r) { add(r.ox, r.oy, r.oz, r.dx, r.dy, r.dz, r.t_min, r.t_max); }
+    /// The bounds of this beam's rays and of `b`'s (from the same origin).
+    void add(const Beam& b) {
+        add(b.ox, b.oy, b.oz, b.dx_lo, b.dy_lo, b.dz_lo, b.t_lo, b.t_hi);
+        add(b.ox, b.oy, b.oz, b.dx_hi, b.dy_hi, b.dz_hi, b.t_lo, b.t_hi);
+    }
     /// add() of a ray from (x, y, z) along (dx, dy, dz) over [t_min, t_max].
     void add(double x, double y, double z, double dx, double dy, double dz, double t_min,
              double t_max) {
