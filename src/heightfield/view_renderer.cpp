@@ -7,6 +7,7 @@
 #include <atomic>
 #include <cmath>
 #include <cstdio>
+#include <memory>
 #include <vector>
 
 #include "beamtrace/core/thread_pool.hpp"
@@ -189,12 +190,13 @@ template <int SX, int SY, bool DOWN>
 class PixelSink {
   public:
     PixelSink(const SectionGrid& grid, const LevelTable& table, const RenderOptions& options,
-              ViewImage& image)
+              ViewImage& image, double oz)
         : grid_(grid),
           table_(table),
           options_(options),
           image_(image),
-          per_two_cells_(2.0 * grid.config().cell_size) {}
+          per_two_cells_(2.0 * grid.config().cell_size),
+          frame_(detail::shade_frame(grid, options, oz)) {}
 
     void hit(std::size_t i, const GridRay& r, const GridHit& hit) const {
         detail::shade_hit(
@@ -203,6 +205,29 @@ class PixelSink {
                 table_.finest_neighbours(x, y, out);
             },
             per_two_cells_, r, hit, options_, image_.rgb.data() + 3 * i, image_.depth[i]);
+    }
+    /// hit() of the hits among rays[0, count) (found[j] != 0; miss() of the others), without
+    /// height stacks, `lanes` at a time in SIMD lanes (detail::shade_lanes): the same image.
+    void hits_in_lanes(int lanes, const GridRay* rays, const GridHit* hits,
+                       const std::uint8_t* found, const std::size_t* pixels, std::size_t count,
+                       detail::ShadeBatch& b) const {
+        std::array<std::size_t, detail::kShadeBatch> slot;
+        int m = 0;
+        for (std::size_t j = 0; j < count; ++j) {
+            if (found[j] == 0) {
+                miss(pixels[j]);
+                continue;
+            }
+            detail::gather_shade(grid_, table_, frame_.shading, rays[j], hits[j], b, m);
+            slot[static_cast<std::size_t>(m)] = pixels[j];
+            if (++m == detail::kShadeBatch) {
+                shade_batch(lanes, b, slot.data(), m);
+                m = 0;
+            }
+        }
+        if (m > 0) {
+            shade_batch(lanes, b, slot.data(), m);
+        }
     }
     void miss(std::size_t i) const {
         std::uint8_t* out = image_.rgb.data() + 3 * i;
@@ -213,16 +238,43 @@ class PixelSink {
     }
 
   private:
+    /// Shades the batch's m hits and writes them to their pixels slot[0, m).
+    void shade_batch(int lanes, detail::ShadeBatch& b, const std::size_t* slot, int m) const {
+        // The slots up to a whole number of lanes: copies of the last hit (shaded, not written).
+        const int padded = (m + lanes - 1) / lanes * lanes;
+        for (int k = m; k < padded; ++k) {
+            detail::copy_shade_slot(b, m - 1, k);
+        }
+        detail::shade_lanes(lanes, frame_, b, padded);
+        for (int k = 0; k < m; ++k) {
+            const auto q = static_cast<std::size_t>(k);
+            std::uint8_t* out = image_.rgb.data() + 3 * slot[q];
+            out[0] = static_cast<std::uint8_t>(b.rgb[0][q]);
+            out[1] = static_cast<std::uint8_t>(b.rgb[1][q]);
+            out[2] = static_cast<std::uint8_t>(b.rgb[2][q]);
+            image_.depth[slot[q]] = b.depth[q];
+        }
+    }
     const SectionGrid& grid_;
     const LevelTable& table_;
     const RenderOptions& options_;
     ViewImage& image_;
     detail::ExactDivisor per_two_cells_;
+    detail::ShadeFrame frame_;
 };
 
 /// A rectangle of pixels [x0, x1) x [y0, y1) of an image `width` pixels wide.
 struct Tile {
     int x0, y0, x1, y1, width;
+};
+
+/// A beam of pixels (`block`, at most kBeamPixels a side) with its rows' rays set up in lanes
+/// (ray_setup_lanes) and their bounds.
+struct LaneBeam {
+    Tile block{};
+    std::array<detail::RowDirections, detail::kBeamPixels> rows;
+    detail::Beam beam;
+    int entering = 0;  ///< bits of the lanes of any row whose rays enter the heights
 };
 
 /// The rays of a tile that enter the loaded heights, with their pixels, hits and whether they
@@ -232,6 +284,8 @@ struct SimdBuffers {
     std::vector<std::size_t> pixels;
     std::vector<GridHit> hits;
     std::vector<std::uint8_t> found;
+    std::unique_ptr<detail::ShadeBatch> shade;  ///< for shading in lanes
+    std::vector<LaneBeam> beams;                ///< a tile's beams, set up in lanes
 };
 
 /// The ray directions of a frame's pixels: one at a time (CameraRays::direction_at of the
@@ -275,36 +329,112 @@ struct PixelDirections {
             return;
         }
         detail::RowDirections dirs;
-        const int n = t.x1 - t.x0;
+        row_lanes(setup, t, py, dirs);
         const detail::ClipFrame c = setup.clip_frame();
-        detail::ray_setup_lanes(lanes, frame, c, u.data() + t.x0, v[static_cast<std::size_t>(py)],
-                                n, dirs);
-        for (int k = 0; k < n; ++k) {
+        for (int k = 0; k < t.x1 - t.x0; ++k) {
             const auto i = base + static_cast<std::size_t>(t.x0 + k);
             if ((dirs.enter & (1 << k)) == 0) {
                 miss(i);
                 continue;
             }
-            // What RaySetup::clip sets, from its lanes' values (entered and level: the start).
             GridRay r;
-            r.ox = c.ox;
-            r.oy = c.oy;
-            r.oz = c.oz;
-            r.dx = dirs.dx[k];
-            r.dy = dirs.dy[k];
-            r.dz = dirs.dz[k];
-            r.inv_dx = dirs.inv_dx[k];
-            r.inv_dy = dirs.inv_dy[k];
-            r.sx = r.dx < 0 ? -1 : 1;
-            r.sy = r.dy < 0 ? -1 : 1;
-            r.t_min = dirs.t_min[k];
-            r.t_max = dirs.t_max[k];
-            r.gx = static_cast<std::int64_t>(dirs.gx[k]);
-            r.gy = static_cast<std::int64_t>(dirs.gy[k]);
+            detail::lane_ray(c, dirs, k, r);
             f(i, r);
         }
     }
+
+    /// detail::ray_setup_lanes of the pixels [t.x0, t.x1) of row py (lanes > 1).
+    void row_lanes(const detail::RaySetup& setup, const Tile& t, int py,
+                   detail::RowDirections& dirs) const {
+        detail::ray_setup_lanes(lanes, frame, setup.clip_frame(), u.data() + t.x0,
+                                v[static_cast<std::size_t>(py)], t.x1 - t.x0, dirs);
+    }
 };
+
+/// Sets up the rows of `b.block` and their bounds.
+void collect_beam_lanes(const PixelDirections& directions, const detail::RaySetup& setup,
+                        LaneBeam& b) {
+    const detail::ClipFrame c = setup.clip_frame();
+    b.beam = {};
+    b.entering = 0;
+    for (int py = b.block.y0; py < b.block.y1; ++py) {
+        detail::RowDirections& dirs = b.rows[static_cast<std::size_t>(py - b.block.y0)];
+        directions.row_lanes(setup, b.block, py, dirs);
+        b.entering |= dirs.enter;
+        for (int left = dirs.enter; left != 0; left &= left - 1) {
+            const int k = __builtin_ctz(static_cast<unsigned>(left));
+            b.beam.add(c.ox, c.oy, c.oz, dirs.dx[k], dirs.dy[k], dirs.dz[k], dirs.t_min[k],
+                       dirs.t_max[k]);
+        }
+    }
+}
+
+/// The rays of beam `b` from `start` (their jump to it in lanes, detail::start_rays_lanes) into
+/// `buffers`, the others sky.
+void emit_beam_lanes(int lanes, const detail::ClipFrame& c, const detail::BeamStart& start,
+                     std::int64_t cells, LaneBeam& b, const PixelSink& sink, SimdBuffers& buffers) {
+    const int n = b.block.x1 - b.block.x0;
+    for (int py = b.block.y0; py < b.block.y1; ++py) {
+        detail::RowDirections& dirs = b.rows[static_cast<std::size_t>(py - b.block.y0)];
+        const std::size_t base =
+            static_cast<std::size_t>(py) * static_cast<std::size_t>(b.block.width) +
+            static_cast<std::size_t>(b.block.x0);
+        const int go_on =
+            dirs.enter != 0 ? detail::start_rays_lanes(lanes, c, start.t, cells, dirs) : 0;
+        for (int k = 0; k < n; ++k) {
+            if ((go_on & (1 << k)) == 0) {
+                sink.miss(base + static_cast<std::size_t>(k));
+                continue;
+            }
+            // Every field set here (not a value-initialised element then written: a `rep stos`
+            // a ray, a quarter of this function's time).
+            GridRay r;
+            detail::lane_ray(c, dirs, k, r);
+            r.entered = static_cast<int>(dirs.entered[k]);
+            r.level = start.level;
+            buffers.rays.push_back(r);
+            buffers.pixels.push_back(base + static_cast<std::size_t>(k));
+        }
+    }
+}
+
+/// set_up_rays in SIMD lanes: the rows of every beam of the tile set up, then one coarse walk of
+/// the tile's bounding beam (detail::beam_start) gives a distance before which no ray of the
+/// tile meets a column; each beam's own walk starts there (its rays are among the tile's, so
+/// its start stays conservative) and its rays jump to the beam's start in lanes.
+void set_up_tile_lanes(const Tile& tile, const PixelDirections& directions,
+                       const detail::RaySetup& setup, const LevelTable& table,
+                       const PixelSink& sink, SimdBuffers& buffers) {
+    constexpr int kBeam = detail::kBeamPixels;
+    std::size_t count = 0;
+    detail::Beam all;
+    for (int by = tile.y0; by < tile.y1; by += kBeam) {
+        for (int bx = tile.x0; bx < tile.x1; bx += kBeam) {
+            if (buffers.beams.size() <= count) {
+                buffers.beams.emplace_back();
+            }
+            LaneBeam& b = buffers.beams[count++];
+            b.block = {bx, by, std::min(bx + kBeam, tile.x1), std::min(by + kBeam, tile.y1),
+                       tile.width};
+            collect_beam_lanes(directions, setup, b);
+            if (b.entering != 0) {
+                all.add(b.beam);
+            }
+        }
+    }
+    const double t_tile = count > 1 && all.t_lo < kInf ? detail::beam_start(table, all).t : 0.0;
+    for (std::size_t j = 0; j < count; ++j) {
+        LaneBeam& b = buffers.beams[j];
+        detail::BeamStart start;
+        if (b.entering != 0) {
+            detail::Beam beam = b.beam;
+            beam.t_lo = std::max(beam.t_lo, t_tile);
+            start = detail::beam_start(table, beam);
+        }
+        emit_beam_lanes(directions.lanes, setup.clip_frame(), start, table.cells(0), b, sink,
+                        buffers);
+    }
+}
 
 /// Sets up the rays of the pixels of `tile` into `buffers` (sky for those that miss the loaded
 /// heights), kBeamPixels x kBeamPixels at a time. With a `beams` table, the rays of each such
@@ -316,6 +446,10 @@ void set_up_rays(const Tile& tile, const PixelDirections& directions, const deta
     buffers.pixels.clear();
     constexpr int kBeam = detail::kBeamPixels;
     static_assert(kBeam <= detail::kRowDirections);
+    if (beams != nullptr && directions.lanes > 1) {
+        set_up_tile_lanes(tile, directions, setup, *beams, sink, buffers);
+        return;
+    }
     const auto miss = [&](std::size_t i) { sink.miss(i); };
     for (int by = tile.y0; by < tile.y1; by += kBeam) {
         for (int bx = tile.x0; bx < tile.x1; bx += kBeam) {
@@ -409,6 +543,14 @@ int render_tiles(const SectionGrid& grid, const LevelTable& table, const PixelDi
             }
         }
         touch_attributes(grid, buffers.hits.data(), buffers.found.data(), count);
+        if (lanes > 1) {
+            if (!buffers.shade) {
+                buffers.shade = std::make_unique<detail::ShadeBatch>();
+            }
+            sink.hits_in_lanes(lanes, buffers.rays.data(), buffers.hits.data(),
+                               buffers.found.data(), buffers.pixels.data(), count, *buffers.shade);
+            continue;
+        }
         for (std::size_t j = 0; j < count; ++j) {
             if (buffers.found[j] != 0) {
                 sink.hit(buffers.pixels[j], buffers.rays[j], buffers.hits[j]);
@@ -439,7 +581,7 @@ void render(const SectionGrid& grid, const ViewCamera& camera, const RenderOptio
     const detail::RaySetup setup(grid, camera.position);
     // The reference sets up one ray at a time, the hierarchical renderer in its lanes.
     const PixelDirections direction(rays, camera, setup.per_cell(), beams ? lanes : 1);
-    const PixelSink sink(grid, table, options, image);
+    const PixelSink sink(grid, table, options, image, setup.clip_frame().oz);
     const int tile = std::max(1, options.tile_pixels);
     const int tiles_x = (camera.width + tile - 1) / tile;
     const int tiles_y = (camera.height + tile - 1) / tile;

@@ -1,5 +1,6 @@
 #include "detail/view_trace_simd.hpp"
 
+#include <cmath>
 #include <stdexcept>
 #include <string>
 
@@ -28,6 +29,7 @@ namespace avx2 {
 #define BT_LANES_INLINE __attribute__((target("avx2"), always_inline)) inline
 #include "detail/view_lanes_kernel.inl"
 #include "detail/view_lanes_setup.inl"
+#include "detail/view_lanes_shade.inl"
 #undef BT_LANES_INLINE
 #undef BT_LANES
 }  // namespace avx2
@@ -45,6 +47,7 @@ namespace avx512 {
     __attribute__((target("avx512f,avx512dq,avx512cd,avx2"), always_inline)) inline
 #include "detail/view_lanes_kernel.inl"
 #include "detail/view_lanes_setup.inl"
+#include "detail/view_lanes_shade.inl"
 #undef BT_LANES_INLINE
 #undef BT_LANES
 }  // namespace avx512
@@ -94,6 +97,31 @@ void ray_setup_lanes(int lanes, const DirectionFrame& frame, const ClipFrame& cl
                            " lanes are not available on this CPU");
 }
 
+int start_rays_lanes(int lanes, const ClipFrame& clip, double t, std::int64_t cells,
+                     RowDirections& rows) {
+    if (lanes == 8 && widest_lanes() >= 8) {
+        return avx512::start_rays(clip, t, cells, rows);
+    }
+    if (lanes == 4 && widest_lanes() >= 4) {
+        return avx2::start_rays(clip, t, cells, rows);
+    }
+    throw std::logic_error("start_rays_lanes: " + std::to_string(lanes) +
+                           " lanes are not available on this CPU");
+}
+
+void shade_lanes(int lanes, const ShadeFrame& frame, ShadeBatch& batch, int count) {
+    if (lanes == 8 && widest_lanes() >= 8) {
+        avx512::shade(frame, batch, count);
+        return;
+    }
+    if (lanes == 4 && widest_lanes() >= 4) {
+        avx2::shade(frame, batch, count);
+        return;
+    }
+    throw std::logic_error("shade_lanes: " + std::to_string(lanes) +
+                           " lanes are not available on this CPU");
+}
+
 #else
 
 int widest_lanes() {
@@ -109,6 +137,16 @@ int trace_rays_lanes(int lanes, const LevelTable&, const GridRay*, std::size_t, 
 void ray_setup_lanes(int lanes, const DirectionFrame&, const ClipFrame&, const double*, double, int,
                      RowDirections&) {
     throw std::logic_error("ray_setup_lanes: " + std::to_string(lanes) +
+                           " lanes are not built for this CPU");
+}
+
+int start_rays_lanes(int lanes, const ClipFrame&, double, std::int64_t, RowDirections&) {
+    throw std::logic_error("start_rays_lanes: " + std::to_string(lanes) +
+                           " lanes are not built for this CPU");
+}
+
+void shade_lanes(int lanes, const ShadeFrame&, ShadeBatch&, int) {
+    throw std::logic_error("shade_lanes: " + std::to_string(lanes) +
                            " lanes are not built for this CPU");
 }
 

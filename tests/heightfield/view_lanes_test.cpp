@@ -8,10 +8,13 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <memory>
 #include <random>
+#include <utility>
 #include <vector>
 
 #include "beamtrace/heightfield/view_camera.hpp"
+#include "heightfield/detail/view_beam.hpp"
 #include "heightfield/detail/view_trace_simd.hpp"
 #include "heightfield/heightfield_test_support.hpp"
 #include "test_support.hpp"
@@ -137,9 +140,63 @@ TEST(ViewLanes, ExactDivisorIsTheQuotientBitForBit) {
     EXPECT_EQ(products, 6);
 }
 
+/// Compares start_rays_lanes with start_ray_at on the rays of `row` (ray_setup_lanes' `n` rays of
+/// a row of pixels) at distances that leave the rays' starts, move them on (to a cell's exit
+/// exactly, where the walk's comparisons decide) and end them; returns the rays that moved.
+int expect_jump_like_scalar(const detail::RaySetup& setup, const detail::RowDirections& row, int n,
+                            int lanes, std::int64_t cells) {
+    std::vector<detail::GridRay> rays(static_cast<std::size_t>(n));
+    std::vector<double> ts;
+    for (int k = 0; k < n; ++k) {
+        detail::GridRay& r = rays[static_cast<std::size_t>(k)];
+        r.dx = row.dx[k];
+        r.dy = row.dy[k];
+        r.dz = row.dz[k];
+        r.inv_dx = row.inv_dx[k];
+        r.inv_dy = row.inv_dy[k];
+        if ((row.enter & (1 << k)) == 0 || !setup.clip(r, row.inv_dz[k])) {
+            continue;
+        }
+        double tx = 0, ty = 0;
+        detail::cell_exits(r, r.gx, r.gy, 0, tx, ty);
+        for (const double t : {r.t_min, 0.5 * (r.t_min + r.t_max), r.t_max, tx, ty,
+                               r.t_min + 0.9 * (r.t_max - r.t_min)}) {
+            if (std::isfinite(t) && ts.size() < 12) {
+                ts.push_back(t);
+            }
+        }
+    }
+    int moved = 0;
+    for (const double t : ts) {
+        detail::RowDirections lanes_row = row;
+        const int go_on = detail::start_rays_lanes(lanes, setup.clip_frame(), t, cells, lanes_row);
+        for (int k = 0; k < n; ++k) {
+            if ((row.enter & (1 << k)) == 0) {
+                EXPECT_EQ(go_on & (1 << k), 0);
+                continue;
+            }
+            detail::GridRay r = rays[static_cast<std::size_t>(k)];
+            const bool scalar = detail::start_ray_at(r, t, cells);
+            EXPECT_EQ((go_on & (1 << k)) != 0, scalar) << "ray " << k << " at " << t;
+            if (!scalar) {
+                continue;
+            }
+            moved += r.entered >= 0 ? 1 : 0;
+            EXPECT_TRUE(same_bits(lanes_row.t_min[k], r.t_min))
+                << lanes_row.t_min[k] << " " << r.t_min;
+            EXPECT_EQ(static_cast<std::int64_t>(lanes_row.gx[k]), r.gx);
+            EXPECT_EQ(static_cast<std::int64_t>(lanes_row.gy[k]), r.gy);
+            EXPECT_EQ(static_cast<int>(lanes_row.entered[k]), r.entered);
+        }
+    }
+    return moved;
+}
+
 /// Compares ray_setup_lanes with RaySetup::operator() on every pixel of `camera` (rows of
-/// kRowDirections pixels and a shorter last one); returns the rays that enter.
-int expect_setup_like_scalar(const SectionGrid& grid, const ViewCamera& camera, int lanes) {
+/// kRowDirections pixels and a shorter last one), and start_rays_lanes with start_ray_at on
+/// them (expect_jump_like_scalar; `jumped` counts the rays moved); returns the rays that enter.
+int expect_setup_like_scalar(const SectionGrid& grid, const ViewCamera& camera, int lanes,
+                             int& jumped) {
     const CameraRays rays(camera);
     const detail::RaySetup setup(grid, camera.position);
     const detail::DirectionFrame frame{
@@ -177,6 +234,7 @@ int expect_setup_like_scalar(const SectionGrid& grid, const ViewCamera& camera, 
             if (::testing::Test::HasFailure()) {
                 return entered;
             }
+            jumped += expect_jump_like_scalar(setup, out, n, lanes, grid.window_cells());
         }
     }
     return entered;
@@ -195,7 +253,7 @@ TEST(ViewLanes, RaySetupInLanesIsTheScalarSetupBitForBit) {
     const Vec3d corner = grid.window_corner();
     std::mt19937 rng(21);
     std::uniform_real_distribution<double> unit(0.0, 1.0);
-    int entered = 0, cameras = 0;
+    int entered = 0, cameras = 0, jumped = 0;
     for (int i = 0; i < 120; ++i) {
         ViewCamera cam;
         // Inside and outside the window, below, within and above the heights; level rays
@@ -213,12 +271,157 @@ TEST(ViewLanes, RaySetupInLanesIsTheScalarSetupBitForBit) {
             if (lanes > detail::widest_lanes()) {
                 continue;
             }
-            entered += expect_setup_like_scalar(grid, cam, lanes);
+            entered += expect_setup_like_scalar(grid, cam, lanes, jumped);
             ASSERT_FALSE(::testing::Test::HasFailure()) << "camera " << i << ", " << lanes;
         }
     }
-    // Most cameras see the heights.
+    // Most cameras see the heights; many rays move on to a later cell.
     EXPECT_GT(entered, cameras * 20);
+    EXPECT_GT(jumped, entered);
+    std::printf("[ jumps    ] %d rays entered, %d moved on\n", entered, jumped);
+}
+
+TEST(ViewLanes, JumpInLanesThroughACornerEntersThroughXAsTheScalarJump) {
+    // Diagonal rays from a cell's centre cross both borders at once at every corner: the walk
+    // steps in x and y and reports the x face.
+    detail::ClipFrame clip;
+    clip.ox = 8.5;
+    clip.oy = 8.5;
+    detail::RowDirections row{};
+    for (int k = 0; k < detail::kRowDirections; ++k) {
+        const double d = k % 2 == 0 ? 0.5 + 0.1 * k : -(0.5 + 0.1 * k);
+        row.dx[k] = row.dy[k] = d;
+        row.inv_dx[k] = row.inv_dy[k] = 1.0 / d;
+        row.dz[k] = -0.5;
+        row.t_min[k] = 0.0;
+        row.t_max[k] = 100.0;
+        row.gx[k] = row.gy[k] = 8.0;
+    }
+    row.enter = (1 << detail::kRowDirections) - 1;
+    for (const int lanes : {4, 8}) {
+        if (lanes > detail::widest_lanes()) {
+            continue;
+        }
+        for (const double t : {2.0, 3.3, 5.0}) {
+            detail::RowDirections out = row;
+            const int go_on = detail::start_rays_lanes(lanes, clip, t, 16, out);
+            for (int k = 0; k < detail::kRowDirections; ++k) {
+                detail::GridRay r;
+                detail::lane_ray(clip, row, k, r);
+                ASSERT_TRUE(detail::start_ray_at(r, t, 16));
+                ASSERT_NE(go_on & (1 << k), 0) << k;
+                ASSERT_NE(r.gx, 8) << k << " at " << t;
+                EXPECT_EQ(r.entered, 0);
+                EXPECT_EQ(static_cast<int>(out.entered[k]), r.entered) << k << " at " << t;
+                EXPECT_EQ(static_cast<std::int64_t>(out.gx[k]), r.gx);
+                EXPECT_EQ(static_cast<std::int64_t>(out.gy[k]), r.gy);
+                EXPECT_TRUE(same_bits(out.t_min[k], r.t_min));
+            }
+        }
+    }
+}
+
+/// Hits for the shading test: cells of `grid` that hold a height, rays going down, up and level,
+/// every face, spans that start on, before and past the top's plane.
+std::vector<std::pair<detail::GridRay, detail::GridHit>> shading_hits(const SectionGrid& grid,
+                                                                      std::mt19937& rng) {
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    const std::int64_t w = grid.window_cells();
+    std::vector<std::pair<detail::GridRay, detail::GridHit>> out;
+    while (out.size() < 3000) {
+        detail::GridHit hit;
+        hit.x = static_cast<std::int64_t>(u(rng) * static_cast<double>(w));
+        hit.y = static_cast<std::int64_t>(u(rng) * static_cast<double>(w));
+        hit.h = grid.height(0, hit.x, hit.y);
+        if (hit.h == kEmptyHeight) {
+            continue;
+        }
+        detail::GridRay r;
+        // One origin height (the camera's) for every 8 hits.
+        r.oz = out.size() % 8 == 0 ? 40.0 * u(rng) - 5.0 : out.back().first.oz;
+        const int kind = static_cast<int>(out.size() % 5);
+        r.dz = kind == 4 ? 0.0 : (kind == 3 ? 1.0 : -1.0) * (0.05 + u(rng));
+        r.sx = u(rng) < 0.5 ? -1 : 1;
+        r.sy = u(rng) < 0.5 ? -1 : 1;
+        hit.entered_axis = static_cast<int>(3.0 * u(rng)) - 1;
+        const double t_top = (static_cast<double>(hit.h) - r.oz) / r.dz;
+        // On the top's plane, just before it, or anywhere.
+        hit.t_in = kind == 0 && t_top > 0 ? t_top : (kind == 1 ? t_top - u(rng) : 60.0 * u(rng));
+        hit.t_in = std::max(hit.t_in, 0.0);
+        hit.t_out = hit.t_in + (kind == 2 ? 0.0 : 2.0 * u(rng));
+        out.emplace_back(r, hit);
+    }
+    return out;
+}
+
+/// shade_lanes against shade_hit, bit for bit, on every hit of shading_hits.
+void expect_shading_like_scalar(const SectionGrid& grid, const RenderOptions& options, int lanes,
+                                std::mt19937& rng) {
+    const detail::LevelTable table(grid);
+    const detail::ExactDivisor per_two(2.0 * grid.config().cell_size);
+    const auto hits = shading_hits(grid, rng);
+    const auto batch = std::make_unique<detail::ShadeBatch>();
+    const auto n = static_cast<std::size_t>(lanes);
+    for (std::size_t first = 0; first + n <= hits.size(); first += n) {
+        // The lanes' hits share their origin's height (shading_hits: 8 hits a height).
+        const detail::ShadeFrame frame = detail::shade_frame(grid, options, hits[first].first.oz);
+        for (std::size_t j = 0; j < n; ++j) {
+            detail::gather_shade(grid, table, options.shading, hits[first + j].first,
+                                 hits[first + j].second, *batch, static_cast<int>(j));
+        }
+        detail::shade_lanes(lanes, frame, *batch, lanes);
+        for (std::size_t j = 0; j < n; ++j) {
+            std::uint8_t rgb[3];
+            float depth = 0;
+            detail::shade_hit(
+                grid,
+                [&](std::int64_t x, std::int64_t y, float* nb) {
+                    table.finest_neighbours(x, y, nb);
+                },
+                per_two, hits[first + j].first, hits[first + j].second, options, rgb, depth);
+            ASSERT_EQ(std::memcmp(&depth, batch->depth + j, sizeof depth), 0) << first + j;
+            for (std::size_t c = 0; c < 3; ++c) {
+                ASSERT_EQ(static_cast<int>(rgb[c]), batch->rgb[c][j]) << first + j << ", " << c;
+            }
+        }
+    }
+}
+
+TEST(ViewLanes, ShadingInLanesIsShadeHitBitForBit) {
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    int ran = 0;
+    for (const int lanes : {4, 8}) {
+        if (detail::widest_lanes() < lanes) {
+            continue;
+        }
+        // 1 ft cells divide by a product, 0.3 ft cells by a division; rgb and height colours.
+        for (const double cell : {1.0, 0.3}) {
+            HeightFieldConfig c = small_window(cell, 4);
+            c.color = cell == 1.0 ? ColorMode::rgb : ColorMode::height;
+            SectionGrid grid(c, {0, 0, 0});
+            // Steps and slopes, a tenth of the cells empty (their neighbours shade with their
+            // own height).
+            test::fill_grid(grid, [&](std::int64_t x, std::int64_t y) {
+                return u(rng) < 0.1 ? std::nan("")
+                                    : 0.7 * static_cast<double>(x) - 0.3 * static_cast<double>(y) +
+                                          (u(rng) < 0.3 ? 4.0 * u(rng) : 0.0);
+            });
+            for (const bool shading : {true, false}) {
+                for (const double fog : {0.0, 25.0}) {
+                    RenderOptions options;
+                    options.shading = shading;
+                    options.fog_distance = fog;
+                    options.sky = {200, 100, 250};
+                    expect_shading_like_scalar(grid, options, lanes, rng);
+                    ++ran;
+                }
+            }
+        }
+    }
+    if (ran == 0) {
+        BEAMTRACE_SKIP_HARDWARE("no AVX2 on this CPU");
+    }
 }
 
 }  // namespace

@@ -239,6 +239,28 @@ class ExactDivisor {
     double inv_ = 0;  ///< 1 / d where d is a power of two, else 0
 };
 
+/// The direction towards the light of the shading.
+[[nodiscard]] inline Vec3d sun_direction() {
+    return normalize(Vec3d(-0.4, -0.5, 1.0));
+}
+
+/// The colour of a hit before its shading and fog: the height's ramp or the cell's attribute.
+[[nodiscard]] inline Rgb8 base_color(const SectionGrid& grid, const GridHit& hit) {
+    const ColorMode mode = grid.config().color;
+    if (mode == ColorMode::height) {
+        const double h = hit.h;
+        const double lo = grid.min_height(), hi = grid.max_height();
+        return height_ramp(hi > lo ? (h - lo) / (hi - lo) : 0.5);
+    }
+    const std::uint32_t a = grid.attribute(hit.x, hit.y);
+    // RGB inline (attribute_color's first case, the bytes of the attribute): the common mode
+    // without a call per pixel.
+    return mode == ColorMode::rgb
+               ? Rgb8{static_cast<std::uint8_t>(a >> 16), static_cast<std::uint8_t>(a >> 8),
+                      static_cast<std::uint8_t>(a)}
+               : attribute_color(mode, a, grid.intensity_full_scale());
+}
+
 /// Colour and distance of a hit. `neighbours(x, y, out)` sets out[0..3] to grid.height(0, ...)
 /// of cells (x + 1, y), (x - 1, y), (x, y + 1) and (x, y - 1), kEmptyHeight outside the window
 /// (LevelTable::finest_neighbours: a faster lookup of the same values); `per_two_cells` divides
@@ -265,20 +287,7 @@ inline void shade_hit(const SectionGrid& grid, const Neighbours& neighbours,
     }
     depth = static_cast<float>(t);
 
-    Rgb8 base;
-    const ColorMode mode = grid.config().color;
-    if (mode == ColorMode::height) {
-        const double lo = grid.min_height(), hi = grid.max_height();
-        base = height_ramp(hi > lo ? (h - lo) / (hi - lo) : 0.5);
-    } else {
-        const std::uint32_t a = grid.attribute(hit.x, hit.y);
-        // RGB inline (attribute_color's first case, the bytes of the attribute): the common mode
-        // without a call per pixel.
-        base = mode == ColorMode::rgb
-                   ? Rgb8{static_cast<std::uint8_t>(a >> 16), static_cast<std::uint8_t>(a >> 8),
-                          static_cast<std::uint8_t>(a)}
-                   : attribute_color(mode, a, grid.intensity_full_scale());
-    }
+    const Rgb8 base = base_color(grid, hit);
     // Three scalars, not an array: GCC vectorised the array's loops into a 16-byte and an
     // 8-byte store read back as one 16-byte load, which waited for both (a store-forwarding
     // stall, a quarter of the shading's time). The same operations in the same order.
@@ -310,7 +319,7 @@ inline void shade_hit(const SectionGrid& grid, const Neighbours& neighbours,
         } else {
             n = {0.0, static_cast<double>(-r.sy), 0.0};
         }
-        const Vec3d sun = normalize(Vec3d(-0.4, -0.5, 1.0));
+        const Vec3d sun = sun_direction();
         const double light = 0.35 + 0.65 * std::max(0.0, dot(n, sun));
         c0 *= light;
         c1 *= light;

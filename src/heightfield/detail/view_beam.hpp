@@ -24,18 +24,26 @@ struct Beam {
     double dx_lo = kInf, dx_hi = -kInf, dy_lo = kInf, dy_hi = -kInf, dz_lo = kInf, dz_hi = -kInf;
     double t_lo = kInf, t_hi = -kInf;
 
-    void add(const GridRay& r) {
-        ox = r.ox;
-        oy = r.oy;
-        oz = r.oz;
-        dx_lo = std::min(dx_lo, r.dx);
-        dx_hi = std::max(dx_hi, r.dx);
-        dy_lo = std::min(dy_lo, r.dy);
-        dy_hi = std::max(dy_hi, r.dy);
-        dz_lo = std::min(dz_lo, r.dz);
-        dz_hi = std::max(dz_hi, r.dz);
-        t_lo = std::min(t_lo, r.t_min);
-        t_hi = std::max(t_hi, r.t_max);
+    void add(const GridRay& r) { add(r.ox, r.oy, r.oz, r.dx, r.dy, r.dz, r.t_min, r.t_max); }
+    /// The bounds of this beam's rays and of `b`'s (from the same origin).
+    void add(const Beam& b) {
+        add(b.ox, b.oy, b.oz, b.dx_lo, b.dy_lo, b.dz_lo, b.t_lo, b.t_hi);
+        add(b.ox, b.oy, b.oz, b.dx_hi, b.dy_hi, b.dz_hi, b.t_lo, b.t_hi);
+    }
+    /// add() of a ray from (x, y, z) along (dx, dy, dz) over [t_min, t_max].
+    void add(double x, double y, double z, double dx, double dy, double dz, double t_min,
+             double t_max) {
+        ox = x;
+        oy = y;
+        oz = z;
+        dx_lo = std::min(dx_lo, dx);
+        dx_hi = std::max(dx_hi, dx);
+        dy_lo = std::min(dy_lo, dy);
+        dy_hi = std::max(dy_hi, dy);
+        dz_lo = std::min(dz_lo, dz);
+        dz_hi = std::max(dz_hi, dz);
+        t_lo = std::min(t_lo, t_min);
+        t_hi = std::max(t_hi, t_max);
     }
 };
 

@@ -34,6 +34,16 @@ BT_LANES D divd(D a, D b) { return _mm256_div_pd(a, b); }
 BT_LANES D sqrtd(D a) { return _mm256_sqrt_pd(a); }
 /// std::floor, lane by lane.
 BT_LANES D floord(D a) { return _mm256_floor_pd(a); }
+/// std::trunc, lane by lane.
+BT_LANES D truncd(D a) { return _mm256_round_pd(a, _MM_FROUND_TO_ZERO | _MM_FROUND_NO_EXC); }
+/// -a (the sign flipped, zeros and infinities included).
+BT_LANES D negd(D a) { return _mm256_xor_pd(a, _mm256_set1_pd(-0.0)); }
+/// static_cast<float> of the lanes into p[0, kLanes).
+BT_LANES void store_floats(float* p, D a) { _mm_storeu_ps(p, _mm256_cvtpd_ps(a)); }
+/// static_cast<std::int32_t> (truncation) of the lanes into p[0, kLanes).
+BT_LANES void store_ints(std::int32_t* p, D a) {
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(p), _mm256_cvttpd_epi32(a));
+}
 /// a < b ? a : b, lane by lane (std::min(b, a)).
 BT_LANES D mind(D a, D b) { return _mm256_min_pd(a, b); }
 
@@ -62,6 +72,12 @@ BT_LANES D seld(M m, D a, D b) { return _mm256_blendv_pd(b, a, _mm256_castsi256_
 BT_LANES I keep(M m, I a) { return _mm256_and_si256(m, a); }
 BT_LANES I max64(I a, I b) { return sel(gt(a, b), a, b); }
 BT_LANES I min64(I a, I b) { return sel(gt(a, b), b, a); }
+
+/// v with lane j set to x.
+BT_LANES D put(D v, int j, double x) {
+    return _mm256_blendv_pd(v, _mm256_set1_pd(x), _mm256_castsi256_pd(mask_of_bits(1 << j)));
+}
+BT_LANES I put(I v, int j, std::int64_t x) { return sel(mask_of_bits(1 << j), set1(x), v); }
 
 /// v as doubles, exactly, for 0 <= v < 2^52 (AVX2 has no 64-bit integer conversion).
 BT_LANES D to_double(I v) {

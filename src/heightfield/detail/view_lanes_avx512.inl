@@ -38,6 +38,18 @@ BT_LANES D floord(D a) {
 }
 /// a < b ? a : b, lane by lane (std::min(b, a)).
 BT_LANES D mind(D a, D b) { return _mm512_min_pd(a, b); }
+/// std::trunc, lane by lane.
+BT_LANES D truncd(D a) {
+    return _mm512_roundscale_pd(a, _MM_FROUND_TO_ZERO | _MM_FROUND_NO_EXC);
+}
+/// -a (the sign flipped, zeros and infinities included).
+BT_LANES D negd(D a) { return _mm512_xor_pd(a, _mm512_set1_pd(-0.0)); }
+/// static_cast<float> of the lanes into p[0, kLanes).
+BT_LANES void store_floats(float* p, D a) { _mm256_storeu_ps(p, _mm512_cvtpd_ps(a)); }
+/// static_cast<std::int32_t> (truncation) of the lanes into p[0, kLanes).
+BT_LANES void store_ints(std::int32_t* p, D a) {
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(p), _mm512_cvttpd_epi32(a));
+}
 
 BT_LANES M gt(I a, I b) { return _mm512_cmpgt_epi64_mask(a, b); }
 BT_LANES M eq(I a, I b) { return _mm512_cmpeq_epi64_mask(a, b); }
@@ -61,6 +73,14 @@ BT_LANES D seld(M m, D a, D b) { return _mm512_mask_blend_pd(m, b, a); }
 BT_LANES I keep(M m, I a) { return _mm512_maskz_mov_epi64(m, a); }
 BT_LANES I max64(I a, I b) { return _mm512_max_epi64(a, b); }
 BT_LANES I min64(I a, I b) { return _mm512_min_epi64(a, b); }
+
+/// v with lane j set to x.
+BT_LANES D put(D v, int j, double x) {
+    return _mm512_mask_broadcastsd_pd(v, static_cast<__mmask8>(1u << j), _mm_set_sd(x));
+}
+BT_LANES I put(I v, int j, std::int64_t x) {
+    return _mm512_mask_set1_epi64(v, static_cast<__mmask8>(1u << j), x);
+}
 
 /// v as doubles, exactly, for |v| < 2^53.
 BT_LANES D to_double(I v) { return _mm512_cvtepi64_pd(v); }

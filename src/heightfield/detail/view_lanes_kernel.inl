@@ -3,51 +3,70 @@
 // soon as its ray ends. Written once against the lane operations of view_lanes_avx2.inl or
 // view_lanes_avx512.inl, which view_trace_simd.cpp includes first in the same namespace.
 
-/// The lanes' rays and walks, one array per field.
-struct alignas(64) Lanes {
-    double ox[kLanes], oy[kLanes], oz[kLanes], dx[kLanes], dy[kLanes], dz[kLanes];
-    double inv_dx[kLanes], inv_dy[kLanes], t_max[kLanes], t[kLanes];
-    std::int64_t cx[kLanes], cy[kLanes], level[kLanes], entered[kLanes];
-    std::int64_t sx[kLanes], sy[kLanes], off_x[kLanes], off_y[kLanes];
-    std::int64_t climb_x[kLanes], climb_y[kLanes];
-    std::int64_t streak[kLanes];  ///< turns since the walk last descended
+/// The lanes' rays and walks, one register per field. A new ray enters its lane by masked
+/// broadcasts (put): stored one field at a time into arrays instead, the next turn's vector
+/// loads of those arrays waited for the stores (a store-forwarding stall every turn a ray ended).
+struct Lanes {
+    D ox, oy, oz, dx, dy, dz, inv_dx, inv_dy, t_max, t;
+    I cx, cy, level, entered, sx, sy, off_x, off_y, climb_x, climb_y;
+    I streak;  ///< turns since the walk last descended
     std::size_t ray[kLanes];
 
-    void start(int j, const GridRay& r, std::size_t i, int top) {
-        ox[j] = r.ox;
-        oy[j] = r.oy;
-        oz[j] = r.oz;
-        dx[j] = r.dx;
-        dy[j] = r.dy;
-        dz[j] = r.dz;
-        inv_dx[j] = r.inv_dx;
-        inv_dy[j] = r.inv_dy;
-        t_max[j] = r.t_max;
-        t[j] = r.t_min;
+    BT_LANES_INLINE void start(int j, const GridRay& r, std::size_t i, int top) {
+        ox = put(ox, j, r.ox);
+        oy = put(oy, j, r.oy);
+        oz = put(oz, j, r.oz);
+        dx = put(dx, j, r.dx);
+        dy = put(dy, j, r.dy);
+        dz = put(dz, j, r.dz);
+        inv_dx = put(inv_dx, j, r.inv_dx);
+        inv_dy = put(inv_dy, j, r.inv_dy);
+        t_max = put(t_max, j, r.t_max);
+        t = put(t, j, r.t_min);
         const int l = r.level < 0 ? top : r.level;
-        cx[j] = r.gx >> l;
-        cy[j] = r.gy >> l;
-        level[j] = l;
-        entered[j] = r.entered;
-        sx[j] = r.sx;
-        sy[j] = r.sy;
-        off_x[j] = r.sx > 0 ? 1 : 0;
-        off_y[j] = r.sy > 0 ? 1 : 0;
-        climb_x[j] = r.sx > 0 ? 0 : -1;
-        climb_y[j] = r.sy > 0 ? 0 : -1;
+        cx = put(cx, j, r.gx >> l);
+        cy = put(cy, j, r.gy >> l);
+        level = put(level, j, std::int64_t{l});
+        entered = put(entered, j, std::int64_t{r.entered});
+        sx = put(sx, j, std::int64_t{r.sx});
+        sy = put(sy, j, std::int64_t{r.sy});
+        off_x = put(off_x, j, std::int64_t{r.sx > 0 ? 1 : 0});
+        off_y = put(off_y, j, std::int64_t{r.sy > 0 ? 1 : 0});
+        climb_x = put(climb_x, j, std::int64_t{r.sx > 0 ? 0 : -1});
+        climb_y = put(climb_y, j, std::int64_t{r.sy > 0 ? 0 : -1});
+        streak = put(streak, j, std::int64_t{0});
         ray[j] = i;
-        streak[j] = 0;
     }
     /// A lane with no ray: a harmless state (it is masked out).
-    void stop(int j) {
-        level[j] = 0;
-        cx[j] = cy[j] = 0;
-        off_x[j] = off_y[j] = 0;
-        streak[j] = 0;
-        ox[j] = oy[j] = oz[j] = dz[j] = t[j] = 0.0;
-        dx[j] = dy[j] = inv_dx[j] = inv_dy[j] = t_max[j] = 1.0;
+    BT_LANES_INLINE void stop(int j) {
+        level = put(level, j, std::int64_t{0});
+        cx = put(cx, j, std::int64_t{0});
+        cy = put(cy, j, std::int64_t{0});
+        off_x = put(off_x, j, std::int64_t{0});
+        off_y = put(off_y, j, std::int64_t{0});
+        streak = put(streak, j, std::int64_t{0});
+        for (D* v : {&ox, &oy, &oz, &dz, &t}) {
+            *v = put(*v, j, 0.0);
+        }
+        for (D* v : {&dx, &dy, &inv_dx, &inv_dy, &t_max}) {
+            *v = put(*v, j, 1.0);
+        }
     }
 };
+
+/// Lane j takes the next of rays[0, count) (or stops when none is left; its bit of
+/// active_bits says which).
+BT_LANES_INLINE void refill(Lanes& s, int j, const GridRay* rays, std::size_t count, int top,
+                            std::size_t& next, int& active_bits) {
+    if (next < count) {
+        s.start(j, rays[next], next, top);
+        ++next;
+        active_bits |= 1 << j;
+    } else {
+        s.stop(j);
+        active_bits &= ~(1 << j);
+    }
+}
 
 /// The per-frame constants of the height lookup.
 struct Lookup {
@@ -71,8 +90,8 @@ BT_LANES_INLINE D heights(const Lookup& p, I level, I x, I y, M enabled) {
                         sel(in_sections, off_s, off_p), bits(enabled));
 }
 
-BT_LANES void trace(const LevelTable& table, const GridRay* rays, std::size_t count,
-                    GridHit* hits, std::uint8_t* found) {
+BT_LANES void trace(const LevelTable& table, const GridRay* rays, std::size_t count, GridHit* hits,
+                    std::uint8_t* found) {
     const int top = table.section_top();
     const auto n = static_cast<std::int64_t>(table.sections_per_side());
     const I zero = set1(0);
@@ -92,36 +111,29 @@ BT_LANES void trace(const LevelTable& table, const GridRay* rays, std::size_t co
     const D zerod = set1d(0.0);
     const D empty = set1d(static_cast<double>(kEmptyHeight));
 
-    Lanes s;
+    Lanes s{};
+    s.ox = s.oy = s.oz = s.dx = s.dy = s.dz = s.inv_dx = s.inv_dy = s.t_max = s.t = zerod;
+    s.cx = s.cy = s.level = s.entered = s.sx = s.sy = zero;
+    s.off_x = s.off_y = s.climb_x = s.climb_y = s.streak = zero;
     std::size_t next = 0;
     int active_bits = 0;
-    const auto refill = [&](int j) {
-        if (next < count) {
-            s.start(j, rays[next], next, top);
-            ++next;
-            active_bits |= 1 << j;
-        } else {
-            s.stop(j);
-            active_bits &= ~(1 << j);
-        }
-    };
     for (int j = 0; j < kLanes; ++j) {
-        refill(j);
+        refill(s, j, rays, count, top, next, active_bits);
     }
     while (active_bits != 0) {
         const M active = mask_of_bits(active_bits);
-        const D ox = load(s.ox), oy = load(s.oy), oz = load(s.oz);
-        const D dx = load(s.dx), dy = load(s.dy), dz = load(s.dz);
-        const D t = load(s.t), t_max = load(s.t_max);
-        const I level = load(s.level), cx = load(s.cx), cy = load(s.cy);
-        const I climb_x = load(s.climb_x), climb_y = load(s.climb_y);
+        const D ox = s.ox, oy = s.oy, oz = s.oz;
+        const D dx = s.dx, dy = s.dy, dz = s.dz;
+        const D t = s.t, t_max = s.t_max;
+        const I level = s.level, cx = s.cx, cy = s.cy;
+        const I climb_x = s.climb_x, climb_y = s.climb_y;
 
         // The cell's exits and the ray's height over it, as trace_octant.
-        const D bx = to_double(sllv(add(cx, load(s.off_x)), level));
-        const D by = to_double(sllv(add(cy, load(s.off_y)), level));
-        const D tx = muld(subd(bx, ox), load(s.inv_dx));
-        const D ty = muld(subd(by, oy), load(s.inv_dy));
-        const D t_out = mind(ty, tx);       // std::min(tx, ty)
+        const D bx = to_double(sllv(add(cx, s.off_x), level));
+        const D by = to_double(sllv(add(cy, s.off_y), level));
+        const D tx = muld(subd(bx, ox), s.inv_dx);
+        const D ty = muld(subd(by, oy), s.inv_dy);
+        const D t_out = mind(ty, tx);        // std::min(tx, ty)
         const D t_end = mind(t_max, t_out);  // std::min(t_out, t_max)
         const D h = heights(p, level, cx, cy, active);
         const D z = addd(oz, muld(dz, seld(ltd(dz, zerod), t_end, t)));
@@ -140,8 +152,8 @@ BT_LANES void trace(const LevelTable& table, const GridRay* rays, std::size_t co
         // 2^level) cells per side, as LevelTable::cells), the ray ends.
         const M step_x = led(tx, ty);
         const M step_y = led(ty, tx);
-        I acx = add(cx, keep(step_x, load(s.sx)));
-        I acy = add(cy, keep(step_y, load(s.sy)));
+        I acx = add(cx, keep(step_x, s.sx));
+        I acy = add(cy, keep(step_y, s.sy));
         const I cells = srlv(sub(add(window, sllv(one, level)), one), level);
         const M inside = mand(mand(gt(cells, acx), gt(cells, acy)),
                               mandnot(mor(gt(zero, acx), gt(zero, acy)), active));
@@ -151,7 +163,7 @@ BT_LANES void trace(const LevelTable& table, const GridRay* rays, std::size_t co
         // levels, the turns since the walk last descended (near the surface a walk that climbs
         // as far as it may descends right back: of the 15.6 M turns of the benchmark's frame
         // 7.6 M were descents; 13.0 M turns in all this way)...
-        const I streak = load(s.streak);
+        const I streak = s.streak;
         const I kx = keep(step_x, trailing_zeros(bxor(acx, climb_x)));
         const I ky = keep(step_y, trailing_zeros(bxor(acy, climb_y)));
         const I k = min64(min64(max64(kx, ky), max64(sub(top_v, level), zero)), srl1(streak));
@@ -179,9 +191,14 @@ BT_LANES void trace(const LevelTable& table, const GridRay* rays, std::size_t co
         const int hit_bits = bits(hit);
         const int done = hit_bits | bits(miss);
         if (done != 0) {
-            alignas(64) double h_lanes[kLanes], t_end_lanes[kLanes];
+            alignas(64) double h_lanes[kLanes], t_end_lanes[kLanes], t_lanes[kLanes];
+            alignas(64) std::int64_t cx_lanes[kLanes], cy_lanes[kLanes], entered_lanes[kLanes];
             store(h_lanes, h);
             store(t_end_lanes, t_end);
+            store(t_lanes, t);
+            store(cx_lanes, cx);
+            store(cy_lanes, cy);
+            store(entered_lanes, s.entered);
             // Only the lanes that ended, lowest first (a test of every lane mispredicted about
             // once a turn: which lanes end is all but random).
             for (int left = done; left != 0; left &= left - 1) {
@@ -191,24 +208,25 @@ BT_LANES void trace(const LevelTable& table, const GridRay* rays, std::size_t co
                 found[i] = is_hit ? 1 : 0;
                 if (is_hit) {
                     GridHit& g = hits[i];
-                    g.x = s.cx[j];
-                    g.y = s.cy[j];
-                    g.t_in = s.t[j];
+                    g.x = cx_lanes[j];
+                    g.y = cy_lanes[j];
+                    g.t_in = t_lanes[j];
                     g.t_out = t_end_lanes[j];
-                    g.entered_axis = static_cast<int>(s.entered[j]);
+                    g.entered_axis = static_cast<int>(entered_lanes[j]);
                     g.h = static_cast<float>(h_lanes[j]);
                     g.bottom = false;
                 }
             }
         }
-        store(s.streak, sel(below, zero, add(streak, one)));
-        store(s.cx, sel(below, dcx, acx));
-        store(s.cy, sel(below, dcy, acy));
-        store(s.level, sel(below, down_level, alevel));
-        store(s.t, seld(below, t, t_out));
-        store(s.entered, sel(below, load(s.entered), sel(step_x, zero, one)));
+        s.streak = sel(below, zero, add(streak, one));
+        s.cx = sel(below, dcx, acx);
+        s.cy = sel(below, dcy, acy);
+        s.level = sel(below, down_level, alevel);
+        s.t = seld(below, t, t_out);
+        s.entered = sel(below, s.entered, sel(step_x, zero, one));
         for (int left = done; left != 0; left &= left - 1) {
-            refill(__builtin_ctz(static_cast<unsigned>(left)));
+            refill(s, __builtin_ctz(static_cast<unsigned>(left)), rays, count, top, next,
+                   active_bits);
         }
     }
 }

@@ -96,3 +96,69 @@ BT_LANES void directions(const DirectionFrame& f, const ClipFrame& c, const doub
     }
     out.enter = enter & ((1 << count) - 1);
 }
+
+/// axis_exit (view_beam.hpp) of cells c (whole numbers as doubles) along one axis: off is 1
+/// where the axis' sign is positive, else 0.
+BT_LANES_INLINE D exit_of(D c, D off, D o, D inv_d) { return muld(subd(addd(c, off), o), inv_d); }
+
+/// axis_cell_at (view_beam.hpp) of the lanes of `on` along one axis (origin o, direction d):
+/// the cell the walk from `start` is in at t, and in `entry` the distance it entered it (-inf
+/// for `start`). The other lanes (and those with d == 0) keep `start`.
+BT_LANES_INLINE D cell_at(M on, D start, D o, D d, D inv_d, D cells, D t, D& entry) {
+    const D zero = set1d(0.0), one = set1d(1.0), minus = set1d(-1.0);
+    const M neg = ltd(d, zero);
+    const D sd = seld(neg, minus, one), off = seld(neg, zero, one);
+    const M moving = mandnot(eqd(d, zero), on);
+    D c = floord(addd(o, muld(d, t)));
+    c = seld(ltd(c, minus), minus, seld(ltd(cells, c), cells, c));  // std::clamp(c, -1, cells)
+    // Not behind the start: (c - start) * sd < 0 keeps the start.
+    const M behind = mor(mand(neg, ltd(start, c)), mandnot(neg, ltd(c, start)));
+    c = seld(mandnot(behind, moving), c, start);
+    for (;;) {
+        const M back =
+            mand(mandnot(eqd(c, start), moving), ltd(t, exit_of(subd(c, sd), off, o, inv_d)));
+        if (bits(back) == 0) {
+            break;
+        }
+        c = seld(back, subd(c, sd), c);
+    }
+    for (;;) {
+        const M ahead = mand(moving, led(exit_of(c, off, o, inv_d), t));
+        if (bits(ahead) == 0) {
+            break;
+        }
+        c = seld(ahead, addd(c, sd), c);
+    }
+    entry = seld(mandnot(eqd(c, start), moving), exit_of(subd(c, sd), off, o, inv_d),
+                 set1d(-kInf));
+    return c;
+}
+
+BT_LANES int start_rays(const ClipFrame& cf, double t_start, std::int64_t window,
+                        RowDirections& r) {
+    const D t = set1d(t_start), ox = set1d(cf.ox), oy = set1d(cf.oy);
+    const D cells = set1d(static_cast<double>(window)), zero = set1d(0.0);
+    int go_on = 0;
+    for (int k = 0; k < kRowDirections; k += kLanes) {
+        const M enter = mask_of_bits((r.enter >> k) & ((1 << kLanes) - 1));
+        const D t_min = load(r.t_min + k), gx = load(r.gx + k), gy = load(r.gy + k);
+        // Rays whose start lies before t move on to it; those that end before it are lost.
+        const M moved = mand(enter, ltd(t_min, t));
+        const M ends = mand(moved, ged(t, load(r.t_max + k)));
+        const M walk = mandnot(ends, moved);
+        D ex, ey;
+        const D cx = cell_at(walk, gx, ox, load(r.dx + k), load(r.inv_dx + k), cells, t, ex);
+        const D cy = cell_at(walk, gy, oy, load(r.dy + k), load(r.inv_dy + k), cells, t, ey);
+        const M outside =
+            mor(mor(ltd(cx, zero), ltd(cy, zero)), mor(led(cells, cx), led(cells, cy)));
+        const M lost = mor(ends, mand(walk, outside));
+        const M jumped = mandnot(mand(eqd(cx, gx), eqd(cy, gy)), mandnot(lost, walk));
+        // The later of the two entries (through x on a tie), as start_ray_at.
+        store(r.entered + k, seld(jumped, seld(ged(ex, ey), zero, set1d(1.0)), set1d(-1.0)));
+        store(r.t_min + k, seld(jumped, std_max(ex, ey), t_min));
+        store(r.gx + k, seld(jumped, cx, gx));
+        store(r.gy + k, seld(jumped, cy, gy));
+        go_on |= bits(mandnot(lost, enter)) << k;
+    }
+    return go_on;
+}
