@@ -8,6 +8,7 @@
 #include "beamtrace/core/error.hpp"
 #include "beamtrace/core/name_table.hpp"
 #include "beamtrace/physics/weather_echoes.hpp"
+#include "physics/detail/exp_lanes.hpp"
 
 namespace beamtrace {
 
@@ -192,15 +193,42 @@ inline double PulseSimulator::echo_sigma_ns(const SubRayHit& hit, double cell_si
     return std::sqrt(sigma_p * sigma_p + spread_ns * spread_ns);
 }
 
+namespace {
+
+/// The received power of `hit` with pattern weight `weight` and two-way transmission
+/// `transmission` (0 for a miss or a range that is not positive).
+double hit_power_w(const PhysicsConfig& config, const SubRayHit& hit, double weight,
+                   double transmission) {
+    if (!std::isfinite(hit.range_m) || !(hit.range_m > 0)) {
+        return 0.0;
+    }
+    const double l = monostatic_reflectance(config.brdf, hit.cos_incidence, hit.specular_weight,
+                                            hit.specular_exponent);
+    return received_power_w(config.radiometry, config.radiometry.peak_power_w * weight, hit.albedo,
+                            l, hit.range_m, transmission);
+}
+
+}  // namespace
+
 double PulseSimulator::sub_ray_power_w(const SubRayHit& hit, double weight) const {
     if (!std::isfinite(hit.range_m) || !(hit.range_m > 0)) {
         return 0.0;
     }
-    const double l = monostatic_reflectance(config_.brdf, hit.cos_incidence, hit.specular_weight,
-                                            hit.specular_exponent);
-    return received_power_w(config_.radiometry, config_.radiometry.peak_power_w * weight,
-                            hit.albedo, l, hit.range_m,
-                            two_way_transmission(alpha_per_m_, hit.range_m));
+    return hit_power_w(config_, hit, weight, two_way_transmission(alpha_per_m_, hit.range_m));
+}
+
+void PulseSimulator::sample_powers(std::span<const BeamSample> samples,
+                                   std::vector<double>& powers) const {
+    const std::size_t n = samples.size();
+    powers.resize(n);
+    // two_way_transmission's exponent, then its exp, in place.
+    for (std::size_t j = 0; j < n; ++j) {
+        powers[j] = -2.0 * alpha_per_m_ * samples[j].hit.range_m;
+    }
+    detail::exp_lanes(powers.data(), powers.data(), n);
+    for (std::size_t j = 0; j < n; ++j) {
+        powers[j] = hit_power_w(config_, samples[j].hit, samples[j].weight, powers[j]);
+    }
 }
 
 void PulseSimulator::simulate(std::uint64_t seed, std::uint64_t pulse_index,
@@ -324,13 +352,11 @@ void PulseSimulator::sample_contributions(std::uint64_t seed, std::uint64_t puls
                                           PulseResponse& out) const {
     const std::size_t n = samples.size();
     std::vector<double>& powers = out.sub_ray_power_w;
-    powers.resize(n);
+    sample_powers(samples, powers);
     if (!medium_) {  // no shadows to take off: the echoes, then their widths in a loop of their own
         for (std::size_t j = 0; j < n; ++j) {
-            const BeamSample& s = samples[j];
-            powers[j] = sub_ray_power_w(s.hit, s.weight);
             if (powers[j] > 0) {
-                out.contributions.push_back({s.hit.range_m, powers[j], 0.0});
+                out.contributions.push_back({samples[j].hit.range_m, powers[j], 0.0});
             }
         }
         EchoContribution* c = out.contributions.data();
@@ -340,9 +366,6 @@ void PulseSimulator::sample_contributions(std::uint64_t seed, std::uint64_t puls
             }
         }
         return;
-    }
-    for (std::size_t j = 0; j < n; ++j) {
-        powers[j] = sub_ray_power_w(samples[j].hit, samples[j].weight);
     }
     add_medium(seed, pulse_index, samples, out);
     for (std::size_t j = 0; j < n; ++j) {

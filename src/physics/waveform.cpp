@@ -9,6 +9,8 @@
 #include <limits>
 #include <numbers>
 
+#include "physics/detail/exp_lanes.hpp"
+
 namespace beamtrace {
 namespace {
 
@@ -25,20 +27,33 @@ struct GaussianRun {
     std::size_t n = 0;
 };
 
-/// The run of the bins [b0, b1] (none when b1 < b0) of width h [ns].
-GaussianRun gaussian_run(double h, std::int64_t b0, std::int64_t b1, double t0, double amplitude,
-                         double sigma_ns) {
-    GaussianRun r;
-    r.b0 = b0;
-    if (b1 < b0) {
-        return r;
-    }
+/// A run's parameters before its three exp calls: the bins [b0, b1] (none when b1 < b0) of
+/// width h [ns] of amplitude * exp(-(t - t0)^2 / (2 sigma^2)).
+struct RunArgs {
+    double amplitude = 0.0;
+    std::int64_t b0 = 0, b1 = -1;
+};
+
+/// The arguments of the run's exp calls: its first sample's, the ratio's and the step's.
+void gaussian_run_exponents(double h, std::int64_t b0, double t0, double sigma_ns, double* x) {
     const double inv_two_var = 1.0 / (2.0 * sigma_ns * sigma_ns);
     const double dt0 = static_cast<double>(b0) * h - t0;
-    r.g = amplitude * std::exp(-dt0 * dt0 * inv_two_var);
-    r.ratio = std::exp(-(2.0 * dt0 * h + h * h) * inv_two_var);
-    r.step = std::exp(-2.0 * h * h * inv_two_var);
-    r.n = static_cast<std::size_t>(b1 - b0 + 1);
+    x[0] = -dt0 * dt0 * inv_two_var;
+    x[1] = -(2.0 * dt0 * h + h * h) * inv_two_var;
+    x[2] = -2.0 * h * h * inv_two_var;
+}
+
+/// The run of `a` from the exps of its exponents (e: gaussian_run_exponents').
+GaussianRun gaussian_run(const RunArgs& a, const double* e) {
+    GaussianRun r;
+    r.b0 = a.b0;
+    if (a.b1 < a.b0) {
+        return r;
+    }
+    r.g = a.amplitude * e[0];
+    r.ratio = e[1];
+    r.step = e[2];
+    r.n = static_cast<std::size_t>(a.b1 - a.b0 + 1);
     return r;
 }
 
@@ -551,23 +566,33 @@ void build_waveform(const WaveformConfig& config, std::span<const EchoContributi
     const std::int64_t last = ceil_to_int(t_hi / config.bin_ns);
     out.first_bin = first;
     out.samples_w.assign(static_cast<std::size_t>(last - first + 1), 0.0);
-    GaussianRun runs[kRows];
+    RunArgs args[kRows];
+    double exps[3 * kRows];
     std::size_t count = 0;
+    const auto add = [&] {  // the runs of args[0, count), their exps four lanes at a time
+        GaussianRun runs[kRows];
+        detail::exp_lanes(exps, exps, 3 * count);
+        for (std::size_t i = 0; i < count; ++i) {
+            runs[i] = gaussian_run(args[i], exps + 3 * i);
+        }
+        add_runs(out, runs, count);
+        count = 0;
+    };
     for (const auto& c : contributions) {
         const double t = c.range_m * round_trip_ns_per_m();
         const double sigma = sigma_of(c);
         const double reach_ns = 5.0 * sigma;
-        const std::int64_t b0 = std::max(first, floor_to_int((t - reach_ns) / config.bin_ns));
-        const std::int64_t b1 = std::min(last, ceil_to_int((t + reach_ns) / config.bin_ns));
+        RunArgs& a = args[count];
+        a.b0 = std::max(first, floor_to_int((t - reach_ns) / config.bin_ns));
+        a.b1 = std::min(last, ceil_to_int((t + reach_ns) / config.bin_ns));
         // The stretched echo keeps its energy: its peak drops as sigma_p / sigma.
-        const double amplitude = c.sigma_ns > 0 ? c.power_w * (sigma_p / sigma) : c.power_w;
-        runs[count++] = gaussian_run(out.bin_ns, b0, b1, t, amplitude, sigma);
-        if (count == kRows) {
-            add_runs(out, runs, count);
-            count = 0;
+        a.amplitude = c.sigma_ns > 0 ? c.power_w * (sigma_p / sigma) : c.power_w;
+        gaussian_run_exponents(out.bin_ns, a.b0, t, sigma, exps + 3 * count);
+        if (++count == kRows) {
+            add();
         }
     }
-    add_runs(out, runs, count);
+    add();
     // The binned pulses' bins lie inside: their extent counted above with sigma_p <= sigma_max.
     if (!binned.empty()) {
         const std::int64_t at = binned.first_bin - first;
