@@ -10,6 +10,7 @@
 #include <numbers>
 
 #include "physics/detail/exp_lanes.hpp"
+#include "physics/detail/gaussian_runs.hpp"
 
 namespace beamtrace {
 namespace {
@@ -18,14 +19,7 @@ namespace {
 const double kFwhmPerSigma = 2.0 * std::sqrt(2.0 * std::log(2.0));
 const double kSqrtTwoPi = std::sqrt(2.0 * std::numbers::pi);
 
-/// amplitude * exp(-(t - t0)^2 / (2 sigma^2)) on the bins [b0, b0 + n), by recurrence (three
-/// exp calls): g is the first sample; the ratio of consecutive samples is
-/// exp(-k (2 dt h + h^2)), itself scaled by `step` = exp(-2 k h^2) per bin.
-struct GaussianRun {
-    double g = 0.0, ratio = 0.0, step = 0.0;
-    std::int64_t b0 = 0;
-    std::size_t n = 0;
-};
+using detail::GaussianRun;
 
 /// A run's parameters before its three exp calls: the bins [b0, b1] (none when b1 < b0) of
 /// width h [ns] of amplitude * exp(-(t - t0)^2 / (2 sigma^2)).
@@ -73,7 +67,7 @@ std::int64_t ceil_to_int(double x) {
 }
 
 /// Runs sampled and added together: kRows of them, each row of the waveform's width.
-constexpr std::size_t kRows = 8;
+constexpr std::size_t kRows = detail::kRunLanes;
 
 // The loops below are compiled for AVX2 too (4 doubles a step), chosen at run time: the
 // same products and sums, IEEE-rounded alike (no FMA: AVX2 does not imply it). Not under
@@ -195,6 +189,10 @@ void add_runs(Waveform& out, const GaussianRun* runs, std::size_t count) {
         return;
     }
     const std::size_t width = out.samples_w.size();
+    if (detail::run_lanes_available()) {
+        detail::add_runs_lanes(out.samples_w.data(), width, out.first_bin, runs, count);
+        return;
+    }
     if (rows.size() < kRows * width) {
         rows.resize(kRows * width);
     }
