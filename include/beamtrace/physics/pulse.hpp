@@ -136,6 +136,7 @@ struct PulseResponse {
     std::vector<Echo> echoes;             ///< every echo detected, before the return mode
     Waveform waveform;                    ///< the sampled waveform (when keep_waveform)
     std::vector<double> sub_ray_power_w;  ///< received power of every sub-ray or sample (0: miss)
+    std::vector<double> sigma_ns;         ///< working space: every sample's echo width
     std::vector<EchoContribution> contributions;  ///< the sub-rays with power > 0
     std::vector<BeamSample> samples;              ///< simulate()'s working space
     MediumEchoes medium;                          ///< the weather's echoes (working space)
@@ -235,6 +236,8 @@ class PulseSimulator {
     /// sub_ray_power_w of every sample into `powers` (resized), the transmissions' exp calls
     /// four lanes at a time: bit for bit one call after the other.
     void sample_powers(std::span<const BeamSample> samples, std::vector<double>& powers) const;
+    /// echo_sigma_ns of every sample into `out` (resized): bit for bit, four at a time with AVX2.
+    void echo_sigmas(std::span<const BeamSample> samples, std::vector<double>& out) const;
     /// The weather's echoes of the pulse into out.medium, and the particles' shadows taken off
     /// the samples' powers (out.sub_ray_power_w) behind them.
     void add_medium(std::uint64_t seed, std::uint64_t pulse_index,
