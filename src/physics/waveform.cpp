@@ -28,9 +28,9 @@ struct RunArgs {
     std::int64_t b0 = 0, b1 = -1;
 };
 
-/// The arguments of the run's exp calls: its first sample's, the ratio's and the step's.
-void gaussian_run_exponents(double h, std::int64_t b0, double t0, double sigma_ns, double* x) {
-    const double inv_two_var = 1.0 / (2.0 * sigma_ns * sigma_ns);
+/// The arguments of the run's exp calls: its first sample's, the ratio's and the step's
+/// (inv_two_var: 1 / (2 sigma^2)).
+void gaussian_run_exponents(double h, std::int64_t b0, double t0, double inv_two_var, double* x) {
     const double dt0 = static_cast<double>(b0) * h - t0;
     x[0] = -dt0 * dt0 * inv_two_var;
     x[1] = -(2.0 * dt0 * h + h * h) * inv_two_var;
@@ -78,6 +78,25 @@ constexpr std::size_t kRows = detail::kRunLanes;
 #else
 #define BEAMTRACE_WAVEFORM_CLONES
 #endif
+
+/// The divisions of up to kRows runs, each rounded as alone (the AVX2 clone: four at a time):
+/// of the run at round-trip time t[i] of width sigma[i], its reach's ends in bins (lo, hi,
+/// before floor and ceil), 1 / (2 sigma^2) and sigma_p / sigma.
+struct RunQuotients {
+    double t[kRows], sigma[kRows];
+    double lo[kRows], hi[kRows], inv_two_var[kRows], shrink[kRows];
+};
+
+BEAMTRACE_WAVEFORM_CLONES void run_quotients(RunQuotients& q, std::size_t n, double bin_ns,
+                                             double sigma_p) {
+    for (std::size_t i = 0; i < n; ++i) {
+        const double reach_ns = 5.0 * q.sigma[i];
+        q.lo[i] = (q.t[i] - reach_ns) / bin_ns;
+        q.hi[i] = (q.t[i] + reach_ns) / bin_ns;
+        q.inv_two_var[i] = 1.0 / (2.0 * q.sigma[i] * q.sigma[i]);
+        q.shrink[i] = sigma_p / q.sigma[i];
+    }
+}
 
 /// Four doubles (two SSE2 registers by default, one AVX2 register in its clone).
 using Quad = double __attribute__((vector_size(32)));
@@ -565,11 +584,22 @@ void build_waveform(const WaveformConfig& config, std::span<const EchoContributi
     out.first_bin = first;
     out.samples_w.assign(static_cast<std::size_t>(last - first + 1), 0.0);
     RunArgs args[kRows];
+    bool contributions_stretched[kRows] = {};
+    RunQuotients q;
     double exps[3 * kRows];
     std::size_t count = 0;
-    const auto add = [&] {  // the runs of args[0, count), their exps four lanes at a time
+    const auto add = [&] {  // the runs of q's count contributions
+        run_quotients(q, count, config.bin_ns, sigma_p);
+        for (std::size_t i = 0; i < count; ++i) {
+            RunArgs& a = args[i];
+            a.b0 = std::max(first, floor_to_int(q.lo[i]));
+            a.b1 = std::min(last, ceil_to_int(q.hi[i]));
+            // The stretched echo keeps its energy: its peak drops as sigma_p / sigma.
+            a.amplitude = contributions_stretched[i] ? a.amplitude * q.shrink[i] : a.amplitude;
+            gaussian_run_exponents(out.bin_ns, a.b0, q.t[i], q.inv_two_var[i], exps + 3 * i);
+        }
         GaussianRun runs[kRows];
-        detail::exp_lanes(exps, exps, 3 * count);
+        detail::exp_lanes(exps, exps, 3 * count);  // four lanes at a time
         for (std::size_t i = 0; i < count; ++i) {
             runs[i] = gaussian_run(args[i], exps + 3 * i);
         }
@@ -577,15 +607,10 @@ void build_waveform(const WaveformConfig& config, std::span<const EchoContributi
         count = 0;
     };
     for (const auto& c : contributions) {
-        const double t = c.range_m * round_trip_ns_per_m();
-        const double sigma = sigma_of(c);
-        const double reach_ns = 5.0 * sigma;
-        RunArgs& a = args[count];
-        a.b0 = std::max(first, floor_to_int((t - reach_ns) / config.bin_ns));
-        a.b1 = std::min(last, ceil_to_int((t + reach_ns) / config.bin_ns));
-        // The stretched echo keeps its energy: its peak drops as sigma_p / sigma.
-        a.amplitude = c.sigma_ns > 0 ? c.power_w * (sigma_p / sigma) : c.power_w;
-        gaussian_run_exponents(out.bin_ns, a.b0, t, sigma, exps + 3 * count);
+        q.t[count] = c.range_m * round_trip_ns_per_m();
+        q.sigma[count] = sigma_of(c);
+        args[count].amplitude = c.power_w;
+        contributions_stretched[count] = c.sigma_ns > 0;
         if (++count == kRows) {
             add();
         }
