@@ -68,6 +68,9 @@ std::int64_t ceil_to_int(double x) {
 
 /// Runs sampled and added together: kRows of them, each row of the waveform's width.
 constexpr std::size_t kRows = detail::kRunLanes;
+/// Up to this many runs are added one after the other (each bin receives them in the same
+/// order as from the rows): cheaper than the lanes for a single ray's pulse.
+constexpr std::size_t kRunsOneByOne = 2;
 
 // The loops below are compiled for AVX2 too (4 doubles a step), chosen at run time: the
 // same products and sums, IEEE-rounded alike (no FMA: AVX2 does not imply it). Not under
@@ -208,6 +211,18 @@ void add_runs(Waveform& out, const GaussianRun* runs, std::size_t count) {
         return;
     }
     const std::size_t width = out.samples_w.size();
+    if (count <= kRunsOneByOne) {  // a single ray's pulse: its run alone, straight into the bins
+        for (std::size_t l = 0; l < count; ++l) {
+            double* y = out.samples_w.data() + (runs[l].b0 - out.first_bin);
+            double g = runs[l].g, ratio = runs[l].ratio;
+            for (std::size_t b = 0; b < runs[l].n; ++b) {
+                y[b] += g;
+                g *= ratio;
+                ratio *= runs[l].step;
+            }
+        }
+        return;
+    }
     if (detail::run_lanes_available()) {
         detail::add_runs_lanes(out.samples_w.data(), width, out.first_bin, runs, count);
         return;

@@ -175,6 +175,8 @@ class PulseSimulator {
     /// sqrt(cell_variance) W(R) on a surface at incidence i (tan i capped at 89.5 deg), spans
     /// sigma_R = tan i sqrt(cell_variance) W(R) in range, so sigma^2 = sigma_p^2 + (2 sigma_R/c)^2.
     [[nodiscard]] double echo_sigma_ns(const SubRayHit& hit) const;
+    /// echo_sigma_ns of every sample into `out` (resized): bit for bit, four at a time with AVX2.
+    void echo_sigmas(std::span<const BeamSample> samples, std::vector<double>& out) const;
     /// The received power of one sub-ray hit with pattern weight `weight` [W], with the
     /// configured BRDF's monostatic L(i).
     [[nodiscard]] double sub_ray_power_w(const SubRayHit& hit, double weight) const;
@@ -236,8 +238,6 @@ class PulseSimulator {
     /// sub_ray_power_w of every sample into `powers` (resized), the transmissions' exp calls
     /// four lanes at a time: bit for bit one call after the other.
     void sample_powers(std::span<const BeamSample> samples, std::vector<double>& powers) const;
-    /// echo_sigma_ns of every sample into `out` (resized): bit for bit, four at a time with AVX2.
-    void echo_sigmas(std::span<const BeamSample> samples, std::vector<double>& out) const;
     /// The weather's echoes of the pulse into out.medium, and the particles' shadows taken off
     /// the samples' powers (out.sub_ray_power_w) behind them.
     void add_medium(std::uint64_t seed, std::uint64_t pulse_index,
