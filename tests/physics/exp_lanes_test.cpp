@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "physics/detail/exp_lanes.hpp"
+#include "test_support.hpp"
 
 namespace beamtrace {
 namespace {
@@ -91,7 +92,7 @@ TEST(ExpLanes, LanesOnWhereTheCpuHasAvx2AndFma) {
         EXPECT_TRUE(detail::exp_lanes_vectorised());
     }
 #else
-    GTEST_SKIP() << "lanes only on x86-64 with GCC-style builtins";
+    BEAMTRACE_SKIP_HARDWARE("lanes only on x86-64 with GCC-style builtins");
 #endif
 }
 

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "physics/detail/gaussian_runs.hpp"
+#include "test_support.hpp"
 
 namespace beamtrace {
 namespace {
@@ -26,7 +27,7 @@ void add_one_by_one(std::vector<double>& y, std::int64_t first, const std::vecto
 
 TEST(GaussianRunLanes, BitForBitOneRunAfterTheOther) {
     if (!detail::run_lanes_available()) {
-        GTEST_SKIP() << "no AVX-512F on this CPU";
+        BEAMTRACE_SKIP_HARDWARE("no AVX-512F on this CPU");
     }
     std::uint64_t s = 99;
     const auto next = [&s] {
@@ -60,7 +61,7 @@ TEST(GaussianRunLanes, BitForBitOneRunAfterTheOther) {
 
 TEST(GaussianRunLanes, LeavesBinsOutsideTheRunsAsTheyAre) {
     if (!detail::run_lanes_available()) {
-        GTEST_SKIP() << "no AVX-512F on this CPU";
+        BEAMTRACE_SKIP_HARDWARE("no AVX-512F on this CPU");
     }
     std::vector<double> y(40, 0.25);
     const GaussianRun run{2.0, 0.5, 1.0, 110, 3};  // bins 110, 111, 112: 2, 1, 0.5
