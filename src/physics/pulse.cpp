@@ -12,7 +12,6 @@
 #include "beamtrace/core/error.hpp"
 #include "beamtrace/core/name_table.hpp"
 #include "beamtrace/physics/weather_echoes.hpp"
-#include "physics/detail/exp_lanes.hpp"
 
 namespace beamtrace {
 
@@ -312,9 +311,8 @@ void PulseSimulator::sample_powers(std::span<const BeamSample> samples,
     for (std::size_t j = 0; j < n; ++j) {
         powers[j] = -2.0 * alpha_per_m_ * samples[j].hit.range_m;
     }
-    detail::exp_lanes(powers.data(), powers.data(), n);
     for (std::size_t j = 0; j < n; ++j) {
-        powers[j] = hit_power_w(config_, samples[j].hit, samples[j].weight, powers[j]);
+        powers[j] = hit_power_w(config_, samples[j].hit, samples[j].weight, std::exp(powers[j]));
     }
 }
 

@@ -9,7 +9,6 @@
 #include <limits>
 #include <numbers>
 
-#include "physics/detail/exp_lanes.hpp"
 #include "physics/detail/gaussian_runs.hpp"
 
 namespace beamtrace {
@@ -614,7 +613,9 @@ void build_waveform(const WaveformConfig& config, std::span<const EchoContributi
             gaussian_run_exponents(out.bin_ns, a.b0, q.t[i], q.inv_two_var[i], exps + 3 * i);
         }
         GaussianRun runs[kRows];
-        detail::exp_lanes(exps, exps, 3 * count);  // four lanes at a time
+        for (std::size_t i = 0; i < 3 * count; ++i) {
+            exps[i] = std::exp(exps[i]);
+        }
         for (std::size_t i = 0; i < count; ++i) {
             runs[i] = gaussian_run(args[i], exps + 3 * i);
         }
