@@ -55,19 +55,6 @@ double intensity_reference_range_m(const RadiometryConfig& config) {
     return config.intensity_reference_range_m.value_or(kDefaultIntensityReferenceRange_m);
 }
 
-double aperture_area_m2(const RadiometryConfig& config) {
-    return std::numbers::pi * config.aperture_diameter_m * config.aperture_diameter_m / 4.0;
-}
-
-double received_power_w(const RadiometryConfig& config, double emitted_power_w, double albedo,
-                        double reflectance_factor, double range_m, double transmission) {
-    if (!(range_m > 0)) {
-        return 0.0;
-    }
-    return emitted_power_w * albedo * reflectance_factor * aperture_area_m2(config) /
-           (std::numbers::pi * range_m * range_m) * config.system_efficiency * transmission;
-}
-
 double threshold_for_detection_range_w(const RadiometryConfig& config, double range_m,
                                        double reflectance, double transmission) {
     return received_power_w(config, config.peak_power_w, reflectance, 1.0, range_m, transmission);

@@ -9,6 +9,8 @@
 #include <limits>
 #include <numbers>
 
+#include "physics/detail/gaussian_runs.hpp"
+
 namespace beamtrace {
 namespace {
 
@@ -16,29 +18,35 @@ namespace {
 const double kFwhmPerSigma = 2.0 * std::sqrt(2.0 * std::log(2.0));
 const double kSqrtTwoPi = std::sqrt(2.0 * std::numbers::pi);
 
-/// amplitude * exp(-(t - t0)^2 / (2 sigma^2)) on the bins [b0, b0 + n), by recurrence (three
-/// exp calls): g is the first sample; the ratio of consecutive samples is
-/// exp(-k (2 dt h + h^2)), itself scaled by `step` = exp(-2 k h^2) per bin.
-struct GaussianRun {
-    double g = 0.0, ratio = 0.0, step = 0.0;
-    std::int64_t b0 = 0;
-    std::size_t n = 0;
+using detail::GaussianRun;
+
+/// A run's parameters before its three exp calls: the bins [b0, b1] (none when b1 < b0) of
+/// width h [ns] of amplitude * exp(-(t - t0)^2 / (2 sigma^2)).
+struct RunArgs {
+    double amplitude = 0.0;
+    std::int64_t b0 = 0, b1 = -1;
 };
 
-/// The run of the bins [b0, b1] (none when b1 < b0) of width h [ns].
-GaussianRun gaussian_run(double h, std::int64_t b0, std::int64_t b1, double t0, double amplitude,
-                         double sigma_ns) {
+/// The arguments of the run's exp calls: its first sample's, the ratio's and the step's
+/// (inv_two_var: 1 / (2 sigma^2)).
+void gaussian_run_exponents(double h, std::int64_t b0, double t0, double inv_two_var, double* x) {
+    const double dt0 = static_cast<double>(b0) * h - t0;
+    x[0] = -dt0 * dt0 * inv_two_var;
+    x[1] = -(2.0 * dt0 * h + h * h) * inv_two_var;
+    x[2] = -2.0 * h * h * inv_two_var;
+}
+
+/// The run of `a` from the exps of its exponents (e: gaussian_run_exponents').
+GaussianRun gaussian_run(const RunArgs& a, const double* e) {
     GaussianRun r;
-    r.b0 = b0;
-    if (b1 < b0) {
+    r.b0 = a.b0;
+    if (a.b1 < a.b0) {
         return r;
     }
-    const double inv_two_var = 1.0 / (2.0 * sigma_ns * sigma_ns);
-    const double dt0 = static_cast<double>(b0) * h - t0;
-    r.g = amplitude * std::exp(-dt0 * dt0 * inv_two_var);
-    r.ratio = std::exp(-(2.0 * dt0 * h + h * h) * inv_two_var);
-    r.step = std::exp(-2.0 * h * h * inv_two_var);
-    r.n = static_cast<std::size_t>(b1 - b0 + 1);
+    r.g = a.amplitude * e[0];
+    r.ratio = e[1];
+    r.step = e[2];
+    r.n = static_cast<std::size_t>(a.b1 - a.b0 + 1);
     return r;
 }
 
@@ -58,7 +66,10 @@ std::int64_t ceil_to_int(double x) {
 }
 
 /// Runs sampled and added together: kRows of them, each row of the waveform's width.
-constexpr std::size_t kRows = 8;
+constexpr std::size_t kRows = detail::kRunLanes;
+/// Up to this many runs are added one after the other (each bin receives them in the same
+/// order as from the rows): cheaper than the lanes for a single ray's pulse.
+constexpr std::size_t kRunsOneByOne = 2;
 
 // The loops below are compiled for AVX2 too (4 doubles a step), chosen at run time: the
 // same products and sums, IEEE-rounded alike (no FMA: AVX2 does not imply it). Not under
@@ -69,6 +80,25 @@ constexpr std::size_t kRows = 8;
 #else
 #define BEAMTRACE_WAVEFORM_CLONES
 #endif
+
+/// The divisions of up to kRows runs, each rounded as alone (the AVX2 clone: four at a time):
+/// of the run at round-trip time t[i] of width sigma[i], its reach's ends in bins (lo, hi,
+/// before floor and ceil), 1 / (2 sigma^2) and sigma_p / sigma.
+struct RunQuotients {
+    double t[kRows], sigma[kRows];
+    double lo[kRows], hi[kRows], inv_two_var[kRows], shrink[kRows];
+};
+
+BEAMTRACE_WAVEFORM_CLONES void run_quotients(RunQuotients& q, std::size_t n, double bin_ns,
+                                             double sigma_p) {
+    for (std::size_t i = 0; i < n; ++i) {
+        const double reach_ns = 5.0 * q.sigma[i];
+        q.lo[i] = (q.t[i] - reach_ns) / bin_ns;
+        q.hi[i] = (q.t[i] + reach_ns) / bin_ns;
+        q.inv_two_var[i] = 1.0 / (2.0 * q.sigma[i] * q.sigma[i]);
+        q.shrink[i] = sigma_p / q.sigma[i];
+    }
+}
 
 /// Four doubles (two SSE2 registers by default, one AVX2 register in its clone).
 using Quad = double __attribute__((vector_size(32)));
@@ -180,6 +210,22 @@ void add_runs(Waveform& out, const GaussianRun* runs, std::size_t count) {
         return;
     }
     const std::size_t width = out.samples_w.size();
+    if (count <= kRunsOneByOne) {  // a single ray's pulse: its run alone, straight into the bins
+        for (std::size_t l = 0; l < count; ++l) {
+            double* y = out.samples_w.data() + (runs[l].b0 - out.first_bin);
+            double g = runs[l].g, ratio = runs[l].ratio;
+            for (std::size_t b = 0; b < runs[l].n; ++b) {
+                y[b] += g;
+                g *= ratio;
+                ratio *= runs[l].step;
+            }
+        }
+        return;
+    }
+    if (detail::run_lanes_available()) {
+        detail::add_runs_lanes(out.samples_w.data(), width, out.first_bin, runs, count);
+        return;
+    }
     if (rows.size() < kRows * width) {
         rows.resize(kRows * width);
     }
@@ -551,23 +597,41 @@ void build_waveform(const WaveformConfig& config, std::span<const EchoContributi
     const std::int64_t last = ceil_to_int(t_hi / config.bin_ns);
     out.first_bin = first;
     out.samples_w.assign(static_cast<std::size_t>(last - first + 1), 0.0);
-    GaussianRun runs[kRows];
+    RunArgs args[kRows];
+    bool contributions_stretched[kRows] = {};
+    RunQuotients q;
+    double exps[3 * kRows];
     std::size_t count = 0;
+    const auto add = [&] {  // the runs of q's count contributions
+        run_quotients(q, count, config.bin_ns, sigma_p);
+        for (std::size_t i = 0; i < count; ++i) {
+            RunArgs& a = args[i];
+            a.b0 = std::max(first, floor_to_int(q.lo[i]));
+            a.b1 = std::min(last, ceil_to_int(q.hi[i]));
+            // The stretched echo keeps its energy: its peak drops as sigma_p / sigma.
+            a.amplitude = contributions_stretched[i] ? a.amplitude * q.shrink[i] : a.amplitude;
+            gaussian_run_exponents(out.bin_ns, a.b0, q.t[i], q.inv_two_var[i], exps + 3 * i);
+        }
+        GaussianRun runs[kRows];
+        for (std::size_t i = 0; i < 3 * count; ++i) {
+            exps[i] = std::exp(exps[i]);
+        }
+        for (std::size_t i = 0; i < count; ++i) {
+            runs[i] = gaussian_run(args[i], exps + 3 * i);
+        }
+        add_runs(out, runs, count);
+        count = 0;
+    };
     for (const auto& c : contributions) {
-        const double t = c.range_m * round_trip_ns_per_m();
-        const double sigma = sigma_of(c);
-        const double reach_ns = 5.0 * sigma;
-        const std::int64_t b0 = std::max(first, floor_to_int((t - reach_ns) / config.bin_ns));
-        const std::int64_t b1 = std::min(last, ceil_to_int((t + reach_ns) / config.bin_ns));
-        // The stretched echo keeps its energy: its peak drops as sigma_p / sigma.
-        const double amplitude = c.sigma_ns > 0 ? c.power_w * (sigma_p / sigma) : c.power_w;
-        runs[count++] = gaussian_run(out.bin_ns, b0, b1, t, amplitude, sigma);
-        if (count == kRows) {
-            add_runs(out, runs, count);
-            count = 0;
+        q.t[count] = c.range_m * round_trip_ns_per_m();
+        q.sigma[count] = sigma_of(c);
+        args[count].amplitude = c.power_w;
+        contributions_stretched[count] = c.sigma_ns > 0;
+        if (++count == kRows) {
+            add();
         }
     }
-    add_runs(out, runs, count);
+    add();
     // The binned pulses' bins lie inside: their extent counted above with sigma_p <= sigma_max.
     if (!binned.empty()) {
         const std::int64_t at = binned.first_bin - first;

@@ -136,6 +136,7 @@ struct PulseResponse {
     std::vector<Echo> echoes;             ///< every echo detected, before the return mode
     Waveform waveform;                    ///< the sampled waveform (when keep_waveform)
     std::vector<double> sub_ray_power_w;  ///< received power of every sub-ray or sample (0: miss)
+    std::vector<double> sigma_ns;         ///< working space: every sample's echo width
     std::vector<EchoContribution> contributions;  ///< the sub-rays with power > 0
     std::vector<BeamSample> samples;              ///< simulate()'s working space
     MediumEchoes medium;                          ///< the weather's echoes (working space)
@@ -174,6 +175,8 @@ class PulseSimulator {
     /// sqrt(cell_variance) W(R) on a surface at incidence i (tan i capped at 89.5 deg), spans
     /// sigma_R = tan i sqrt(cell_variance) W(R) in range, so sigma^2 = sigma_p^2 + (2 sigma_R/c)^2.
     [[nodiscard]] double echo_sigma_ns(const SubRayHit& hit) const;
+    /// echo_sigma_ns of every sample into `out` (resized): bit for bit, four at a time with AVX2.
+    void echo_sigmas(std::span<const BeamSample> samples, std::vector<double>& out) const;
     /// The received power of one sub-ray hit with pattern weight `weight` [W], with the
     /// configured BRDF's monostatic L(i).
     [[nodiscard]] double sub_ray_power_w(const SubRayHit& hit, double weight) const;
@@ -232,6 +235,9 @@ class PulseSimulator {
     /// (out.contributions), the weather's after them.
     void sample_contributions(std::uint64_t seed, std::uint64_t pulse_index,
                               std::span<const BeamSample> samples, PulseResponse& out) const;
+    /// sub_ray_power_w of every sample into `powers` (resized): the transmissions' exponents
+    /// first, then each power (bit for bit sub_ray_power_w).
+    void sample_powers(std::span<const BeamSample> samples, std::vector<double>& powers) const;
     /// The weather's echoes of the pulse into out.medium, and the particles' shadows taken off
     /// the samples' powers (out.sub_ray_power_w) behind them.
     void add_medium(std::uint64_t seed, std::uint64_t pulse_index,

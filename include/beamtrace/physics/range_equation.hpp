@@ -20,6 +20,7 @@
 #pragma once
 
 #include <cstdint>
+#include <numbers>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -56,13 +57,22 @@ struct RadiometryConfig {
 [[nodiscard]] double intensity_reference_range_m(const RadiometryConfig& config);
 
 /// A_r = pi D^2 / 4.
-[[nodiscard]] double aperture_area_m2(const RadiometryConfig& config);
+[[nodiscard]] inline double aperture_area_m2(const RadiometryConfig& config) {
+    return std::numbers::pi * config.aperture_diameter_m * config.aperture_diameter_m / 4.0;
+}
 
 /// P_r of the equation above. `reflectance_factor` is L(i) (monostatic_reflectance), `albedo`
-/// is a, `transmission` is the two-way T^2. Returns 0 for range_m <= 0.
-[[nodiscard]] double received_power_w(const RadiometryConfig& config, double emitted_power_w,
-                                      double albedo, double reflectance_factor, double range_m,
-                                      double transmission);
+/// is a, `transmission` is the two-way T^2. Returns 0 for range_m <= 0. (Inline: every sample
+/// of every pulse asks it.)
+[[nodiscard]] inline double received_power_w(const RadiometryConfig& config, double emitted_power_w,
+                                             double albedo, double reflectance_factor,
+                                             double range_m, double transmission) {
+    if (!(range_m > 0)) {
+        return 0.0;
+    }
+    return emitted_power_w * albedo * reflectance_factor * aperture_area_m2(config) /
+           (std::numbers::pi * range_m * range_m) * config.system_efficiency * transmission;
+}
 
 /// The detection threshold [W] at which a data sheet's range figure holds ("260 m at 80 %
 /// reflectivity"): P_r of an extended Lambertian target of albedo `reflectance` facing the
