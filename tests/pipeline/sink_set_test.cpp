@@ -100,30 +100,39 @@ TEST(SinkSet, ASinkFailingAtCommitLeavesNoOutputOfTheRun) {
         << "points.ply and points.csv were committed, then removed";
 }
 
+/// What a BesideSink saw at its commit (kept by the test: the set destroys its sinks at commit).
+struct BesideCommit {
+    bool saw_other = false;
+    std::thread::id thread;
+};
+
 /// A sink that commits beside the others: at commit it writes `name` in `dir` and waits (at most
 /// 10 s) for `other` to be set by a sink committed after it, which only a commit on another
 /// thread can see.
 class BesideSink final : public PointSink {
   public:
-    BesideSink(std::filesystem::path file, std::shared_future<void> other)
-        : file_(std::move(file)), other_(std::move(other)) {}
+    BesideSink(std::filesystem::path file, std::shared_future<void> other,
+               BesideCommit* seen = nullptr)
+        : file_(std::move(file)), other_(std::move(other)), seen_(seen) {}
     void encode(const PointBlock& /*block*/, SinkBuffer& /*out*/) const override {}
     void write(const SinkBuffer& /*encoded*/) override {}
     std::vector<std::filesystem::path> commit() override {
         std::ofstream(file_) << "preview";
-        saw_other_ = other_.wait_for(std::chrono::seconds(10)) == std::future_status::ready;
-        thread_ = std::this_thread::get_id();
+        const bool saw_other =
+            other_.wait_for(std::chrono::seconds(10)) == std::future_status::ready;
+        if (seen_ != nullptr) {
+            *seen_ = {saw_other, std::this_thread::get_id()};
+        }
         return {file_};
     }
     void abort() noexcept override {}
     [[nodiscard]] bool commits_beside() const override { return true; }
     [[nodiscard]] std::vector<std::string> notes() const override { return {"beside"}; }
-    bool saw_other_ = false;
-    std::thread::id thread_;
 
   private:
     std::filesystem::path file_;
     std::shared_future<void> other_;
+    BesideCommit* seen_;
 };
 
 /// Sets `done` at commit (and fails when asked), with a note.
@@ -151,14 +160,13 @@ TEST(SinkSet, ASinkThatCommitsBesideTheOthersOverlapsThemAndKeepsTheOrder) {
     test::TempDir dir;
     std::promise<void> done;
     detail::SinkSet sinks;
-    auto beside = std::make_unique<BesideSink>(dir.path() / "preview.png", done.get_future());
-    const BesideSink& b = *beside;
-    sinks.add(std::move(beside));
+    BesideCommit b;
+    sinks.add(std::make_unique<BesideSink>(dir.path() / "preview.png", done.get_future(), &b));
     sinks.add(std::make_unique<SignallingSink>(&done, false));
     // Committed one after the other, the first would wait its 10 s for the second in vain.
     const auto files = sinks.commit();
-    EXPECT_TRUE(b.saw_other_) << "the beside sink's commit did not overlap the other's";
-    EXPECT_NE(b.thread_, std::this_thread::get_id());
+    EXPECT_TRUE(b.saw_other) << "the beside sink's commit did not overlap the other's";
+    EXPECT_NE(b.thread, std::this_thread::get_id());
     ASSERT_EQ(files.size(), 1u);
     EXPECT_EQ(files[0], dir.path() / "preview.png");
     EXPECT_TRUE(std::filesystem::exists(files[0]));
