@@ -181,6 +181,10 @@ double PulseSimulator::echo_sigma_ns(const SubRayHit& hit) const {
     return echo_sigma_ns(hit, cell_sigma_);
 }
 
+namespace {
+constexpr double kMinCos = 0.008726535498373935;  // cos 89.5 deg: tan i at most 114.6
+}  // namespace
+
 // Inline (only this file calls it): sample_contributions' loop of widths keeps the square roots
 // of several samples in flight.
 inline double PulseSimulator::echo_sigma_ns(const SubRayHit& hit, double cell_sigma) const {
@@ -189,7 +193,6 @@ inline double PulseSimulator::echo_sigma_ns(const SubRayHit& hit, double cell_si
     if (!(w_m > 0) || !(cell_sigma > 0)) {
         return sigma_p;
     }
-    constexpr double kMinCos = 0.008726535498373935;  // cos 89.5 deg: tan i at most 114.6
     const double c = std::clamp(hit.cos_incidence, kMinCos, 1.0);
     const double tan_i = std::sqrt((1.0 - c) * (1.0 + c)) / c;
     const double spread_ns = tan_i * cell_sigma * w_m * round_trip_ns_per_m();
@@ -198,40 +201,15 @@ inline double PulseSimulator::echo_sigma_ns(const SubRayHit& hit, double cell_si
 
 namespace {
 
-/// The received power of `hit` with pattern weight `weight` and two-way transmission
-/// `transmission` (0 for a miss or a range that is not positive).
-double hit_power_w(const PhysicsConfig& config, const SubRayHit& hit, double weight,
-                   double transmission) {
-    if (!std::isfinite(hit.range_m) || !(hit.range_m > 0)) {
-        return 0.0;
-    }
-    const double l = monostatic_reflectance(config.brdf, hit.cos_incidence, hit.specular_weight,
-                                            hit.specular_exponent);
-    return received_power_w(config.radiometry, config.radiometry.peak_power_w * weight, hit.albedo,
-                            l, hit.range_m, transmission);
-}
-
-constexpr double kMinCos = 0.008726535498373935;  // cos 89.5 deg: tan i at most 114.6
-
-/// echo_sigma_ns of one sample of a beam without exit diameter (the footprint's radius
-/// |R theta / 2|), the same operations in the same order.
-double narrow_echo_sigma(const BeamSample& s, double divergence_rad, double sigma_p) {
-    const double w_m = std::abs(s.hit.range_m * divergence_rad / 2.0);
-    if (!(w_m > 0) || !(s.cell_sigma > 0)) {
-        return sigma_p;
-    }
-    const double c = std::clamp(s.hit.cos_incidence, kMinCos, 1.0);
-    const double tan_i = std::sqrt((1.0 - c) * (1.0 + c)) / c;
-    const double spread_ns = tan_i * s.cell_sigma * w_m * round_trip_ns_per_m();
-    return std::sqrt(sigma_p * sigma_p + spread_ns * spread_ns);
-}
-
 #if defined(__x86_64__) && defined(__GNUC__)
-/// narrow_echo_sigma of four samples at a time (AVX2, no FMA: every product and sum rounded
-/// alone; sqrt and division round alike in lanes), the rest one by one.
-__attribute__((target("avx2"))) void narrow_echo_sigmas_avx2(const BeamSample* samples,
-                                                             std::size_t n, double divergence_rad,
-                                                             double sigma_p, double* out) {
+/// echo_sigma_ns of the samples of a beam without exit diameter (footprint radius |R theta / 2|),
+/// four at a time (AVX2, no FMA: every product and sum rounded alone; sqrt and division round
+/// alike in lanes): the same operations in the same order. Returns how many it did (n less
+/// n % 4).
+__attribute__((target("avx2"))) std::size_t narrow_echo_sigmas_avx2(const BeamSample* samples,
+                                                                    std::size_t n,
+                                                                    double divergence_rad,
+                                                                    double sigma_p, double* out) {
     const __m256d zero = _mm256_setzero_pd(), one = _mm256_set1_pd(1.0);
     const __m256d abs_mask = _mm256_castsi256_pd(_mm256_set1_epi64x(0x7fffffffffffffff));
     const __m256d sp = _mm256_set1_pd(sigma_p), min_cos = _mm256_set1_pd(kMinCos);
@@ -261,25 +239,9 @@ __attribute__((target("avx2"))) void narrow_echo_sigmas_avx2(const BeamSample* s
                                            _mm256_cmp_pd(cell, zero, _CMP_GT_OQ));
         _mm256_storeu_pd(out + j, _mm256_blendv_pd(sp, sigma, wide));
     }
-    for (; j < n; ++j) {
-        out[j] = narrow_echo_sigma(samples[j], divergence_rad, sigma_p);
-    }
+    return j;
 }
 #endif
-
-/// narrow_echo_sigma of samples[0, n) into out.
-void narrow_echo_sigmas(const BeamSample* samples, std::size_t n, double divergence_rad,
-                        double sigma_p, double* out) {
-#if defined(__x86_64__) && defined(__GNUC__)
-    if (__builtin_cpu_supports("avx2")) {
-        narrow_echo_sigmas_avx2(samples, n, divergence_rad, sigma_p, out);
-        return;
-    }
-#endif
-    for (std::size_t j = 0; j < n; ++j) {
-        out[j] = narrow_echo_sigma(samples[j], divergence_rad, sigma_p);
-    }
-}
 
 }  // namespace
 
@@ -287,32 +249,26 @@ double PulseSimulator::sub_ray_power_w(const SubRayHit& hit, double weight) cons
     if (!std::isfinite(hit.range_m) || !(hit.range_m > 0)) {
         return 0.0;
     }
-    return hit_power_w(config_, hit, weight, two_way_transmission(alpha_per_m_, hit.range_m));
+    const double l = monostatic_reflectance(config_.brdf, hit.cos_incidence, hit.specular_weight,
+                                            hit.specular_exponent);
+    return received_power_w(config_.radiometry, config_.radiometry.peak_power_w * weight,
+                            hit.albedo, l, hit.range_m,
+                            two_way_transmission(alpha_per_m_, hit.range_m));
 }
 
 void PulseSimulator::echo_sigmas(std::span<const BeamSample> samples,
                                  std::vector<double>& out) const {
     out.resize(samples.size());
-    if (config_.beam.exit_diameter_m != 0) {  // hypot: one call after the other
-        for (std::size_t j = 0; j < samples.size(); ++j) {
-            out[j] = echo_sigma_ns(samples[j].hit, samples[j].cell_sigma);
-        }
-        return;
+    std::size_t j = 0;
+#if defined(__x86_64__) && defined(__GNUC__)
+    // With an exit diameter the footprint takes hypot: one call after the other.
+    if (config_.beam.exit_diameter_m == 0 && __builtin_cpu_supports("avx2")) {
+        j = narrow_echo_sigmas_avx2(samples.data(), samples.size(), config_.beam.divergence_rad,
+                                    sigma_p_ns_, out.data());
     }
-    narrow_echo_sigmas(samples.data(), samples.size(), config_.beam.divergence_rad, sigma_p_ns_,
-                       out.data());
-}
-
-void PulseSimulator::sample_powers(std::span<const BeamSample> samples,
-                                   std::vector<double>& powers) const {
-    const std::size_t n = samples.size();
-    powers.resize(n);
-    // two_way_transmission's exponent, then its exp, in place.
-    for (std::size_t j = 0; j < n; ++j) {
-        powers[j] = -2.0 * alpha_per_m_ * samples[j].hit.range_m;
-    }
-    for (std::size_t j = 0; j < n; ++j) {
-        powers[j] = hit_power_w(config_, samples[j].hit, samples[j].weight, std::exp(powers[j]));
+#endif
+    for (; j < samples.size(); ++j) {
+        out[j] = echo_sigma_ns(samples[j].hit, samples[j].cell_sigma);
     }
 }
 
@@ -437,7 +393,10 @@ void PulseSimulator::sample_contributions(std::uint64_t seed, std::uint64_t puls
                                           PulseResponse& out) const {
     const std::size_t n = samples.size();
     std::vector<double>& powers = out.sub_ray_power_w;
-    sample_powers(samples, powers);
+    powers.resize(n);
+    for (std::size_t j = 0; j < n; ++j) {
+        powers[j] = sub_ray_power_w(samples[j].hit, samples[j].weight);
+    }
     if (!medium_) {  // no shadows to take off: the echoes, then their widths in a loop of their own
         for (std::size_t j = 0; j < n; ++j) {
             if (powers[j] > 0) {

@@ -20,33 +20,20 @@ const double kSqrtTwoPi = std::sqrt(2.0 * std::numbers::pi);
 
 using detail::GaussianRun;
 
-/// A run's parameters before its three exp calls: the bins [b0, b1] (none when b1 < b0) of
-/// width h [ns] of amplitude * exp(-(t - t0)^2 / (2 sigma^2)).
-struct RunArgs {
-    double amplitude = 0.0;
-    std::int64_t b0 = 0, b1 = -1;
-};
-
-/// The arguments of the run's exp calls: its first sample's, the ratio's and the step's
-/// (inv_two_var: 1 / (2 sigma^2)).
-void gaussian_run_exponents(double h, std::int64_t b0, double t0, double inv_two_var, double* x) {
-    const double dt0 = static_cast<double>(b0) * h - t0;
-    x[0] = -dt0 * dt0 * inv_two_var;
-    x[1] = -(2.0 * dt0 * h + h * h) * inv_two_var;
-    x[2] = -2.0 * h * h * inv_two_var;
-}
-
-/// The run of `a` from the exps of its exponents (e: gaussian_run_exponents').
-GaussianRun gaussian_run(const RunArgs& a, const double* e) {
+/// The run of the bins [b0, b1] (none when b1 < b0) of width h [ns] of
+/// amplitude * exp(-(t - t0)^2 / (2 sigma^2)); inv_two_var = 1 / (2 sigma^2).
+GaussianRun gaussian_run(double h, std::int64_t b0, std::int64_t b1, double t0, double amplitude,
+                         double inv_two_var) {
     GaussianRun r;
-    r.b0 = a.b0;
-    if (a.b1 < a.b0) {
+    r.b0 = b0;
+    if (b1 < b0) {
         return r;
     }
-    r.g = a.amplitude * e[0];
-    r.ratio = e[1];
-    r.step = e[2];
-    r.n = static_cast<std::size_t>(a.b1 - a.b0 + 1);
+    const double dt0 = static_cast<double>(b0) * h - t0;
+    r.g = amplitude * std::exp(-dt0 * dt0 * inv_two_var);
+    r.ratio = std::exp(-(2.0 * dt0 * h + h * h) * inv_two_var);
+    r.step = std::exp(-2.0 * h * h * inv_two_var);
+    r.n = static_cast<std::size_t>(b1 - b0 + 1);
     return r;
 }
 
@@ -597,27 +584,19 @@ void build_waveform(const WaveformConfig& config, std::span<const EchoContributi
     const std::int64_t last = ceil_to_int(t_hi / config.bin_ns);
     out.first_bin = first;
     out.samples_w.assign(static_cast<std::size_t>(last - first + 1), 0.0);
-    RunArgs args[kRows];
-    bool contributions_stretched[kRows] = {};
+    double amplitude[kRows];
+    bool stretched[kRows] = {};
     RunQuotients q;
-    double exps[3 * kRows];
     std::size_t count = 0;
     const auto add = [&] {  // the runs of q's count contributions
         run_quotients(q, count, config.bin_ns, sigma_p);
-        for (std::size_t i = 0; i < count; ++i) {
-            RunArgs& a = args[i];
-            a.b0 = std::max(first, floor_to_int(q.lo[i]));
-            a.b1 = std::min(last, ceil_to_int(q.hi[i]));
-            // The stretched echo keeps its energy: its peak drops as sigma_p / sigma.
-            a.amplitude = contributions_stretched[i] ? a.amplitude * q.shrink[i] : a.amplitude;
-            gaussian_run_exponents(out.bin_ns, a.b0, q.t[i], q.inv_two_var[i], exps + 3 * i);
-        }
         GaussianRun runs[kRows];
-        for (std::size_t i = 0; i < 3 * count; ++i) {
-            exps[i] = std::exp(exps[i]);
-        }
         for (std::size_t i = 0; i < count; ++i) {
-            runs[i] = gaussian_run(args[i], exps + 3 * i);
+            // The stretched echo keeps its energy: its peak drops as sigma_p / sigma.
+            runs[i] = gaussian_run(out.bin_ns, std::max(first, floor_to_int(q.lo[i])),
+                                   std::min(last, ceil_to_int(q.hi[i])), q.t[i],
+                                   stretched[i] ? amplitude[i] * q.shrink[i] : amplitude[i],
+                                   q.inv_two_var[i]);
         }
         add_runs(out, runs, count);
         count = 0;
@@ -625,8 +604,8 @@ void build_waveform(const WaveformConfig& config, std::span<const EchoContributi
     for (const auto& c : contributions) {
         q.t[count] = c.range_m * round_trip_ns_per_m();
         q.sigma[count] = sigma_of(c);
-        args[count].amplitude = c.power_w;
-        contributions_stretched[count] = c.sigma_ns > 0;
+        amplitude[count] = c.power_w;
+        stretched[count] = c.sigma_ns > 0;
         if (++count == kRows) {
             add();
         }

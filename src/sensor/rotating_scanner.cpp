@@ -235,8 +235,8 @@ void RotatingScanner::generate_pulses(std::uint64_t first, std::size_t count,
     const std::uint64_t beams = beam_count();
     const double res = step_deg_;
     const double sign = config_.spin_clockwise ? -1.0 : 1.0;
-    // Uniform times (no timing table): start + i / rate, as ScanPattern::pulse_time_s gives
-    // them, without its two virtual calls a pulse.
+    // Uniform times (no timing table): ScanPattern::pulse_time_s's, without its two virtual
+    // calls a pulse.
     const bool uniform_times = config_.beam_time_offsets_s.empty();
     const double start_s = config_.start_time_s;
     const double* within = within_deg_.data();
@@ -267,8 +267,8 @@ void RotatingScanner::generate_pulses(std::uint64_t first, std::size_t count,
             wrap_deg(config_.start_azimuth_deg + sign * (head_deg + within[b]) + offset[b]);
         const double cos_az = cos_head * cos_beam_azimuth_[b] - sin_head * sin_beam_azimuth_[b];
         const double sin_az = sin_head * cos_beam_azimuth_[b] + cos_head * sin_beam_azimuth_[b];
-        out.time_s[j] = uniform_times ? start_s + static_cast<double>(i) / pulse_rate_hz_
-                                      : beam_time_s(i, k, b);
+        out.time_s[j] =
+            uniform_times ? uniform_time_s(start_s, pulse_rate_hz_, i) : beam_time_s(i, k, b);
         out.direction[j] = {cos_elevation_[b] * cos_az, cos_elevation_[b] * sin_az,
                             sin_elevation_[b]};
         out.channel[j] = config_.beam_channels.empty() ? static_cast<std::uint16_t>(b)

@@ -235,9 +235,6 @@ class PulseSimulator {
     /// (out.contributions), the weather's after them.
     void sample_contributions(std::uint64_t seed, std::uint64_t pulse_index,
                               std::span<const BeamSample> samples, PulseResponse& out) const;
-    /// sub_ray_power_w of every sample into `powers` (resized): the transmissions' exponents
-    /// first, then each power (bit for bit sub_ray_power_w).
-    void sample_powers(std::span<const BeamSample> samples, std::vector<double>& powers) const;
     /// The weather's echoes of the pulse into out.medium, and the particles' shadows taken off
     /// the samples' powers (out.sub_ray_power_w) behind them.
     void add_medium(std::uint64_t seed, std::uint64_t pulse_index,

@@ -91,7 +91,12 @@ class ScanPattern {
     /// their own rates and gaps) overrides it; the times of generate() always agree with it.
     /// Users take times from generate()'s PulseBatch::time_s, never from start + i / rate.
     [[nodiscard]] virtual double pulse_time_s(std::uint64_t i) const {
-        return start_time_s() + static_cast<double>(i) / pulse_rate_hz();
+        return uniform_time_s(start_time_s(), pulse_rate_hz(), i);
+    }
+    /// Pulse i's time in a uniform pattern: start_s + i / rate_hz (what pulse_time_s gives,
+    /// for a generate() that keeps the two in locals).
+    [[nodiscard]] static double uniform_time_s(double start_s, double rate_hz, std::uint64_t i) {
+        return start_s + static_cast<double>(i) / rate_hz;
     }
     /// The end of the survey: the time the last pulse's slot ends (uniform patterns:
     /// start_time_s() + pulse_count() / pulse_rate_hz(), i.e. pulse_time_s(pulse_count())).
