@@ -6,6 +6,7 @@
 #include <chrono>
 #include <optional>
 #include <system_error>
+#include <utility>
 
 #include "beamtrace/core/cancel.hpp"
 #include "beamtrace/core/error.hpp"
@@ -58,10 +59,19 @@ std::pair<std::uint64_t, std::uint64_t> stream_blocks(const detail::SurveySessio
     const std::size_t blocks = session.blocks();
     const std::size_t progress_every = std::max<std::size_t>(1, window / 4);
     std::uint64_t points = 0, weather_points = 0;
+    const detail::BlockWriter mode = block_writer(pool);
+    // A writer thread of its own has a core to itself: it encodes the blocks too (LAS records,
+    // preview pixels), off the pool's thread. Their points wait in the window, and come back.
+    const bool writer_encodes = mode == detail::BlockWriter::own_thread;
+    detail::Shelf<PointBlock> spare_points;
     detail::OrderedBlocks ordered(
         blocks, window,
         [&](std::size_t k, detail::BlockOutput& out) {
             throw_if_cancelled(cancel, "survey");  // finish() rethrows it
+            if (writer_encodes) {
+                sinks.encode(out.pending, out);
+                spare_points.put(std::exchange(out.pending, PointBlock{}));
+            }
             sinks.write(out);
             points += out.points;
             weather_points += out.weather_points;
@@ -71,7 +81,7 @@ std::pair<std::uint64_t, std::uint64_t> stream_blocks(const detail::SurveySessio
                          static_cast<std::size_t>(pulses));
             }
         },
-        block_writer(pool));
+        mode);
     if (progress) {
         progress(
             0, static_cast<std::size_t>(pulses));  // the survey stage starts: rates count from here
@@ -90,7 +100,11 @@ std::pair<std::uint64_t, std::uint64_t> stream_blocks(const detail::SurveySessio
             try {
                 std::unique_ptr<detail::BlockWork> work = shelf.take();
                 session.run_block(k, *work);
-                sinks.encode(work->points, *out);
+                if (writer_encodes) {
+                    out->pending = std::exchange(work->points, spare_points.take());
+                } else {
+                    sinks.encode(work->points, *out);
+                }
                 shelf.put(std::move(work));
             } catch (...) {
                 ordered.abort();

@@ -18,6 +18,9 @@ struct BlockOutput {
     std::vector<std::unique_ptr<SinkBuffer>> sinks;  ///< one per sink, made on first use
     std::size_t points = 0;                          ///< points in the block
     std::size_t weather_points = 0;  ///< of which the weather's (BlockPoint::weather)
+    /// The block's points while they wait for the writer thread to encode them (a survey's
+    /// BlockWriter::own_thread); empty otherwise.
+    PointBlock pending;
     void clear() {
         for (auto& s : sinks) {
             s->clear();

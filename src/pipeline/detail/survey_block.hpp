@@ -75,26 +75,37 @@ struct BlockWork {
     }
 };
 
-/// Spare BlockWork, last in first out.
-class WorkShelf {
+/// Spare values, last in first out, shared by threads: take() gives the one put back last (its
+/// memory warm and already sized), or a new one.
+template <class T>
+class Shelf {
   public:
-    std::unique_ptr<BlockWork> take() {
-        const std::lock_guard lock(mutex_);
-        if (spare_.empty()) {
-            return std::make_unique<BlockWork>();
+    T take() {
+        {
+            const std::lock_guard lock(mutex_);
+            if (!spare_.empty()) {
+                T v = std::move(spare_.back());
+                spare_.pop_back();
+                return v;
+            }
         }
-        auto w = std::move(spare_.back());
-        spare_.pop_back();
-        return w;
+        if constexpr (requires { typename T::element_type; }) {
+            return std::make_unique<typename T::element_type>();
+        } else {
+            return T{};
+        }
     }
-    void put(std::unique_ptr<BlockWork> w) {
+    void put(T v) {
         const std::lock_guard lock(mutex_);
-        spare_.push_back(std::move(w));
+        spare_.push_back(std::move(v));
     }
 
   private:
     std::mutex mutex_;
-    std::vector<std::unique_ptr<BlockWork>> spare_;
+    std::vector<T> spare_;
 };
+
+/// Spare BlockWork.
+using WorkShelf = Shelf<std::unique_ptr<BlockWork>>;
 
 }  // namespace beamtrace::detail
