@@ -4,6 +4,7 @@
 
 #include <csetjmp>
 #include <cstdio>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -42,6 +43,8 @@ struct PngImageDesc {
     int bit_depth;
     int color_type;
     png_bytep* rows;  ///< `height` pointers to packed rows in PNG byte order
+    /// Called with each row's index before it is compressed (null: every row is final).
+    const std::function<void(int)>* row_ready;
 };
 
 /// Encodes the image to `file`. Returns false with `state->message` set on failure.
@@ -79,7 +82,13 @@ bool encode_png(std::FILE* file, const PngImageDesc* image, PngErrorState* state
     png_set_compression_level(png, 1);
     png_set_filter(png, PNG_FILTER_TYPE_BASE, PNG_FILTER_UP);
     png_write_info(png, info);
-    png_write_image(png, image->rows);
+    // png_write_image()'s loop (one pass: not interlaced), each row once it is final.
+    for (png_uint_32 y = 0; y < image->height; ++y) {
+        if (image->row_ready != nullptr) {
+            (*image->row_ready)(static_cast<int>(y));
+        }
+        png_write_row(png, image->rows[y]);
+    }
     png_write_end(png, nullptr);
     png_destroy_write_struct(&png, &info);
     return true;
@@ -101,14 +110,19 @@ void check_dimensions(const std::filesystem::path& path, int width, int height, 
 
 /// `bytes` holds the image in PNG byte order, `row_bytes` per row.
 void write_png(const std::filesystem::path& path, int width, int height, int bit_depth,
-               int color_type, const std::uint8_t* bytes, std::size_t row_bytes) {
+               int color_type, const std::uint8_t* bytes, std::size_t row_bytes,
+               const std::function<void(int)>* row_ready = nullptr) {
     std::vector<png_bytep> rows(static_cast<std::size_t>(height));
     for (std::size_t y = 0; y < rows.size(); ++y) {
         // libpng's row type is non-const but png_write_image only reads the rows.
         rows[y] = const_cast<png_bytep>(bytes + y * row_bytes);
     }
-    const PngImageDesc image{static_cast<png_uint_32>(width), static_cast<png_uint_32>(height),
-                             bit_depth, color_type, rows.data()};
+    const PngImageDesc image{static_cast<png_uint_32>(width),
+                             static_cast<png_uint_32>(height),
+                             bit_depth,
+                             color_type,
+                             rows.data(),
+                             row_ready};
     AtomicFile out(path);
     PngErrorState state{};
     if (!encode_png(out.stream(), &image, &state)) {
@@ -123,6 +137,14 @@ void write_png_rgb8(const std::filesystem::path& path, int width, int height,
                     std::span<const std::uint8_t> rgb) {
     check_dimensions(path, width, height, rgb.size(), 3);
     write_png(path, width, height, 8, PNG_COLOR_TYPE_RGB, rgb.data(), std::size_t(width) * 3);
+}
+
+void write_png_rgb8_rows(const std::filesystem::path& path, int width, int height,
+                         std::span<const std::uint8_t> rgb,
+                         const std::function<void(int)>& row_ready) {
+    check_dimensions(path, width, height, rgb.size(), 3);
+    write_png(path, width, height, 8, PNG_COLOR_TYPE_RGB, rgb.data(), std::size_t(width) * 3,
+              &row_ready);
 }
 
 std::string write_range_png(const std::filesystem::path& path, std::span<const float> range_m,

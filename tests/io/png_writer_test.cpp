@@ -107,6 +107,36 @@ TEST(PngWriter, TopRowComesFirst) {
     EXPECT_EQ(png.bytes[8], 255);
 }
 
+// Rows made while the file is written (as preview.png's strips are): each row asked for once, in
+// order, before it is compressed; the file's bytes are those of the finished image.
+TEST(PngWriter, RowsMadeWhileWrittenGiveTheFinishedImagesBytes) {
+    test::TempDir dir;
+    constexpr int kWidth = 37;
+    constexpr int kHeight = 29;
+    const auto pixel = [](std::size_t i) { return static_cast<std::uint8_t>((i * i) % 251); };
+    std::vector<std::uint8_t> whole(std::size_t{kWidth} * kHeight * 3);
+    for (std::size_t i = 0; i < whole.size(); ++i) {
+        whole[i] = pixel(i);
+    }
+    write_png_rgb8(dir.path() / "whole.png", kWidth, kHeight, whole);
+
+    std::vector<std::uint8_t> rgb(whole.size(), 0);  // each row made when it is asked for
+    std::vector<int> asked;
+    write_png_rgb8_rows(dir.path() / "rows.png", kWidth, kHeight, rgb, [&](int y) {
+        asked.push_back(y);
+        const std::size_t row = std::size_t{kWidth} * 3;
+        for (std::size_t i = static_cast<std::size_t>(y) * row; i < (y + 1) * row; ++i) {
+            rgb[i] = pixel(i);
+        }
+    });
+    ASSERT_EQ(asked.size(), std::size_t{kHeight});
+    for (int y = 0; y < kHeight; ++y) {
+        EXPECT_EQ(asked[static_cast<std::size_t>(y)], y);
+    }
+    EXPECT_EQ(test::read_file(dir.path() / "rows.png"), test::read_file(dir.path() / "whole.png"));
+    EXPECT_EQ(read_png(dir.path() / "rows.png").bytes, whole);
+}
+
 TEST(PngWriter, Gray16RoundTripsWithBigEndianSamples) {
     test::TempDir dir;
     const fs::path path = dir.path() / "gray.png";

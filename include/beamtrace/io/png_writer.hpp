@@ -3,6 +3,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <span>
 #include <string>
 
@@ -14,6 +15,14 @@ namespace beamtrace {
 /// system error; the final path then keeps its previous content.
 void write_png_rgb8(const std::filesystem::path& path, int width, int height,
                     std::span<const std::uint8_t> rgb);
+
+/// write_png_rgb8() of an image still being made: before row y is compressed, `row_ready(y)` is
+/// called (rows in order, top first) and returns once row y of `rgb` is final, so the compression
+/// of the rows done overlaps the making of the others. The same bytes as write_png_rgb8().
+/// `row_ready` must not throw.
+void write_png_rgb8_rows(const std::filesystem::path& path, int width, int height,
+                         std::span<const std::uint8_t> rgb,
+                         const std::function<void(int)>& row_ready);
 
 /// Writes a 16-bit greyscale PNG. `gray` holds width * height samples, row-major, top row first
 /// (native integers; the big-endian byte order of PNG is handled here).

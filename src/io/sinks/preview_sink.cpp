@@ -7,6 +7,7 @@
 // its own (the maximum of the layers, merged at commit, does not depend on the order): nothing is
 // left for the writer thread.
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -232,14 +233,69 @@ void render_rows(const Raster& r, const Crop& c, int y0, int y1, std::vector<std
     }
 }
 
-std::vector<std::uint8_t> render(const Raster& r, const Crop& c) {
-    std::vector<std::uint8_t> rgb(
-        3 * static_cast<std::size_t>(c.width()) * static_cast<std::size_t>(c.height()), 40);
-    in_halves(static_cast<std::size_t>(c.height()), [&](std::size_t b, std::size_t e) {
-        render_rows(r, c, c.y0 + static_cast<int>(b), c.y0 + static_cast<int>(e), rgb);
+/// The first row draw_scale_bar() may touch: its text's top, the text's outline included.
+int scale_bar_top(int w, int h) {
+    const int s = w >= 400 ? 2 : 1;
+    return std::max(0, h - 8 * s - (detail::kGlyphHeight + 3) * s - 1);
+}
+
+/// Rows rendered at a time: a strip, the unit of the rendering's hand-off to the compression.
+constexpr int kStripRows = 16;
+
+/// The crop's image, with the scale bar, as `path`: rendered in strips of rows by this thread and
+/// a second one (where the machine has a second core) while this one compresses the rows done,
+/// rendering a strip itself whenever the next row is not yet done. The compression (serial)
+/// overlaps the rendering; each row is the same as rendered whole, so are the file's bytes.
+void render_and_write(const std::filesystem::path& path, const Raster& r, const Crop& c) {
+    const int w = c.width(), h = c.height();
+    std::vector<std::uint8_t> rgb(3 * static_cast<std::size_t>(w) * static_cast<std::size_t>(h),
+                                  40);
+    const int strips = (h + kStripRows - 1) / kStripRows;
+    std::atomic<int> next{0};
+    std::vector<std::atomic<bool>> done(static_cast<std::size_t>(strips));
+    const auto render_next = [&] {  // false when every strip is taken
+        const int s = next.fetch_add(1);
+        if (s >= strips) {
+            return false;
+        }
+        render_rows(r, c, c.y0 + s * kStripRows, c.y0 + std::min(h, (s + 1) * kStripRows), rgb);
+        done[static_cast<std::size_t>(s)].store(true, std::memory_order_release);
+        done[static_cast<std::size_t>(s)].notify_all();
+        return true;
+    };
+    std::thread other;
+    if (h >= 4 * kStripRows && available_cores() >= 2) {
+        try {
+            other = std::thread([&] {
+                while (render_next()) {
+                }
+            });
+        } catch (const std::system_error&) {  // no thread to be had: all on this one
+        }
+    }
+    const struct Join {
+        std::thread& t;
+        ~Join() {
+            if (t.joinable()) {
+                t.join();
+            }
+        }
+    } join{other};
+    const int bar_top = scale_bar_top(w, h);
+    int ready = 0;  // strips [0, ready) are done
+    write_png_rgb8_rows(path, w, h, rgb, [&](int y) {
+        // The scale bar's rows wait for every row, then the bar is drawn over them.
+        const int need = y < bar_top ? y / kStripRows + 1 : strips;
+        for (; ready < need; ++ready) {
+            std::atomic<bool>& d = done[static_cast<std::size_t>(ready)];
+            while (!d.load(std::memory_order_acquire) && render_next()) {
+            }
+            d.wait(false, std::memory_order_acquire);
+        }
+        if (y == bar_top) {
+            draw_scale_bar(rgb, w, h, r.cell_m);
+        }
     });
-    draw_scale_bar(rgb, c.width(), c.height(), r.cell_m);
-    return rgb;
 }
 
 class PreviewSink final : public PointSink {
@@ -283,7 +339,7 @@ class PreviewSink final : public PointSink {
             notes_.emplace_back("preview.png: not written (no point)");
             return {};
         }
-        write_png_rgb8(path_, crop->width(), crop->height(), render(raster_, *crop));
+        render_and_write(path_, raster_, *crop);
         char line[256];
         std::snprintf(line, sizeof line,
                       "preview.png: %d x %d pixels of %.3g m, north up, heights %.2f to %.2f m "
