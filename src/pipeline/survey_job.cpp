@@ -1,7 +1,7 @@
 // `beamtrace survey`: the stages (poses and rays, trace, physics, points) of each block of
 // pulses on the pool threads, the sinks' encoding beside them, the sinks' writes in block order
 // by whichever pool thread completes the next block in order, or on a writer thread where the
-// pool leaves a core idle (docs/dev/architecture-pipeline.md).
+// pool leaves a core idle, which then encodes them too (docs/dev/architecture-pipeline.md).
 #include <algorithm>
 #include <chrono>
 #include <optional>

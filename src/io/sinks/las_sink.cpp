@@ -1,7 +1,8 @@
 // points.las: LAS 1.4 (formats 6-8), coordinates quantised to 1 mm around the scene, the
 // scene's CRS in an OGC WKT VLR when it has one, the provenance (version, seed, survey file) in a
 // VLR, the extra bytes of output.extra_bytes with their Extra Bytes VLR. Records are encoded on
-// the pool threads. points.laz: the same file, LASzip-compressed.
+// the pool threads (or the survey's writer thread of its own). points.laz: the same file,
+// LASzip-compressed.
 #include <algorithm>
 #include <span>
 

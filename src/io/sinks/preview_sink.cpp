@@ -3,9 +3,9 @@
 // kPreviewPixels across; points beyond it are left out) coloured by height (jet,
 // blue low) and hill-shaded from the north-west, short gaps between scan lines closed, cropped
 // to the data, with a scale bar. Written at commit; the summary names its scale and heights.
-// The pool threads raise the pixels' heights as they encode their blocks, each in a layer of
-// its own (the maximum of the layers, merged at commit, does not depend on the order): nothing is
-// left for the writer thread.
+// The encoding threads (the pool's, or the writer thread of its own) raise the pixels' heights
+// as they encode their blocks, each in a layer of its own (the maximum of the layers, merged at
+// commit, does not depend on the order): write() has nothing to do.
 #include <algorithm>
 #include <atomic>
 #include <cmath>

@@ -1,6 +1,6 @@
-// The sinks of one run, driven together: encode a block for all (pool thread), write it to all
-// (writer thread, block order), commit all; a failure anywhere, or destruction before commit(),
-// aborts all, so no output is left half-written.
+// The sinks of one run, driven together: encode a block for all (pool or writer thread), write it
+// to all (writer thread, block order), commit all; a failure anywhere, or destruction before
+// commit(), aborts all, so no output is left half-written.
 #pragma once
 
 #include <algorithm>
