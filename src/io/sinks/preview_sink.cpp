@@ -3,9 +3,8 @@
 // kPreviewPixels across; points beyond it are left out) coloured by height (jet,
 // blue low) and hill-shaded from the north-west, short gaps between scan lines closed, cropped
 // to the data, with a scale bar. Written at commit; the summary names its scale and heights.
-// The encoding threads (the pool's, or the writer thread of its own) raise the pixels' heights
-// as they encode their blocks, each in a layer of its own (the maximum of the layers, merged at
-// commit, does not depend on the order): write() has nothing to do.
+// The encoding threads (the pool's, or the writer thread of its own) find the pixels of their
+// blocks' points; the writer raises those pixels in the one raster, block after block.
 #include <algorithm>
 #include <atomic>
 #include <cmath>
@@ -13,7 +12,6 @@
 #include <cstdio>
 #include <limits>
 #include <memory>
-#include <mutex>
 #include <string>
 #include <system_error>
 #include <thread>
@@ -34,12 +32,10 @@ namespace {
 constexpr int kPreviewPixels = 1024;  ///< the footprint's longer side, before cropping
 constexpr int kGapPixels = 2;         ///< runs of empty pixels closed between two hits
 constexpr float kEmpty = -std::numeric_limits<float>::infinity();
+constexpr std::size_t kPrefetchAhead = 8;  ///< points between a pixel's prefetch and its raise
 
-/// Nothing goes through the writer: encode() raises the pixels of a layer itself. The buffer
-/// holds encode()'s scratch: the block's points that fall on the raster, as pixel and height.
-/// A survey's points land all over a raster of several MB (a spinning scanner's beams fan out
-/// from the car), so each raise would be a cache miss: pixels_of() prefetches each pixel while it
-/// computes the next ones, and the raises then find them in the cache.
+/// What encode() finds for write(): the block's points that fall on the raster, as pixel and
+/// height.
 struct PreviewBuffer final : SinkBuffer {
     std::vector<std::uint32_t> pixel;
     std::vector<float> height;
@@ -304,34 +300,36 @@ class PreviewSink final : public PointSink {
         : path_(facts.output_dir / "preview.png"),
           raster_(facts.footprint_m ? raster_for(facts.footprint_m->first,
                                                  facts.footprint_m->second, facts.pulses)
-                                    : raster_for(facts.lo_m, facts.hi_m, facts.pulses)) {
-        // The raster's own heights are the first layer (touched now, not during the survey).
-        layers_.push_back(std::make_unique<std::vector<float>>(std::move(raster_.z)));
-    }
+                                    : raster_for(facts.lo_m, facts.hi_m, facts.pulses)) {}
 
     [[nodiscard]] std::unique_ptr<SinkBuffer> make_buffer() const override {
         return std::make_unique<PreviewBuffer>();
     }
-    /// Raises each point's pixel to its height in a layer no other thread uses meanwhile; any
-    /// thread, blocks in any order (-0 is taken as +0, so not even its sign depends on it).
+    /// The pixel and height of each point of `block` that falls on the raster; any thread, blocks
+    /// in any order.
     void encode(const PointBlock& block, SinkBuffer& out) const override {
-        auto& scratch = static_cast<PreviewBuffer&>(out);
-        std::unique_ptr<std::vector<float>> layer = take_layer();
-        float* z = layer->data();
-        pixels_of(block, scratch, z);
-        const std::uint32_t* pixel = scratch.pixel.data();
-        const float* height = scratch.height.data();
-        const std::size_t n = scratch.pixel.size();
+        pixels_of(block, static_cast<PreviewBuffer&>(out));
+    }
+    /// Raises each pixel that encode() found to its point's height, in the raster itself: one
+    /// thread at a time, blocks in order (the maximum would not depend on the order: -0 is taken
+    /// as +0, so not even its sign does). A survey's points land all over a raster of several MB
+    /// (a spinning scanner's beams fan out from the car), so each raise would be a cache miss: the
+    /// pixel kPrefetchAhead points on is fetched meanwhile.
+    void write(const SinkBuffer& encoded) override {
+        const auto& b = static_cast<const PreviewBuffer&>(encoded);
+        float* z = raster_.z.data();
+        const std::uint32_t* pixel = b.pixel.data();
+        const float* height = b.height.data();
+        const std::size_t n = b.pixel.size();
         for (std::size_t i = 0; i < n; ++i) {
+            if (i + kPrefetchAhead < n) {
+                __builtin_prefetch(z + pixel[i + kPrefetchAhead], 1);
+            }
             float& p = z[pixel[i]];
             p = height[i] > p ? height[i] : p;
         }
-        const std::lock_guard lock(mutex_);
-        layers_.push_back(std::move(layer));
     }
-    void write(const SinkBuffer& /*encoded*/) override {}
     std::vector<std::filesystem::path> commit() override {
-        merge_layers();
         close_gaps(raster_, true);
         close_gaps(raster_, false);
         const auto crop = crop_of(raster_);
@@ -349,15 +347,15 @@ class PreviewSink final : public PointSink {
         notes_.emplace_back(line);
         return {path_};
     }
-    /// The commit is work for the CPU (merging, shading, compressing), on this sink alone.
+    /// The commit is work for the CPU (gaps, shading, compressing), on this sink alone.
     [[nodiscard]] bool commits_beside() const override { return true; }
     void abort() noexcept override {}  // nothing is written before commit()
     [[nodiscard]] std::vector<std::string> notes() const override { return notes_; }
 
   private:
     /// The pixel and height of each point of `block` that falls on the raster, in block order,
-    /// into `out`; each pixel of `layer` is prefetched as soon as it is known.
-    void pixels_of(const PointBlock& block, PreviewBuffer& out, const float* layer) const {
+    /// into `out`.
+    void pixels_of(const PointBlock& block, PreviewBuffer& out) const {
         out.pixel.resize(block.points.size());
         out.height.resize(block.points.size());
         std::size_t n = 0;
@@ -369,7 +367,6 @@ class PreviewSink final : public PointSink {
             const double u = uv[0], v = uv[1];
             if (u >= 0 && v >= 0 && u < raster_.width && v < raster_.height) {
                 const auto pixel = static_cast<std::uint32_t>(v * raster_.width + u);
-                __builtin_prefetch(layer + pixel, 1);
                 out.pixel[n] = pixel;
                 out.height[n] = static_cast<float>(p.z) + 0.0f;
                 ++n;
@@ -378,42 +375,8 @@ class PreviewSink final : public PointSink {
         out.pixel.resize(n);
         out.height.resize(n);
     }
-    /// A spare layer, or a new empty one.
-    [[nodiscard]] std::unique_ptr<std::vector<float>> take_layer() const {
-        {
-            const std::lock_guard lock(mutex_);
-            if (!layers_.empty()) {
-                auto layer = std::move(layers_.back());
-                layers_.pop_back();
-                return layer;
-            }
-        }
-        return std::make_unique<std::vector<float>>(
-            static_cast<std::size_t>(raster_.width) * static_cast<std::size_t>(raster_.height),
-            kEmpty);
-    }
-    /// The raster's heights: the highest of every layer's.
-    void merge_layers() {
-        if (layers_.empty()) {  // never: the first one is back once every encode() returned
-            layers_.push_back(take_layer());
-        }
-        raster_.z = std::move(*layers_.front());
-        in_halves(raster_.z.size(), [&](std::size_t b, std::size_t e) {
-            for (std::size_t l = 1; l < layers_.size(); ++l) {
-                const float* z = layers_[l]->data();
-                for (std::size_t i = b; i < e; ++i) {
-                    raster_.z[i] = std::max(raster_.z[i], z[i]);
-                }
-            }
-        });
-        layers_.clear();
-    }
-
     std::filesystem::path path_;
-    Raster raster_;
-    /// Layers of heights, as many as blocks were ever encoded at once: encode() takes one.
-    mutable std::vector<std::unique_ptr<std::vector<float>>> layers_;
-    mutable std::mutex mutex_;
+    Raster raster_;  ///< its heights raised by write(), allocated (and touched) when opened
     std::vector<std::string> notes_;
 };
 
