@@ -68,7 +68,7 @@ std::pair<std::uint64_t, std::uint64_t> stream_blocks(const detail::SurveySessio
         blocks, window,
         [&](std::size_t k, detail::BlockOutput& out) {
             throw_if_cancelled(cancel, "survey");  // finish() rethrows it
-            if (writer_encodes) {
+            if (out.deferred) {
                 sinks.encode(out.pending, out);
                 spare_points.put(std::exchange(out.pending, PointBlock{}));
             }
@@ -100,8 +100,11 @@ std::pair<std::uint64_t, std::uint64_t> stream_blocks(const detail::SurveySessio
             try {
                 std::unique_ptr<detail::BlockWork> work = shelf.take();
                 session.run_block(k, *work);
-                if (writer_encodes) {
+                // While the writer keeps up; one behind by half the window (its core taken by
+                // other work) leaves the encoding to the pool again, until it has caught up.
+                if (writer_encodes && ordered.behind(k) < window / 2) {
                     out->pending = std::exchange(work->points, spare_points.take());
+                    out->deferred = true;
                 } else {
                     sinks.encode(work->points, *out);
                 }

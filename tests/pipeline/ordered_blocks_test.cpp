@@ -120,6 +120,54 @@ TEST(OrderedBlocks, CombiningWritesOnThePoolThreadsOneAtATime) {
     EXPECT_EQ(seen.producers.count(*seen.writers.begin()), 0u);
 }
 
+// behind(k): the blocks before k taken but not yet written (the survey's writer thread encodes
+// blocks only while this stays under half the window).
+TEST(OrderedBlocks, BehindCountsTheBlocksBeforeKNotYetWritten) {
+    std::vector<std::size_t> written;
+    detail::OrderedBlocks ordered(
+        5, 8, [&](std::size_t k, detail::BlockOutput& /*out*/) { written.push_back(k); },
+        detail::BlockWriter::combining);
+    for (std::size_t k = 0; k < 3; ++k) {
+        ASSERT_NE(ordered.acquire(k), nullptr);
+    }
+    EXPECT_EQ(ordered.behind(0), 0u);
+    EXPECT_EQ(ordered.behind(3), 3u);
+    ordered.publish(1);  // not the next in order: nothing written yet
+    EXPECT_EQ(ordered.behind(3), 3u);
+    ordered.publish(0);  // blocks 0 and 1 written
+    EXPECT_EQ(ordered.behind(3), 1u);
+    EXPECT_EQ(ordered.behind(1), 0u);
+    ordered.publish(2);
+    EXPECT_EQ(ordered.behind(3), 0u);
+    for (std::size_t k = 3; k < 5; ++k) {
+        ASSERT_NE(ordered.acquire(k), nullptr);
+        ordered.publish(k);
+    }
+    ordered.finish();
+    EXPECT_EQ(written, (std::vector<std::size_t>{0, 1, 2, 3, 4}));
+}
+
+TEST(OrderedBlocks, BehindCountsBlocksReadyButNotYetWrittenByTheWriterThread) {
+    std::atomic<std::size_t> writes{0};
+    // A window of 8: the writer thread sleeps until 8 blocks are ready in order, or all 5.
+    detail::OrderedBlocks ordered(
+        5, 8, [&](std::size_t /*k*/, detail::BlockOutput& /*out*/) { ++writes; },
+        detail::BlockWriter::own_thread);
+    for (std::size_t k = 0; k < 3; ++k) {
+        ASSERT_NE(ordered.acquire(k), nullptr);
+        ordered.publish(k);
+    }
+    EXPECT_EQ(ordered.behind(3), 3u);  // ready in order, still asleep
+    EXPECT_EQ(writes.load(), 0u);
+    for (std::size_t k = 3; k < 5; ++k) {
+        ASSERT_NE(ordered.acquire(k), nullptr);
+        ordered.publish(k);
+    }
+    ordered.finish();
+    EXPECT_EQ(writes.load(), 5u);
+    EXPECT_EQ(ordered.behind(5), 0u);
+}
+
 TEST(OrderedBlocks, AWriterErrorStopsTheProducersAndIsRethrown) {
     for (const detail::BlockWriter mode : kModes) {
         for (const unsigned threads : {1u, 3u}) {

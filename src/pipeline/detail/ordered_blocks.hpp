@@ -79,6 +79,11 @@ class OrderedBlocks {
         out.clear();
         return &out;
     }
+    /// Blocks before block k not yet written: how far the writing is behind the filling.
+    [[nodiscard]] std::size_t behind(std::size_t k) {
+        const std::lock_guard lock(mutex_);
+        return k - std::min(k, written_);
+    }
     /// Block k is complete. Combining: writes it, and the blocks ready after it, when it is the
     /// next in order and no other thread is writing. Never throws: a write's error aborts the
     /// run and finish() rethrows it.

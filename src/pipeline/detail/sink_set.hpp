@@ -21,7 +21,9 @@ struct BlockOutput {
     /// The block's points while they wait for the writer thread to encode them (a survey's
     /// BlockWriter::own_thread); empty otherwise.
     PointBlock pending;
+    bool deferred = false;  ///< true when `pending` holds the block's points, to encode
     void clear() {
+        deferred = false;
         for (auto& s : sinks) {
             s->clear();
         }
