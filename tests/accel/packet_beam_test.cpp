@@ -6,6 +6,7 @@
 // (beyond what one frustum takes too, and a last beam cut short), at 1 and 2 threads.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstdint>
@@ -74,12 +75,10 @@ HitBatch expect_beams_match(const TriangleMesh& mesh, const RayBatch& rays, std:
     return want;
 }
 
+/// How many rays of `h` hit a face.
 std::size_t hit_count(const HitBatch& h) {
-    std::size_t n = 0;
-    for (std::size_t i = 0; i < h.size(); ++i) {
-        n += h.hit(i) ? 1 : 0;
-    }
-    return n;
+    return static_cast<std::size_t>(
+        std::count_if(h.face.begin(), h.face.end(), [](std::uint32_t f) { return f != kNoFace; }));
 }
 
 /// A beam of `sub` sub-rays from `o` about `axis` (a centre ray and rings of 6 and 12, then
