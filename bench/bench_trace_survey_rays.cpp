@@ -1,7 +1,9 @@
 // The BVH backend's nearest-hit trace on a survey's own rays (the car HDL-64 and the airborne
 // SRTM surveys, first 256 k pulses) against our Embree backend, one thread, packets off and on
 // (the widest lanes, and 8: the AVX2 kernel on an AVX-512 CPU): the A/B figure for the packet
-// walk's grouping of rays. The hits are checked against Embree's (watertight, the same faces)
+// walk's grouping of rays; and the 19-sub-ray survey's rays as beams (Backend::intersect_beams,
+// what the survey calls: a pulse's sub-rays walk the tree as one frustum), checked bit for bit
+// against the rays' hits. The hits are checked against Embree's (watertight, the same faces)
 // before anything is timed. CPU time is the figure to read on a shared machine.
 #include <benchmark/benchmark.h>
 
@@ -44,8 +46,21 @@ const SurveyRays& survey_rays(const std::string& file) {
     return *slot;
 }
 
-/// bvh_packets8: packets of 8 lanes (the AVX2 kernel) on a CPU that has AVX-512 too.
-enum class Mode { embree, bvh_single, bvh_packets, bvh_packets8 };
+/// bvh_packets8: packets of 8 lanes (the AVX2 kernel) on a CPU that has AVX-512 too; bvh_beams:
+/// the 19 sub-rays of a pulse as one beam.
+enum class Mode { embree, bvh_single, bvh_packets, bvh_packets8, bvh_beams };
+
+/// The survey's sub-rays a pulse (intersect_beams' beam) in `mode`.
+constexpr std::size_t kBeamRays = 19;
+
+/// Whether the beams' hits are the rays' own, bit for bit.
+bool beams_match(const bt::Backend& backend, const bt::RayBatch& rays, const bt::HitBatch& want,
+                 bt::ThreadPool& pool) {
+    bt::HitBatch beams;
+    beams.resize(rays.size());
+    backend.intersect_beams(rays, 0, rays.size(), kBeamRays, beams, pool);
+    return beams.t == want.t && beams.face == want.face && beams.u == want.u && beams.v == want.v;
+}
 
 void BM_SurveyRays(benchmark::State& state, const std::string& file, Mode mode) {
     const SurveyRays& s = survey_rays(file);
@@ -85,8 +100,17 @@ void BM_SurveyRays(benchmark::State& state, const std::string& file, Mode mode) 
             return;
         }
     }
+    const bool beams = mode == Mode::bvh_beams;
+    if (beams && !beams_match(*backend, s.rays, hits, pool)) {
+        state.SkipWithError("the beams' hits differ from the rays'");
+        return;
+    }
     for (auto _ : state) {
-        backend->intersect(s.rays, 0, s.rays.size(), hits, pool);
+        if (beams) {
+            backend->intersect_beams(s.rays, 0, s.rays.size(), kBeamRays, hits, pool);
+        } else {
+            backend->intersect(s.rays, 0, s.rays.size(), hits, pool);
+        }
         benchmark::DoNotOptimize(hits.face.data());
     }
     state.counters["rays/s"] =
@@ -112,6 +136,9 @@ BENCHMARK_CAPTURE(BM_SurveyRays, airborne_19_subrays_embree,
     ->Apply(args);
 BENCHMARK_CAPTURE(BM_SurveyRays, airborne_19_subrays_bvh_packets,
                   std::string("airborne_srtm_divergence.yaml"), Mode::bvh_packets)
+    ->Apply(args);
+BENCHMARK_CAPTURE(BM_SurveyRays, airborne_19_subrays_bvh_beams,
+                  std::string("airborne_srtm_divergence.yaml"), Mode::bvh_beams)
     ->Apply(args);
 BENCHMARK_CAPTURE(BM_SurveyRays, airborne_embree, std::string("airborne_srtm.yaml"), Mode::embree)
     ->Apply(args);

@@ -68,6 +68,13 @@ struct BvhTraverser {
                           trace.packets != BvhPackets::always, trace.max_spread_rad);
     }
 
+    /// The same for rays in beams of `rays_per_beam` (intersect_beams in packet_trace.hpp).
+    void intersect_beams_range(const RayBatch& rays, std::size_t begin, std::size_t end,
+                               std::size_t rays_per_beam, HitBatch& hits) const {
+        intersect_beams(bvh, *mesh, rays, begin, end, rays_per_beam, hits, lanes,
+                        trace.packets != BvhPackets::always, trace.max_spread_rad);
+    }
+
     template <class Visitor>
     void traverse(const TraceRay& r, Visitor& vis) const {
         vis.enter(*mesh, r, 0, false);

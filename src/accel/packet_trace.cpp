@@ -53,6 +53,12 @@ using vu = std::uint32_t __attribute__((vector_size(32)));
 BT_PK std::uint32_t lane_bits(vi m) {
     return static_cast<std::uint32_t>(_mm256_movemask_ps(reinterpret_cast<__m256>(m)));
 }
+/// All bits set in the lanes of `m` (a comparison's form of a lane mask).
+BT_PK vi lanes_of(std::uint32_t m) {
+    const __m256i bit = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
+    const __m256i b = _mm256_and_si256(_mm256_set1_epi32(static_cast<int>(m)), bit);
+    return reinterpret_cast<vi>(_mm256_cmpeq_epi32(b, bit));
+}
 /// The greatest (least) lane of x, which holds no NaN.
 BT_PK float lanes_max(vf x) {
     __m128 m = _mm_max_ps(_mm256_castps256_ps128(reinterpret_cast<__m256>(x)),
@@ -87,6 +93,9 @@ using vu = std::uint32_t __attribute__((vector_size(64)));
 #define BT_PK_ENTRY __attribute__((target("avx512f,avx512dq,avx512cd,avx2")))
 BT_PK std::uint32_t lane_bits(vi m) {
     return static_cast<std::uint32_t>(_mm512_movepi32_mask(reinterpret_cast<__m512i>(m)));
+}
+BT_PK vi lanes_of(std::uint32_t m) {
+    return reinterpret_cast<vi>(_mm512_movm_epi32(static_cast<__mmask16>(m)));
 }
 /// The greatest (least) lane of x, which holds no NaN.
 BT_PK float lanes_max(vf x) {
@@ -157,6 +166,30 @@ void intersect_packets(const Bvh& bvh, const TriangleMesh& mesh, const RayBatch&
     for (std::size_t i = begin; i < end; ++i) {
         trace_single(bvh, mesh, make_trace_ray(rays, i), hits, i);
     }
+}
+
+void intersect_beams(const Bvh& bvh, const TriangleMesh& mesh, const RayBatch& rays,
+                     std::size_t begin, std::size_t end, std::size_t rays_per_beam, HitBatch& hits,
+                     int lanes, bool only_coherent, double max_spread_rad) {
+#if BEAMTRACE_PACKET_LANES
+    if (!bvh.nodes.empty() && rays_per_beam >= 2) {
+        const auto min_cos = static_cast<float>(std::cos(max_spread_rad));
+        if (lanes == 16 && widest_packet_lanes() >= 16 &&
+            rays_per_beam <= std::size_t{avx512::kWalkRays}) {
+            avx512::trace_beams(bvh, mesh, rays, begin, end, rays_per_beam, hits, only_coherent,
+                                min_cos);
+            return;
+        }
+        if (lanes == 8 && widest_packet_lanes() >= 8 &&
+            rays_per_beam <= std::size_t{avx2::kWalkRays}) {
+            avx2::trace_beams(bvh, mesh, rays, begin, end, rays_per_beam, hits, only_coherent,
+                              min_cos);
+            return;
+        }
+    }
+#endif
+    (void)rays_per_beam;
+    intersect_packets(bvh, mesh, rays, begin, end, hits, lanes, only_coherent, max_spread_rad);
 }
 
 }  // namespace beamtrace::detail

@@ -141,7 +141,8 @@ void SurveySession::run_block(std::size_t k, BlockWork& w) const {
     pattern_->generate(first, n, w.pulses);
     source_.generate(w.pulses, first, w.rays, 0, w.origin.data(), w.axis.data(),
                      w.scan_angle.data(), w.scratch);
-    backend_->intersect(w.rays, 0, n * sub_rays_, w.hits, w.this_thread);
+    // A pulse's sub-rays are a beam (one frustum walk with the BVH): the same hits, bit for bit.
+    backend_->intersect_beams(w.rays, 0, n * sub_rays_, sub_rays_, w.hits, w.this_thread);
     if (moving_) {
         trace_moving(w);
     }

@@ -71,6 +71,16 @@ class Backend {
     /// range go to the lowest face ID, so every backend gives the same face for the same ray.
     virtual void intersect(const RayBatch& rays, std::size_t begin, std::size_t end, HitBatch& hits,
                            ThreadPool& pool) const = 0;
+    /// Nearest hits of rays [begin, end) that come in beams of `rays_per_beam` (rays
+    /// [begin + k * rays_per_beam, begin + (k + 1) * rays_per_beam): a pulse's sub-rays, from
+    /// one origin in a narrow cone): the hits intersect() gives, bit for bit. The BVH over one
+    /// mesh traces a beam's rays as one packet walk; the other backends as intersect().
+    virtual void intersect_beams(const RayBatch& rays, std::size_t begin, std::size_t end,
+                                 std::size_t rays_per_beam, HitBatch& hits,
+                                 ThreadPool& pool) const {
+        (void)rays_per_beam;
+        intersect(rays, begin, end, hits, pool);
+    }
     /// occluded[i] = 1 when ray i meets anything in [tmin, tmax].
     virtual void occluded(const RayBatch& rays, std::size_t begin, std::size_t end,
                           std::vector<std::uint8_t>& occluded, ThreadPool& pool) const = 0;

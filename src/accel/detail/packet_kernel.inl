@@ -1,8 +1,9 @@
 // The packet kernel, included by packet_trace.cpp once per instruction set inside a namespace
 // that defines kLanes, the vector types vf (float), vi (int32, what comparisons give) and vu
-// (uint32), lane_bits(vi) (one bit per lane), BT_PK (inline helpers) and BT_PK_ENTRY (the
-// entry point), all compiled for that instruction set. Every float expression below is the
-// scalar one of trace_ray.hpp / ray_triangle.hpp / queries.hpp in lanes, operand for operand.
+// (uint32), lane_bits(vi) (one bit per lane), lanes_of(mask) (all bits set in its lanes), BT_PK
+// (inline helpers) and BT_PK_ENTRY (the entry point), all compiled for that instruction set. Every
+// float expression below is the scalar one of trace_ray.hpp / ray_triangle.hpp / queries.hpp in
+// lanes, operand for operand.
 
 using Mask = std::uint32_t;
 constexpr Mask kAllLanes = kLanes == 32 ? ~Mask{0} : (Mask{1} << kLanes) - 1;
@@ -21,15 +22,6 @@ BT_PK vu splat_u(std::uint32_t s) {
         r[l] = s;
     }
     return r;
-}
-
-/// All bits set in the lanes of `m` (a comparison's form of a lane mask).
-BT_PK vi lanes_of(Mask m) {
-    vu bit{};
-    for (int l = 0; l < kLanes; ++l) {
-        bit[l] = Mask{1} << l;
-    }
-    return (splat_u(m) & bit) != 0u;
 }
 
 BT_PK vf vabs(vf x) {
@@ -271,74 +263,191 @@ struct Frustum {
     v4i near_hi;           ///< the near plane is the box's hi (the lanes move down the axis)
     v4i free;              ///< no bound from the slabs on this axis (and in lane 3)
     v4i still;             ///< no lane moves along this axis: only an origin in the slab enters
-    float tmin = 0;        ///< least tmin of the active lanes
-    float limit = 0;       ///< greatest limit of the active lanes
+    // Mixed axes (lanes moving up and down it, a beam about a plane of the axis; free to the
+    // code above): the near (far) bound is the least (greatest) of the up lanes' (near_org and
+    // far_org, inv_lo, inv_hi: their origins and inverses), the down lanes' (neg_near_org,
+    // neg_far_org, ninv_lo, ninv_hi) and the still lanes'.
+    v4 neg_near_org, neg_far_org, ninv_lo, ninv_hi;
+    v4i mixed, has_pos, has_neg, has_still;
+    float tmin = 0;   ///< least tmin of the active lanes
+    float limit = 0;  ///< greatest limit of the active lanes
     // The fields above twice over (a node's two children tested at once), made by make_frustum.
     v8 near_org2, far_org2, inv_lo2, inv_hi2, org_lo2, org_hi2;
-    v8i near_hi2, free2, still2;
+    v8 neg_near_org2, neg_far_org2, ninv_lo2, ninv_hi2;
+    v8i near_hi2, free2, still2, mixed2, has_pos2, has_neg2, has_still2;
 };
 
-/// The least (greatest) of x's active lanes that are not NaN; +inf (-inf) if none.
-BT_PK float active_min(vf x, Mask active) {
-    constexpr float kInf = std::numeric_limits<float>::infinity();
-    return lanes_min((lanes_of(active) & (x == x)) ? x : splat(kInf));
+/// The most rays (whole beams of sub-rays) that walk the tree as one frustum (trace_beams), and
+/// the packets they make. The airborne survey's 19-sub-ray beams: one beam a walk took 1.0x the
+/// sorted packets' time, 32 rays 1.1x, 64 0.6x, 128 and 256 0.55x, 512 0.6x.
+constexpr int kWalkRays = 128;
+constexpr int kBeamPackets = kWalkRays / kLanes;
+
+/// The least (greatest) of xs[q] over the lanes of m[q], q < np, that are not NaN; +inf (-inf)
+/// if none: the packets' lanes first, then one reduction.
+BT_PK float beam_min(const vf* xs, const Mask* m, int np) {
+    vf acc = splat(std::numeric_limits<float>::infinity());
+    for (int q = 0; q < np; ++q) {
+        acc = (lanes_of(m[q]) & (xs[q] < acc)) ? xs[q] : acc;
+    }
+    return lanes_min(acc);
 }
 
-BT_PK float active_max(vf x, Mask active) {
-    constexpr float kInf = std::numeric_limits<float>::infinity();
-    return lanes_max((lanes_of(active) & (x == x)) ? x : splat(-kInf));
+BT_PK float beam_max(const vf* xs, const Mask* m, int np) {
+    vf acc = splat(-std::numeric_limits<float>::infinity());
+    for (int q = 0; q < np; ++q) {
+        acc = (lanes_of(m[q]) & (xs[q] > acc)) ? xs[q] : acc;
+    }
+    return lanes_max(acc);
 }
 
-/// The bounds of axis a over the active lanes; false if the lanes' inverse directions neither
-/// share a sign and are finite nor are all infinite (the axis then bounds nothing).
-BT_PK bool bound_axis(const Packet& p, int a, Frustum& fr) {
-    constexpr float kInf = std::numeric_limits<float>::infinity();
-    const vf inv = p.inv[a];
-    const Mask pos = lane_bits((inv > 0.0f) & (inv < kInf)) & p.active;
-    const Mask neg = lane_bits((inv < 0.0f) & (inv > -kInf)) & p.active;
-    const Mask still = lane_bits(vabs(inv) == kInf) & p.active;
-    const float olo = active_min(p.o[a], p.active), ohi = active_max(p.o[a], p.active);
-    fr.org_lo[a] = olo;
-    fr.org_hi[a] = ohi;
+/// Bounds of one axis over the active lanes of packets ps[0, np): which way the lanes move,
+/// and the least and greatest origin and inverse direction of all of them or, on a mixed axis,
+/// of those moving up the axis (pos) and of those moving down (neg).
+struct AxisBounds {
+    static constexpr float kInf = std::numeric_limits<float>::infinity();
+    bool all_pos = true, all_neg = true, all_still = true, classified = true;
+    bool any_pos = false, any_neg = false, any_still = false;
+    float olo = kInf, ohi = -kInf, inv_lo = kInf, inv_hi = -kInf;
+    float pos_olo = kInf, pos_ohi = -kInf, pos_lo = kInf, pos_hi = -kInf;  ///< up lanes
+    float neg_olo = kInf, neg_ohi = -kInf, neg_lo = kInf, neg_hi = -kInf;  ///< down lanes
+
+    BT_PK AxisBounds(const Packet* ps, int np, int a, bool mixed) {
+        vf o[kBeamPackets], inv[kBeamPackets];
+        Mask act[kBeamPackets], pos[kBeamPackets], neg[kBeamPackets];
+        for (int q = 0; q < np; ++q) {
+            const Packet& p = ps[q];
+            o[q] = p.o[a];
+            inv[q] = p.inv[a];
+            act[q] = p.active;
+            pos[q] = lane_bits((inv[q] > 0.0f) & (inv[q] < kInf)) & p.active;
+            neg[q] = lane_bits((inv[q] < 0.0f) & (inv[q] > -kInf)) & p.active;
+            const Mask still = lane_bits(vabs(inv[q]) == kInf) & p.active;
+            all_pos = all_pos && pos[q] == p.active;
+            all_neg = all_neg && neg[q] == p.active;
+            all_still = all_still && still == p.active;
+            classified = classified && (pos[q] | neg[q] | still) == p.active;
+            any_pos = any_pos || pos[q] != 0;
+            any_neg = any_neg || neg[q] != 0;
+            any_still = any_still || still != 0;
+        }
+        olo = beam_min(o, act, np);
+        ohi = beam_max(o, act, np);
+        if (all_pos || all_neg) {
+            inv_lo = beam_min(inv, act, np);
+            inv_hi = beam_max(inv, act, np);
+        } else if (mixed && classified && !all_still) {
+            pos_olo = beam_min(o, pos, np);
+            pos_ohi = beam_max(o, pos, np);
+            pos_lo = beam_min(inv, pos, np);
+            pos_hi = beam_max(inv, pos, np);
+            neg_olo = beam_min(o, neg, np);
+            neg_ohi = beam_max(o, neg, np);
+            neg_lo = beam_min(inv, neg, np);
+            neg_hi = beam_max(inv, neg, np);
+        }
+    }
+};
+
+/// The least tmin and the greatest limit of the active lanes of packets ps[0, np).
+BT_PK float beam_tmin(const Packet* ps, int np) {
+    vf x[kBeamPackets];
+    Mask m[kBeamPackets];
+    for (int q = 0; q < np; ++q) {
+        x[q] = ps[q].tmin;
+        m[q] = ps[q].active;
+    }
+    return beam_min(x, m, np);
+}
+
+BT_PK float beam_limit(const Packet* ps, int np) {
+    vf x[kBeamPackets];
+    Mask m[kBeamPackets];
+    for (int q = 0; q < np; ++q) {
+        x[q] = ps[q].limit;
+        m[q] = ps[q].active;
+    }
+    return beam_max(x, m, np);
+}
+
+/// The mixed axis a (frustum_enters_pair<true>): lanes moving up and down it, or some still.
+BT_PK void bound_mixed_axis(const AxisBounds& b, int a, Frustum& fr) {
+    fr.mixed[a] = -1;
+    fr.has_pos[a] = b.any_pos ? -1 : 0;
+    fr.has_neg[a] = b.any_neg ? -1 : 0;
+    fr.has_still[a] = b.any_still ? -1 : 0;
+    // Moving up, the near plane (lo) is nearest from the greatest origin, the far plane (hi)
+    // farthest from the least; moving down, the near plane is hi, the far plane lo.
+    fr.near_org[a] = b.any_pos ? b.pos_ohi : 0.0f;
+    fr.far_org[a] = b.any_pos ? b.pos_olo : 0.0f;
+    fr.inv_lo[a] = b.any_pos ? b.pos_lo : 0.0f;
+    fr.inv_hi[a] = b.any_pos ? b.pos_hi : 0.0f;
+    fr.neg_near_org[a] = b.any_neg ? b.neg_olo : 0.0f;
+    fr.neg_far_org[a] = b.any_neg ? b.neg_ohi : 0.0f;
+    fr.ninv_lo[a] = b.any_neg ? b.neg_lo : 0.0f;
+    fr.ninv_hi[a] = b.any_neg ? b.neg_hi : 0.0f;
+}
+
+/// The bounds of axis a over the active lanes of packets ps[0, np); false if the lanes' inverse
+/// directions neither share a sign and are finite nor are all infinite (the axis then bounds
+/// nothing), unless `mixed` allows such an axis a near bound of its own (bound_mixed_axis).
+BT_PK bool bound_axis(const Packet* ps, int np, int a, bool mixed, Frustum& fr) {
+    const AxisBounds b(ps, np, a, mixed);
+    fr.org_lo[a] = b.olo;
+    fr.org_hi[a] = b.ohi;
     fr.free[a] = -1;
-    fr.still[a] = still == p.active ? -1 : 0;
-    fr.near_hi[a] = neg == p.active ? -1 : 0;
+    fr.still[a] = b.all_still ? -1 : 0;
+    fr.near_hi[a] = b.all_neg ? -1 : 0;
     fr.inv_lo[a] = fr.inv_hi[a] = 0.0f;
     fr.near_org[a] = fr.far_org[a] = 0.0f;
-    if (pos != p.active && neg != p.active) {
-        return still == p.active;
+    if (!b.all_pos && !b.all_neg) {
+        if (b.all_still || !mixed || !b.classified) {
+            return b.all_still;
+        }
+        bound_mixed_axis(b, a, fr);
+        return true;
     }
     fr.free[a] = 0;
-    fr.inv_lo[a] = active_min(inv, p.active);
-    fr.inv_hi[a] = active_max(inv, p.active);
+    fr.inv_lo[a] = b.inv_lo;
+    fr.inv_hi[a] = b.inv_hi;
     // Moving up the axis, the near plane's (lo - o) * inv is least from the greatest origin and
     // the far plane's greatest from the least; moving down, the other way round.
-    fr.near_org[a] = pos == p.active ? ohi : olo;
-    fr.far_org[a] = pos == p.active ? olo : ohi;
+    fr.near_org[a] = b.all_pos ? b.ohi : b.olo;
+    fr.far_org[a] = b.all_pos ? b.olo : b.ohi;
     return true;
 }
 
-/// The packet's frustum; false if an axis bounds nothing (the lanes' directions differ in sign
-/// or some are zero along it), so that culling by it would visit far too many nodes.
-BT_PK bool make_frustum(const Packet& p, Frustum& fr) {
+/// The frustum of packets ps[0, np); false if an axis bounds nothing (the lanes' directions
+/// differ in sign or some are zero along it, and `mixed` is false), so that culling by it would
+/// visit far too many nodes.
+BT_PK bool make_frustum(const Packet* ps, int np, bool mixed, Frustum& fr) {
     fr.near_org = fr.far_org = fr.inv_lo = fr.inv_hi = fr.org_lo = fr.org_hi = v4{};
-    fr.near_hi = fr.still = v4i{};
+    fr.neg_near_org = fr.neg_far_org = fr.ninv_lo = fr.ninv_hi = v4{};
+    fr.near_hi = fr.still = fr.mixed = fr.has_pos = fr.has_neg = fr.has_still = v4i{};
     fr.free = v4i{-1, -1, -1, -1};
     bool bounded = true;
     for (int a = 0; a < 3; ++a) {
-        bounded = bound_axis(p, a, fr) && bounded;
+        bounded = bound_axis(ps, np, a, mixed, fr) && bounded;
     }
-    fr.tmin = active_min(p.tmin, p.active);
-    fr.limit = active_max(p.limit, p.active);
+    fr.tmin = beam_tmin(ps, np);
+    fr.limit = beam_limit(ps, np);
     fr.near_org2 = twice(fr.near_org);
     fr.far_org2 = twice(fr.far_org);
     fr.inv_lo2 = twice(fr.inv_lo);
     fr.inv_hi2 = twice(fr.inv_hi);
     fr.org_lo2 = twice(fr.org_lo);
     fr.org_hi2 = twice(fr.org_hi);
+    fr.neg_near_org2 = twice(fr.neg_near_org);
+    fr.neg_far_org2 = twice(fr.neg_far_org);
+    fr.ninv_lo2 = twice(fr.ninv_lo);
+    fr.ninv_hi2 = twice(fr.ninv_hi);
     fr.near_hi2 = twice(fr.near_hi);
     fr.free2 = twice(fr.free);
     fr.still2 = twice(fr.still);
+    fr.mixed2 = twice(fr.mixed);
+    fr.has_pos2 = twice(fr.has_pos);
+    fr.has_neg2 = twice(fr.has_neg);
+    fr.has_still2 = twice(fr.has_still);
     return bounded;
 }
 
@@ -375,9 +484,43 @@ BT_PK bool frustum_enters(const Frustum& fr, const BvhNode& node, float& entry) 
     return tnear <= tfar;
 }
 
+/// The bounds of mixed axes (Mixed: frustum_enters_pair), each lane's near and far distance
+/// bounded as in bound_axis (float rounding is monotone): the up lanes' near from lo with their
+/// greatest origin and far to hi from their least, the down lanes' the other way round, left
+/// out where they only move away from the slab (far below the least tmin: they cannot enter);
+/// the still lanes' near -inf unless every origin is outside the slab on one side (then +inf, as
+/// slab_lanes gives it), far +inf. Other axes keep `near` and `far`.
+BT_PK void mixed_bounds(const Frustum& fr, v8 lo, v8 hi, v8& near, v8& far) {
+    constexpr float kPad = 2.0f * 3.0f * std::numeric_limits<float>::epsilon();
+    constexpr float kInf = std::numeric_limits<float>::infinity();
+    constexpr v8 kInf8{kInf, kInf, kInf, kInf, kInf, kInf, kInf, kInf};
+    const v8 tmin{fr.tmin, fr.tmin, fr.tmin, fr.tmin, fr.tmin, fr.tmin, fr.tmin, fr.tmin};
+    const v8 pn = lo - fr.near_org2, pf = hi - fr.far_org2;
+    const v8 mn = hi - fr.neg_near_org2, mf = lo - fr.neg_far_org2;
+    const v8 pn0 = pn * fr.inv_lo2, pn1 = pn * fr.inv_hi2;
+    const v8 pf0 = pf * fr.inv_lo2, pf1 = pf * fr.inv_hi2;
+    const v8 mn0 = mn * fr.ninv_lo2, mn1 = mn * fr.ninv_hi2;
+    const v8 mf0 = mf * fr.ninv_lo2, mf1 = mf * fr.ninv_hi2;
+    const v8 up_near = (pn1 < pn0) ? pn1 : pn0, down_near = (mn1 < mn0) ? mn1 : mn0;
+    v8 up_far = (pf0 > pf1) ? pf0 : pf1, down_far = (mf0 > mf1) ? mf0 : mf1;
+    up_far = (up_far >= 0.0f) ? up_far * (1.0f + kPad) : up_far * (1.0f - kPad);
+    down_far = (down_far >= 0.0f) ? down_far * (1.0f + kPad) : down_far * (1.0f - kPad);
+    const v8i up = fr.has_pos2 & (up_far >= tmin), down = fr.has_neg2 & (down_far >= tmin);
+    v8 n = up ? up_near : kInf8;
+    v8 f = up ? up_far : -kInf8;
+    n = (down & (down_near < n)) ? down_near : n;
+    f = (down & (down_far > f)) ? down_far : f;
+    const v8 s = ((fr.org_hi2 < lo) | (fr.org_lo2 > hi)) ? kInf8 : -kInf8;
+    n = (fr.has_still2 & (s < n)) ? s : n;
+    f = fr.has_still2 ? kInf8 : f;
+    near = fr.mixed2 ? n : near;
+    far = fr.mixed2 ? f : far;
+}
+
 /// frustum_enters for the two children of an inner node at once (nodes[0] and nodes[1], 64
 /// bytes side by side), the same arithmetic lane for lane: bit 0 if the first may be entered,
-/// bit 1 the second.
+/// bit 1 the second. Mixed: the frustum may have mixed axes (mixed_near).
+template <bool Mixed = false>
 BT_PK unsigned frustum_enters_pair(const Frustum& fr, const BvhNode* nodes, float& e0, float& e1) {
     constexpr float kPad = 2.0f * 3.0f * std::numeric_limits<float>::epsilon();
     constexpr float kInf = std::numeric_limits<float>::infinity();
@@ -400,6 +543,9 @@ BT_PK unsigned frustum_enters_pair(const Frustum& fr, const BvhNode* nodes, floa
     const v8i out = fr.still2 & ((fr.org_hi2 < lo) | (fr.org_lo2 > hi));
     v8 near = fr.free2 ? (out ? kInf8 : -kInf8) : n;
     v8 far = fr.free2 ? kInf8 : fp;
+    if constexpr (Mixed) {
+        mixed_bounds(fr, lo, hi, near, far);
+    }
     // Greatest near and least far of each half (lane 3 and 7: -inf and +inf).
     v8 sn = __builtin_shufflevector(near, near, 1, 0, 3, 2, 5, 4, 7, 6);
     v8 sf = __builtin_shufflevector(far, far, 1, 0, 3, 2, 5, 4, 7, 6);
@@ -418,10 +564,23 @@ BT_PK unsigned frustum_enters_pair(const Frustum& fr, const BvhNode* nodes, floa
     return (tn0 <= tf0 ? 1u : 0u) | (tn1 <= tf1 ? 2u : 0u);
 }
 
-/// walk_packet with interval culling: one test per child for the whole packet, and the lanes
-/// that enter a leaf it reaches test its faces; a node is popped while some lane's
-/// limit may still reach it.
-BT_PK void walk_frustum(Packet& p, Frustum& fr, const Bvh& bvh, const TriangleMesh& mesh) {
+/// The lanes of packet p that enter leaf `node` (walk_packet's mask) test its faces; true if a
+/// lane's hit changed. A leaf that the frustum reaches but no lane does costs one box test.
+BT_PK bool test_leaf(Packet& p, const BvhNode& node, const Bvh& bvh, const TriangleMesh& mesh) {
+    vf unused;
+    const Mask lanes = slab_lanes(p, node, unused) & p.active;
+    bool changed = false;
+    for (std::uint32_t k = node.index; lanes != 0 && k < node.index + node.count; ++k) {
+        changed = test_face(p, mesh, bvh.prim_ids[k], lanes) || changed;
+    }
+    return changed;
+}
+
+/// walk_packet with interval culling: one test per child for the packets ps[0, np) together
+/// (their frustum `fr`; Mixed: it may have mixed axes), and the lanes of each packet that enter
+/// a leaf it reaches test its faces; a node is popped while some lane's limit may still reach it.
+template <bool Mixed = false>
+BT_PK void walk_frustum(Packet* ps, int np, Frustum& fr, const Bvh& bvh, const TriangleMesh& mesh) {
     struct Entry {
         float entry;
         std::uint32_t node;
@@ -437,21 +596,17 @@ BT_PK void walk_frustum(Packet& p, Frustum& fr, const Bvh& bvh, const TriangleMe
     for (;;) {
         const BvhNode& node = nodes[index];
         if (node.is_leaf()) {
-            // The lanes whose own slab test enters the leaf (walk_packet's mask): a leaf that
-            // the frustum reaches but no lane does costs one box test instead of its faces.
-            vf unused;
-            const Mask lanes = slab_lanes(p, node, unused) & p.active;
             bool changed = false;
-            for (std::uint32_t k = node.index; lanes != 0 && k < node.index + node.count; ++k) {
-                changed = test_face(p, mesh, bvh.prim_ids[k], lanes) || changed;
+            for (int q = 0; q < np; ++q) {
+                changed = test_leaf(ps[q], node, bvh, mesh) || changed;
             }
             if (changed) {
-                fr.limit = active_max(p.limit, p.active);
+                fr.limit = beam_limit(ps, np);
             }
         } else {
             const std::uint32_t li = node.index, ri = node.index + 1;
             float el = 0.0f, er = 0.0f;
-            const unsigned h = frustum_enters_pair(fr, &nodes[li], el, er);
+            const unsigned h = frustum_enters_pair<Mixed>(fr, &nodes[li], el, er);
             const bool hl = (h & 1u) != 0, hr = (h & 2u) != 0;
             if (hl && hr) {
                 const bool left = el <= er;
@@ -506,15 +661,32 @@ BT_PK void store_packet(const Packet& p, const Stage& st, std::size_t at, HitBat
     }
 }
 
-/// Whether every active lane's direction is within acos(min_cos) of lane 0's (the scalar test's
-/// arithmetic: dot products in the same order).
-BT_PK bool coherent(const Packet& p, float min_cos) {
-    const float d0x = p.d[0][0], d0y = p.d[1][0], d0z = p.d[2][0];
+/// store_packet for a stage in the batch's order, the active lanes a prefix: lane l into the
+/// slot of ray st.first + at + l, in lanes.
+BT_PK void store_in_order(const Packet& p, const Stage& st, std::size_t at, HitBatch& hits) {
+    const vi hit = p.best_face != kNoFace;
+    const vf t = hit ? p.best_t : splat(std::numeric_limits<float>::infinity());
+    const vf u = hit ? p.best_u : splat(0.0f), v = hit ? p.best_v : splat(0.0f);
+    const std::size_t i = st.first + at, bytes = std::size_t{4} * std::popcount(p.active);
+    __builtin_memcpy(&hits.t[i], &t, bytes);
+    __builtin_memcpy(&hits.face[i], &p.best_face, bytes);
+    __builtin_memcpy(&hits.u[i], &u, bytes);
+    __builtin_memcpy(&hits.v[i], &v, bytes);
+}
+
+/// Whether every active lane's direction is within acos(min_cos) of lane 0's of `ref` (the
+/// scalar test's arithmetic: dot products in the same order).
+BT_PK bool coherent(const Packet& p, float min_cos, const Packet& ref) {
+    const float d0x = ref.d[0][0], d0y = ref.d[1][0], d0z = ref.d[2][0];
     const float n0 = d0x * d0x + d0y * d0y + d0z * d0z;
     const vf c = p.d[0] * d0x + p.d[1] * d0y + p.d[2] * d0z;
     const vf dd = p.d[0] * p.d[0] + p.d[1] * p.d[1] + p.d[2] * p.d[2];
     const vi ok = (c > 0.0f) & (c * c >= min_cos * min_cos * dd * n0);
-    return (~lane_bits(ok) & p.active & ~Mask{1}) == 0;
+    return (~lane_bits(ok) & p.active & (&p == &ref ? ~Mask{1} : kAllLanes)) == 0;
+}
+
+BT_PK bool coherent(const Packet& p, float min_cos) {
+    return coherent(p, min_cos, p);
 }
 
 /// The widest spread of directions (cosine) a packet is traced with interval culling at (the
@@ -549,8 +721,8 @@ BT_PK void trace_packet(const Stage& st, std::size_t at, int n, int group, const
         return;
     }
     Frustum fr;
-    if (coherent(p, kFrustumMinCos) && make_frustum(p, fr)) {
-        walk_frustum(p, fr, bvh, mesh);
+    if (coherent(p, kFrustumMinCos) && make_frustum(&p, 1, false, fr)) {
+        walk_frustum(&p, 1, fr, bvh, mesh);
     } else {
         walk_packet(p, bvh, mesh);
     }
@@ -569,6 +741,26 @@ BT_PK vu sign_class(vf x) {
     return x > 0.0f ? splat_u(2) : (x < 0.0f ? splat_u(0) : splat_u(1));
 }
 
+/// The watertight test's axis order lane by lane, as make_watertight_ray picks it: z0 (kz = 0),
+/// z1 (kz = 1; else kz = 2), the direction's component along kz and the group 2 kz + whether kx
+/// and ky swap (dk < 0).
+struct AxisOrder {
+    vi z0, z1;
+    vf dk;
+    vu group;
+};
+
+BT_PK AxisOrder axis_order(const vf d[3]) {
+    const vf ax = vabs(d[0]), ay = vabs(d[1]), az = vabs(d[2]);
+    AxisOrder k;
+    k.z0 = (ax > ay) & (ax > az);
+    k.z1 = ~(ax > ay) & (ay > az);
+    const vu kz = k.z0 ? splat_u(0) : (k.z1 ? splat_u(1) : splat_u(2));
+    k.dk = k.z0 ? d[0] : (k.z1 ? d[1] : d[2]);
+    k.group = 2 * kz + (k.dk < 0.0f ? splat_u(1) : splat_u(0));
+    return k;
+}
+
 /// Where rays go in the order packets are made in, lane by lane: their packet group in the top
 /// 8 bits (the watertight axis order, kz and whether kx, ky swap, as make_watertight_ray picks
 /// it, then which way the two other components point: a packet of one group has one sign per
@@ -576,15 +768,12 @@ BT_PK vu sign_class(vf x) {
 /// over the dominant axis: the sine of the elevation (when mostly horizontal) or the x slope
 /// (mostly vertical), then the other horizontal slope.
 BT_PK vu order_keys(const vf d[3]) {
-    const vf ax = vabs(d[0]), ay = vabs(d[1]), az = vabs(d[2]);
-    const vi z0 = (ax > ay) & (ax > az);   // kz = 0
-    const vi z1 = ~(ax > ay) & (ay > az);  // kz = 1; else kz = 2
-    const vu kz = z0 ? splat_u(0) : (z1 ? splat_u(1) : splat_u(2));
-    const vf dk = z0 ? d[0] : (z1 ? d[1] : d[2]);
-    const vu swap = dk < 0.0f ? splat_u(1) : splat_u(0);
+    const AxisOrder k = axis_order(d);
+    const vi z0 = k.z0, z1 = k.z1;
+    const vf dk = k.dk;
     const vf da = z0 ? d[1] : (z1 ? d[2] : d[0]);  // the axes after kz, unswapped
     const vf db = z0 ? d[2] : (z1 ? d[0] : d[1]);
-    const vu group = ((2 * kz + swap) * 9 + 3 * sign_class(da)) + sign_class(db);
+    const vu group = (k.group * 9 + 3 * sign_class(da)) + sign_class(db);
     const vf adk = vabs(dk);
     const vf dd = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
     const vi vertical = ~(z0 | z1);
@@ -613,8 +802,9 @@ BT_PK vf to_float(const double* x, std::size_t count) {
 }
 
 /// Rays [first, first + n) of the batch into st.in (make_box_ray's conversions, in lanes) and
-/// their order keys.
-BT_PK void stage_rays(Stage& st, const RayBatch& rays, std::size_t first, std::size_t n) {
+/// their order keys (`sorted`: else only the watertight group in them, for beams in their order).
+BT_PK void stage_rays(Stage& st, const RayBatch& rays, std::size_t first, std::size_t n,
+                      bool sorted = true) {
     st.first = first;
     const double* src[8] = {rays.ox.data(), rays.oy.data(), rays.oz.data(),   rays.dx.data(),
                             rays.dy.data(), rays.dz.data(), rays.tmin.data(), rays.tmax.data()};
@@ -626,7 +816,7 @@ BT_PK void stage_rays(Stage& st, const RayBatch& rays, std::size_t first, std::s
             f[k] = to_float(src[k] + first + j, n - j);
             __builtin_memcpy(dst[k] + j, &f[k], sizeof f[k]);
         }
-        const vu key = order_keys(f + 3);
+        const vu key = sorted ? order_keys(f + 3) : (axis_order(f + 3).group * 9) << 24;
         __builtin_memcpy(st.keys + j, &key, std::min<std::size_t>(n - j, kLanes) * 4);
     }
     // A packet's loads may read kLanes floats past the last ray: zeros there.
@@ -701,6 +891,26 @@ BT_PK void order_stage(Stage& st, std::size_t n) {
     }
 }
 
+/// Rays [at, end) of a stage in packet order, each run of one packet group whose keys rise (all
+/// of a sorted stage's group) cut into packets that are loaded whole.
+BT_PK void trace_runs(const Stage& st, std::size_t at, std::size_t end, const Bvh& bvh,
+                      const TriangleMesh& mesh, HitBatch& hits, bool only_coherent, float min_cos) {
+    while (at < end) {
+        const std::uint32_t group = packet_group(st.keys[st.order[at]]);
+        std::size_t run = at + 1;
+        while (run < end && packet_group(st.keys[st.order[run]]) == group &&
+               st.keys[st.order[run]] >= st.keys[st.order[run - 1]]) {
+            ++run;
+        }
+        while (at < run) {
+            const std::size_t k = std::min<std::size_t>(kLanes, run - at);
+            trace_packet(st, at, static_cast<int>(k), static_cast<int>(group / 9), bvh, mesh, hits,
+                         only_coherent, min_cos);
+            at += k;
+        }
+    }
+}
+
 BT_PK_ENTRY void trace_range(const Bvh& bvh, const TriangleMesh& mesh, const RayBatch& rays,
                              std::size_t begin, std::size_t end, HitBatch& hits, bool only_coherent,
                              float min_cos) {
@@ -713,20 +923,89 @@ BT_PK_ENTRY void trace_range(const Bvh& bvh, const TriangleMesh& mesh, const Ray
         const std::size_t n = std::min(StageRays::kRays, end - first);
         stage_rays(st, rays, first, n);
         order_stage(st, n);
-        std::size_t at = 0;
-        while (at < n) {
-            // A run of one packet group whose keys rise (all of a sorted stage's group).
-            const std::uint32_t group = packet_group(st.keys[st.order[at]]);
-            std::size_t run = at + 1;
-            while (run < n && packet_group(st.keys[st.order[run]]) == group &&
-                   st.keys[st.order[run]] >= st.keys[st.order[run - 1]]) {
-                ++run;
+        trace_runs(st, 0, n, bvh, mesh, hits, only_coherent, min_cos);
+    }
+}
+
+/// Rays [at, at + n) of an unsorted stage (n at most kWalkRays: whole beams of sub-rays) as
+/// packets of kLanes of them that walk the tree as one frustum (mixed axes allowed: a narrow
+/// beam about a plane of an axis has lanes moving up and down it), each lane testing the faces
+/// of the leaves its own slab test enters. False if they differ in the watertight axis order,
+/// or, with `split`, their directions spread too wide for one frustum (then nothing is traced:
+/// a sawtooth's wrap falls between two beams of a walk).
+BT_PK bool trace_walk(const Stage& st, std::size_t at, std::size_t n, bool split, const Bvh& bvh,
+                      const TriangleMesh& mesh, HitBatch& hits, bool only_coherent, float min_cos) {
+    const std::uint32_t group = packet_group(st.keys[at]) / 9;
+    for (std::size_t j = at + 1; j < at + n; ++j) {
+        if (packet_group(st.keys[j]) / 9 != group) {
+            return false;
+        }
+    }
+    Packet ps[kBeamPackets];
+    const int np = static_cast<int>((n + kLanes - 1) / kLanes);
+    bool narrow = true, wanted = true;
+    for (int q = 0; q < np; ++q) {
+        const std::size_t from = static_cast<std::size_t>(q) * kLanes;
+        load_packet(ps[q], *st.rays, at + from,
+                    static_cast<int>(std::min<std::size_t>(kLanes, n - from)),
+                    static_cast<int>(group));
+        // Within min_cos of each other, the rays are within kFrustumMinCos too (min_cos is
+        // the stricter): one test then.
+        const bool near_enough = only_coherent && coherent(ps[q], min_cos, ps[0]);
+        wanted = wanted && (!only_coherent || near_enough);
+        narrow = narrow && ((near_enough && min_cos >= kFrustumMinCos) ||
+                            coherent(ps[q], kFrustumMinCos, ps[0]));
+    }
+    if (split && !(narrow && wanted)) {
+        return false;
+    }
+    if (!wanted) {
+        for (std::size_t j = at; j < at + n; ++j) {
+            trace_single(bvh, mesh, stage_ray(*st.rays, j), hits, st.first + j);
+        }
+        return true;
+    }
+    Frustum fr;
+    if (narrow && make_frustum(ps, np, true, fr)) {
+        walk_frustum<true>(ps, np, fr, bvh, mesh);
+    } else {
+        for (int q = 0; q < np; ++q) {
+            walk_packet(ps[q], bvh, mesh);
+        }
+    }
+    for (int q = 0; q < np; ++q) {
+        store_in_order(ps[q], st, at + static_cast<std::size_t>(q) * kLanes, hits);
+    }
+    return true;
+}
+
+/// trace_range for rays in beams of `per_beam` (at most kWalkRays): as many whole beams as
+/// kWalkRays holds walk the tree together (trace_walk), in the order the rays come in; where
+/// their watertight axis orders differ, beam by beam, and a beam whose do in runs of one
+/// packet group (trace_runs).
+BT_PK_ENTRY void trace_beams(const Bvh& bvh, const TriangleMesh& mesh, const RayBatch& rays,
+                             std::size_t begin, std::size_t end, std::size_t per_beam,
+                             HitBatch& hits, bool only_coherent, float min_cos) {
+    Stage st;
+    const std::size_t walk = kWalkRays / per_beam * per_beam;
+    const std::size_t stage = StageRays::kRays / walk * walk;
+    for (std::size_t j = 0; j < stage; ++j) {
+        st.order[j] = static_cast<std::uint16_t>(j);
+    }
+    st.rays = &st.in;
+    for (std::size_t first = begin; first < end; first += stage) {
+        const std::size_t n = std::min(stage, end - first);
+        stage_rays(st, rays, first, n, false);
+        for (std::size_t at = 0; at < n; at += walk) {
+            const std::size_t m = std::min(walk, n - at);
+            if (trace_walk(st, at, m, m > per_beam, bvh, mesh, hits, only_coherent, min_cos)) {
+                continue;
             }
-            while (at < run) {
-                const std::size_t k = std::min<std::size_t>(kLanes, run - at);
-                trace_packet(st, at, static_cast<int>(k), static_cast<int>(group / 9), bvh, mesh,
-                             hits, only_coherent, min_cos);
-                at += k;
+            for (std::size_t b = at; b < at + m; b += per_beam) {
+                const std::size_t k = std::min(per_beam, at + m - b);
+                if (!trace_walk(st, b, k, false, bvh, mesh, hits, only_coherent, min_cos)) {
+                    trace_runs(st, b, b + k, bvh, mesh, hits, only_coherent, min_cos);
+                }
             }
         }
     }

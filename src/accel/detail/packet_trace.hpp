@@ -39,4 +39,15 @@ void intersect_packets(const Bvh& bvh, const TriangleMesh& mesh, const RayBatch&
                        std::size_t begin, std::size_t end, HitBatch& hits, int lanes,
                        bool only_coherent, double max_spread_rad);
 
+/// intersect_packets for rays in beams of `rays_per_beam` (rays [begin + k * rays_per_beam,
+/// begin + (k + 1) * rays_per_beam): a pulse's sub-rays, from one origin in a narrow cone): the
+/// same hits, bit for bit. Without the stage's sort, as many whole beams as 128 rays hold walk
+/// the tree as one frustum (packets of `lanes` sharing one walk; each lane tests the faces of the
+/// leaves its own slab test enters) where their rays share the watertight axis order; lanes
+/// moving up and down an axis (a beam about a plane of it) are bounded on it by their own near
+/// and far distances. Beams of one ray or of more than 128 are traced as intersect_packets.
+void intersect_beams(const Bvh& bvh, const TriangleMesh& mesh, const RayBatch& rays,
+                     std::size_t begin, std::size_t end, std::size_t rays_per_beam, HitBatch& hits,
+                     int lanes, bool only_coherent, double max_spread_rad);
+
 }  // namespace beamtrace::detail

@@ -265,6 +265,25 @@ class QueryBackend final : public Backend {
         });
     }
 
+    void intersect_beams(const RayBatch& rays, std::size_t begin, std::size_t end,
+                         std::size_t rays_per_beam, HitBatch& hits,
+                         ThreadPool& pool) const override {
+        if constexpr (requires {
+                          traverser_.intersect_beams_range(rays, begin, end, rays_per_beam, hits);
+                      }) {
+            // Whole beams to each chunk.
+            const std::size_t per = std::max<std::size_t>(1, rays_per_beam);
+            const std::size_t beams = (end - begin + per - 1) / per;
+            const std::size_t grain = std::max<std::size_t>(1, ray_grain(end - begin, pool) / per);
+            pool.parallel_for(beams, grain, [&](std::size_t b, std::size_t e) {
+                traverser_.intersect_beams_range(rays, begin + b * per,
+                                                 std::min(end, begin + e * per), per, hits);
+            });
+            return;
+        }
+        intersect(rays, begin, end, hits, pool);
+    }
+
     void occluded(const RayBatch& rays, std::size_t begin, std::size_t end,
                   std::vector<std::uint8_t>& occluded, ThreadPool& pool) const override {
         occluded.resize(rays.size());
