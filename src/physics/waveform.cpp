@@ -9,6 +9,7 @@
 #include <limits>
 #include <numbers>
 
+#include "physics/detail/fast_exp.hpp"
 #include "physics/detail/gaussian_runs.hpp"
 
 namespace beamtrace {
@@ -20,21 +21,14 @@ const double kSqrtTwoPi = std::sqrt(2.0 * std::numbers::pi);
 
 using detail::GaussianRun;
 
-/// The run of the bins [b0, b1] (none when b1 < b0) of width h [ns] of
-/// amplitude * exp(-(t - t0)^2 / (2 sigma^2)); inv_two_var = 1 / (2 sigma^2).
-GaussianRun gaussian_run(double h, std::int64_t b0, std::int64_t b1, double t0, double amplitude,
-                         double inv_two_var) {
-    GaussianRun r;
-    r.b0 = b0;
-    if (b1 < b0) {
-        return r;
-    }
+/// The exponents of the run from bin b0 of width h [ns] of amplitude * exp(-(t - t0)^2 /
+/// (2 sigma^2)), inv_two_var = 1 / (2 sigma^2): their exps are its first sample over the
+/// amplitude, its first ratio and the ratio's step (GaussianRun).
+void run_exponents(double h, std::int64_t b0, double t0, double inv_two_var, double* e) {
     const double dt0 = static_cast<double>(b0) * h - t0;
-    r.g = amplitude * std::exp(-dt0 * dt0 * inv_two_var);
-    r.ratio = std::exp(-(2.0 * dt0 * h + h * h) * inv_two_var);
-    r.step = std::exp(-2.0 * h * h * inv_two_var);
-    r.n = static_cast<std::size_t>(b1 - b0 + 1);
-    return r;
+    e[0] = -dt0 * dt0 * inv_two_var;
+    e[1] = -(2.0 * dt0 * h + h * h) * inv_two_var;
+    e[2] = -2.0 * h * h * inv_two_var;
 }
 
 /// static_cast<std::int64_t>(std::floor(x)) and (ceil) without the libm calls (baseline x86-64
@@ -588,15 +582,27 @@ void build_waveform(const WaveformConfig& config, std::span<const EchoContributi
     bool stretched[kRows] = {};
     RunQuotients q;
     std::size_t count = 0;
-    const auto add = [&] {  // the runs of q's count contributions
+    const auto add = [&] {  // the runs of q's count contributions (the bins [b0, b1] each)
         run_quotients(q, count, config.bin_ns, sigma_p);
         GaussianRun runs[kRows];
+        double e[3 * kRows] = {};  // an empty run's stay 0
         for (std::size_t i = 0; i < count; ++i) {
-            // The stretched echo keeps its energy: its peak drops as sigma_p / sigma.
-            runs[i] = gaussian_run(out.bin_ns, std::max(first, floor_to_int(q.lo[i])),
-                                   std::min(last, ceil_to_int(q.hi[i])), q.t[i],
-                                   stretched[i] ? amplitude[i] * q.shrink[i] : amplitude[i],
-                                   q.inv_two_var[i]);
+            const std::int64_t b0 = std::max(first, floor_to_int(q.lo[i]));
+            const std::int64_t b1 = std::min(last, ceil_to_int(q.hi[i]));
+            runs[i].b0 = b0;
+            if (b1 >= b0) {
+                runs[i].n = static_cast<std::size_t>(b1 - b0 + 1);
+                run_exponents(out.bin_ns, b0, q.t[i], q.inv_two_var[i], e + 3 * i);
+            }
+        }
+        detail::fast_exp_lanes(e, e, 3 * count);  // the same bits in every lane and path
+        for (std::size_t i = 0; i < count; ++i) {
+            if (runs[i].n > 0) {
+                // The stretched echo keeps its energy: its peak drops as sigma_p / sigma.
+                runs[i].g = (stretched[i] ? amplitude[i] * q.shrink[i] : amplitude[i]) * e[3 * i];
+                runs[i].ratio = e[3 * i + 1];
+                runs[i].step = e[3 * i + 2];
+            }
         }
         add_runs(out, runs, count);
         count = 0;
