@@ -42,11 +42,12 @@ template <typename V>
     const V k = t - kShifter;
     // r = rh - c; the correction c joins the small terms before they are added to rh.
     const V rh = x - k * kLn2Hi, c = k * kLn2Lo, r = rh - c;
-    V q = r * kQ[9] + kQ[8];
-    for (int i = 7; i >= 0; --i) {
-        q = q * r + kQ[i];
-    }
-    p = 1.0 + (rh + ((r * r) * q - c));
+    // q by Estrin's scheme: a shorter chain of dependent operations than Horner's.
+    const V r2 = r * r, r4 = r2 * r2;
+    const V p01 = kQ[0] + kQ[1] * r, p23 = kQ[2] + kQ[3] * r, p45 = kQ[4] + kQ[5] * r;
+    const V p67 = kQ[6] + kQ[7] * r, p89 = kQ[8] + kQ[9] * r;
+    const V q = (p01 + r2 * p23) + r4 * ((p45 + r2 * p67) + r4 * p89);
+    p = 1.0 + (rh + (r2 * q - c));
 }
 
 // (__builtin_bit_cast: std::bit_cast would return a vector by value from a function compiled
@@ -86,39 +87,68 @@ __attribute__((target("avx512f"))) inline bool all_near(const Oct& v) {
     return _mm512_cmp_pd_mask(a, _mm512_set1_pd(kOneStepRange), _CMP_LT_OQ) == 0xff;
 }
 
-/// y[0, w) = fast_exp(x[0, w)), w the lanes of V: at once where every |x| < kOneStepRange,
-/// else lane by lane.
+// The first n < w lanes (the others 0) from x, and back to y.
+inline void load_first(const double* x, std::size_t, Pair& v) {
+    v = Pair{x[0], 0.0};  // n is 1
+}
+inline void store_first(double* y, std::size_t, const Pair& e) {
+    y[0] = e[0];
+}
+__attribute__((target("avx2"))) inline __m256i first_lanes(std::size_t n) {
+    return _mm256_cmpgt_epi64(_mm256_set1_epi64x(static_cast<std::int64_t>(n)),
+                              _mm256_setr_epi64x(0, 1, 2, 3));
+}
+__attribute__((target("avx2"))) inline void load_first(const double* x, std::size_t n, Quad& v) {
+    v = _mm256_maskload_pd(x, first_lanes(n));
+}
+__attribute__((target("avx2"))) inline void store_first(double* y, std::size_t n, const Quad& e) {
+    _mm256_maskstore_pd(y, first_lanes(n), e);
+}
+__attribute__((target("avx512f"))) inline void load_first(const double* x, std::size_t n, Oct& v) {
+    v = _mm512_maskz_loadu_pd(static_cast<__mmask8>((1u << n) - 1u), x);
+}
+__attribute__((target("avx512f"))) inline void store_first(double* y, std::size_t n, const Oct& e) {
+    _mm512_mask_storeu_pd(y, static_cast<__mmask8>((1u << n) - 1u), e);
+}
+
+/// e = fast_exp of every lane of v: at once where every |v| < kOneStepRange, else lane by lane.
 template <typename V, typename U>
-inline void exp_block(const double* x, double* y) {
+inline void exp_of_lanes(const V& v, V& e) {
     constexpr std::size_t w = sizeof(V) / sizeof(double);
-    V v;
-    std::memcpy(&v, x, sizeof v);
     if (!all_near(v)) {
         for (std::size_t i = 0; i < w; ++i) {
-            y[i] = fast_exp(x[i]);
+            e[i] = fast_exp(v[i]);
         }
         return;
     }
-    V t, p, e;
+    V t, p;
     reduce(v, t, p);
     scale_once<V, U>(p, t, e);
-    std::memcpy(y, &e, sizeof e);
 }
 
-/// y[0, n) = fast_exp(x[0, n)) in blocks of V's lanes (the last one padded with zeros).
+/// y[0, n) = fast_exp(x[0, n)) in blocks of V's lanes; the last block ends at n (it overlaps
+/// the one before it, from inputs read before any output is written: x may be y).
 template <typename V, typename U>
 inline void exp_array(const double* x, double* y, std::size_t n) {
     constexpr std::size_t w = sizeof(V) / sizeof(double);
-    std::size_t i = 0;
-    for (; i + w <= n; i += w) {
-        exp_block<V, U>(x + i, y + i);
+    V v = {}, e = {};
+    if (n < w) {
+        if (n > 0) {
+            load_first(x, n, v);
+            exp_of_lanes<V, U>(v, e);
+            store_first(y, n, e);
+        }
+        return;
     }
-    if (i < n) {
-        double in[w] = {}, out[w];
-        std::memcpy(in, x + i, (n - i) * sizeof(double));
-        exp_block<V, U>(in, out);
-        std::memcpy(y + i, out, (n - i) * sizeof(double));
+    V last = {};
+    std::memcpy(&last, x + n - w, sizeof last);
+    for (std::size_t i = 0; i + w < n; i += w) {
+        std::memcpy(&v, x + i, sizeof v);
+        exp_of_lanes<V, U>(v, e);
+        std::memcpy(y + i, &e, sizeof e);
     }
+    exp_of_lanes<V, U>(last, e);
+    std::memcpy(y + n - w, &e, sizeof e);
 }
 
 // flatten: everything inlined into each entry, compiled for its target (the helpers above are
