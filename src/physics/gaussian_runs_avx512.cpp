@@ -70,13 +70,15 @@ BT_RL_ENTRY void add_runs_lanes(double* y, std::size_t width, std::int64_t first
         _mm512_set1_epi64(first));
     const __m512i vn =
         _mm512_mask_i64gather_epi64(_mm512_setzero_si512(), used, field, &runs->n, 8);
+    // rel = s - offset, bin s's place in each run, stepped along (active where 0 <= rel < n;
+    // unsigned: below 0 wraps past every n).
+    __m512i rel = _mm512_sub_epi64(_mm512_set1_epi64(static_cast<std::int64_t>(lo)), voffset);
+    const __m512i one = _mm512_set1_epi64(1);
     for (std::size_t s0 = lo; s0 < hi; s0 += 8) {
         Oct v[8], t[8];
         for (std::size_t k = 0; k < 8; ++k) {
-            // Active where 0 <= s - offset < n (unsigned: below 0 wraps past every n).
-            const __m512i rel =
-                _mm512_sub_epi64(_mm512_set1_epi64(static_cast<std::int64_t>(s0 + k)), voffset);
             const __mmask8 active = _mm512_cmplt_epu64_mask(rel, vn);
+            rel = _mm512_add_epi64(rel, one);
             v[k] = reinterpret_cast<Oct>(_mm512_maskz_mov_pd(active, vg));
             vg = _mm512_mask_mul_pd(vg, active, vg, vratio);
             vratio = _mm512_mask_mul_pd(vratio, active, vratio, vstep);
