@@ -32,7 +32,6 @@ constexpr double kQ[10] = {0x1.0000000000001p-1,  0x1.5555555555556p-3,  0x1.555
                            0x1.af3cd7b3560d9p-26};
 /// For |x| below this, |k| <= 1021 and e^x is normal: 2^k is added to the exponent at once.
 constexpr double kOneStepRange = 707.0;
-constexpr std::int64_t kAbsMask = 0x7fffffffffffffff;
 
 /// The reduction and the polynomial, for a double or a vector of them: t = k + kShifter and
 /// p = e^r, so that e^x = p 2^k.
@@ -66,6 +65,8 @@ double two_to(std::int64_t k) {
 }
 
 #if BEAMTRACE_EXP_LANES
+constexpr std::int64_t kAbsMask = 0x7fffffffffffffff;
+
 using Pair = double __attribute__((vector_size(16)));
 using PairBits = std::uint64_t __attribute__((vector_size(16)));
 using Quad = double __attribute__((vector_size(32)));
