@@ -75,6 +75,10 @@ set_source_files_properties("${PROJECT_SOURCE_DIR}/src/accel/packet_trace.cpp" P
 # sub-rays vectorise (the results are the same: errno is all that -fno-math-errno drops).
 set_source_files_properties("${PROJECT_SOURCE_DIR}/src/physics/pulse.cpp"
   "${PROJECT_SOURCE_DIR}/src/physics/waveform.cpp" PROPERTIES COMPILE_OPTIONS "-fno-math-errno")
+# Our exp: every path (scalar, SSE2, AVX2, AVX-512) rounds each product and sum alone, so all
+# give the same bits (src/physics/detail/fast_exp.hpp).
+set_source_files_properties("${PROJECT_SOURCE_DIR}/src/physics/fast_exp.cpp" PROPERTIES
+  COMPILE_OPTIONS "-ffp-contract=off" COMPILE_DEFINITIONS BEAMTRACE_FP_CONTRACT_OFF)
 
 # Third-party libraries, each on the module that uses it.
 target_link_libraries(beamtrace_core PUBLIC Threads::Threads)

@@ -48,30 +48,37 @@ bool run_lanes_available() {
 // eight lanes at a time are transposed so that each run's eight samples add to eight bins.
 BT_RL_ENTRY void add_runs_lanes(double* y, std::size_t width, std::int64_t first,
                                 const GaussianRun* runs, std::size_t count) {
-    alignas(64) double g[8] = {}, ratio[8] = {}, step[8] = {};
-    alignas(64) std::int64_t offset[8] = {}, n[8] = {};
     std::size_t lo = width, hi = 0;  // the bins some run reaches
     for (std::size_t l = 0; l < count; ++l) {
-        g[l] = runs[l].g;
-        ratio[l] = runs[l].ratio;
-        step[l] = runs[l].step;
-        offset[l] = runs[l].b0 - first;
-        n[l] = static_cast<std::int64_t>(runs[l].n);
         if (runs[l].n > 0) {
-            lo = std::min(lo, static_cast<std::size_t>(offset[l]));
-            hi = std::max(hi, static_cast<std::size_t>(offset[l]) + runs[l].n);
+            const auto offset = static_cast<std::size_t>(runs[l].b0 - first);
+            lo = std::min(lo, offset);
+            hi = std::max(hi, offset + runs[l].n);
         }
     }
-    __m512d vg = _mm512_load_pd(g), vratio = _mm512_load_pd(ratio);
-    const __m512d vstep = _mm512_load_pd(step);
-    const __m512i voffset = _mm512_load_si512(offset), vn = _mm512_load_si512(n);
+    // The runs' fields gathered into lanes (0 beyond count): element loads, which the caller's
+    // stores just made forward to (a vector load of scalars stored apart would wait for them).
+    static_assert(sizeof(GaussianRun) == 5 * sizeof(double));
+    const __m512i field = _mm512_setr_epi64(0, 5, 10, 15, 20, 25, 30, 35);
+    const auto used = static_cast<__mmask8>((1u << count) - 1u);
+    const __m512d zero = _mm512_setzero_pd();
+    __m512d vg = _mm512_mask_i64gather_pd(zero, used, field, &runs->g, 8);
+    __m512d vratio = _mm512_mask_i64gather_pd(zero, used, field, &runs->ratio, 8);
+    const __m512d vstep = _mm512_mask_i64gather_pd(zero, used, field, &runs->step, 8);
+    const __m512i voffset = _mm512_sub_epi64(
+        _mm512_mask_i64gather_epi64(_mm512_setzero_si512(), used, field, &runs->b0, 8),
+        _mm512_set1_epi64(first));
+    const __m512i vn =
+        _mm512_mask_i64gather_epi64(_mm512_setzero_si512(), used, field, &runs->n, 8);
+    // rel = s - offset, bin s's place in each run, stepped along (active where 0 <= rel < n;
+    // unsigned: below 0 wraps past every n).
+    __m512i rel = _mm512_sub_epi64(_mm512_set1_epi64(static_cast<std::int64_t>(lo)), voffset);
+    const __m512i one = _mm512_set1_epi64(1);
     for (std::size_t s0 = lo; s0 < hi; s0 += 8) {
         Oct v[8], t[8];
         for (std::size_t k = 0; k < 8; ++k) {
-            // Active where 0 <= s - offset < n (unsigned: below 0 wraps past every n).
-            const __m512i rel =
-                _mm512_sub_epi64(_mm512_set1_epi64(static_cast<std::int64_t>(s0 + k)), voffset);
             const __mmask8 active = _mm512_cmplt_epu64_mask(rel, vn);
+            rel = _mm512_add_epi64(rel, one);
             v[k] = reinterpret_cast<Oct>(_mm512_maskz_mov_pd(active, vg));
             vg = _mm512_mask_mul_pd(vg, active, vg, vratio);
             vratio = _mm512_mask_mul_pd(vratio, active, vratio, vstep);

@@ -12,6 +12,7 @@
 #include "beamtrace/core/error.hpp"
 #include "beamtrace/core/name_table.hpp"
 #include "beamtrace/physics/weather_echoes.hpp"
+#include "physics/detail/fast_exp.hpp"
 
 namespace beamtrace {
 
@@ -245,15 +246,51 @@ __attribute__((target("avx2"))) std::size_t narrow_echo_sigmas_avx2(const BeamSa
 
 }  // namespace
 
-double PulseSimulator::sub_ray_power_w(const SubRayHit& hit, double weight) const {
-    if (!std::isfinite(hit.range_m) || !(hit.range_m > 0)) {
+namespace {
+
+/// True when a hit at `range_m` receives power (a finite, positive range).
+bool powered(double range_m) {
+    return std::isfinite(range_m) && range_m > 0;
+}
+
+}  // namespace
+
+double PulseSimulator::transmission_exponent(double range_m) const {
+    return -2.0 * alpha_per_m_ * range_m;  // two_way_transmission's, with our exp
+}
+
+double PulseSimulator::sub_ray_power_w(const SubRayHit& hit, double weight,
+                                       double transmission) const {
+    if (!powered(hit.range_m)) {
         return 0.0;
     }
     const double l = monostatic_reflectance(config_.brdf, hit.cos_incidence, hit.specular_weight,
                                             hit.specular_exponent);
     return received_power_w(config_.radiometry, config_.radiometry.peak_power_w * weight,
-                            hit.albedo, l, hit.range_m,
-                            two_way_transmission(alpha_per_m_, hit.range_m));
+                            hit.albedo, l, hit.range_m, transmission);
+}
+
+double PulseSimulator::sub_ray_power_w(const SubRayHit& hit, double weight) const {
+    return sub_ray_power_w(hit, weight, detail::fast_exp(transmission_exponent(hit.range_m)));
+}
+
+void PulseSimulator::sub_ray_powers(std::span<const BeamSample> samples,
+                                    std::span<double> out) const {
+    // The transmissions of a chunk of samples in lanes, then their powers: sub_ray_power_w's
+    // bits (fast_exp's in every lane).
+    constexpr std::size_t kChunk = 32;
+    double t[kChunk];
+    for (std::size_t j0 = 0; j0 < samples.size(); j0 += kChunk) {
+        const std::size_t m = std::min(kChunk, samples.size() - j0);
+        for (std::size_t i = 0; i < m; ++i) {
+            const double r = samples[j0 + i].hit.range_m;
+            t[i] = powered(r) ? transmission_exponent(r) : 0.0;  // no power: any exponent
+        }
+        detail::fast_exp_lanes(t, t, m);
+        for (std::size_t i = 0; i < m; ++i) {
+            out[j0 + i] = sub_ray_power_w(samples[j0 + i].hit, samples[j0 + i].weight, t[i]);
+        }
+    }
 }
 
 void PulseSimulator::echo_sigmas(std::span<const BeamSample> samples,
@@ -394,9 +431,7 @@ void PulseSimulator::sample_contributions(std::uint64_t seed, std::uint64_t puls
     const std::size_t n = samples.size();
     std::vector<double>& powers = out.sub_ray_power_w;
     powers.resize(n);
-    for (std::size_t j = 0; j < n; ++j) {
-        powers[j] = sub_ray_power_w(samples[j].hit, samples[j].weight);
-    }
+    sub_ray_powers(samples, powers);
     if (!medium_) {  // no shadows to take off: the echoes, then their widths in a loop of their own
         for (std::size_t j = 0; j < n; ++j) {
             if (powers[j] > 0) {

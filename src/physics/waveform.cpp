@@ -9,6 +9,7 @@
 #include <limits>
 #include <numbers>
 
+#include "physics/detail/fast_exp.hpp"
 #include "physics/detail/gaussian_runs.hpp"
 
 namespace beamtrace {
@@ -20,21 +21,14 @@ const double kSqrtTwoPi = std::sqrt(2.0 * std::numbers::pi);
 
 using detail::GaussianRun;
 
-/// The run of the bins [b0, b1] (none when b1 < b0) of width h [ns] of
-/// amplitude * exp(-(t - t0)^2 / (2 sigma^2)); inv_two_var = 1 / (2 sigma^2).
-GaussianRun gaussian_run(double h, std::int64_t b0, std::int64_t b1, double t0, double amplitude,
-                         double inv_two_var) {
-    GaussianRun r;
-    r.b0 = b0;
-    if (b1 < b0) {
-        return r;
-    }
+/// The exponents of the run from bin b0 of width h [ns] of amplitude * exp(-(t - t0)^2 /
+/// (2 sigma^2)), inv_two_var = 1 / (2 sigma^2): their exps are its first sample over the
+/// amplitude, its first ratio and the ratio's step (GaussianRun).
+void run_exponents(double h, std::int64_t b0, double t0, double inv_two_var, double* e) {
     const double dt0 = static_cast<double>(b0) * h - t0;
-    r.g = amplitude * std::exp(-dt0 * dt0 * inv_two_var);
-    r.ratio = std::exp(-(2.0 * dt0 * h + h * h) * inv_two_var);
-    r.step = std::exp(-2.0 * h * h * inv_two_var);
-    r.n = static_cast<std::size_t>(b1 - b0 + 1);
-    return r;
+    e[0] = -dt0 * dt0 * inv_two_var;
+    e[1] = -(2.0 * dt0 * h + h * h) * inv_two_var;
+    e[2] = -2.0 * h * h * inv_two_var;
 }
 
 /// static_cast<std::int64_t>(std::floor(x)) and (ceil) without the libm calls (baseline x86-64
@@ -68,12 +62,19 @@ constexpr std::size_t kRunsOneByOne = 2;
 #define BEAMTRACE_WAVEFORM_CLONES
 #endif
 
-/// The divisions of up to kRows runs, each rounded as alone (the AVX2 clone: four at a time):
+/// Contributions whose runs are made together (their exps in one pass), then added kRows at a
+/// time.
+constexpr std::size_t kBatch = 4 * kRows;
+
+/// The divisions of up to kBatch runs, each rounded as alone (the AVX2 clone: four at a time):
 /// of the run at round-trip time t[i] of width sigma[i], its reach's ends in bins (lo, hi,
-/// before floor and ceil), 1 / (2 sigma^2) and sigma_p / sigma.
+/// before floor and ceil), 1 / (2 sigma^2) and sigma_p / sigma; and each one's peak power and
+/// whether it is stretched (EchoContribution).
 struct RunQuotients {
-    double t[kRows], sigma[kRows];
-    double lo[kRows], hi[kRows], inv_two_var[kRows], shrink[kRows];
+    double t[kBatch], sigma[kBatch];
+    double lo[kBatch], hi[kBatch], inv_two_var[kBatch], shrink[kBatch];
+    double amplitude[kBatch];
+    bool stretched[kBatch];
 };
 
 BEAMTRACE_WAVEFORM_CLONES void run_quotients(RunQuotients& q, std::size_t n, double bin_ns,
@@ -84,6 +85,36 @@ BEAMTRACE_WAVEFORM_CLONES void run_quotients(RunQuotients& q, std::size_t n, dou
         q.hi[i] = (q.t[i] + reach_ns) / bin_ns;
         q.inv_two_var[i] = 1.0 / (2.0 * q.sigma[i] * q.sigma[i]);
         q.shrink[i] = sigma_p / q.sigma[i];
+    }
+}
+
+/// The runs of q's `count` contributions, each inside the bins [first, last] (width h [ns]):
+/// their 3 count exps in one pass of fast_exp_lanes (the same bits in every lane and path).
+void make_runs(RunQuotients& q, std::size_t count, double h, double sigma_p, std::int64_t first,
+               std::int64_t last, GaussianRun* runs) {
+    run_quotients(q, count, h, sigma_p);
+    double e[3 * kBatch];
+    for (std::size_t i = 0; i < count; ++i) {
+        const std::int64_t b0 = std::max(first, floor_to_int(q.lo[i]));
+        const std::int64_t b1 = std::min(last, ceil_to_int(q.hi[i]));
+        runs[i] = GaussianRun{};
+        runs[i].b0 = b0;
+        if (b1 >= b0) {
+            runs[i].n = static_cast<std::size_t>(b1 - b0 + 1);
+            run_exponents(h, b0, q.t[i], q.inv_two_var[i], e + 3 * i);
+        } else {
+            std::fill(e + 3 * i, e + 3 * i + 3, 0.0);  // an empty run: no exps needed
+        }
+    }
+    detail::fast_exp_lanes(e, e, 3 * count);
+    for (std::size_t i = 0; i < count; ++i) {
+        if (runs[i].n > 0) {
+            // The stretched echo keeps its energy: its peak drops as sigma_p / sigma.
+            const double a = q.amplitude[i];
+            runs[i].g = (q.stretched[i] ? a * q.shrink[i] : a) * e[3 * i];
+            runs[i].ratio = e[3 * i + 1];
+            runs[i].step = e[3 * i + 2];
+        }
     }
 }
 
@@ -584,29 +615,22 @@ void build_waveform(const WaveformConfig& config, std::span<const EchoContributi
     const std::int64_t last = ceil_to_int(t_hi / config.bin_ns);
     out.first_bin = first;
     out.samples_w.assign(static_cast<std::size_t>(last - first + 1), 0.0);
-    double amplitude[kRows];
-    bool stretched[kRows] = {};
     RunQuotients q;
     std::size_t count = 0;
-    const auto add = [&] {  // the runs of q's count contributions
-        run_quotients(q, count, config.bin_ns, sigma_p);
-        GaussianRun runs[kRows];
-        for (std::size_t i = 0; i < count; ++i) {
-            // The stretched echo keeps its energy: its peak drops as sigma_p / sigma.
-            runs[i] = gaussian_run(out.bin_ns, std::max(first, floor_to_int(q.lo[i])),
-                                   std::min(last, ceil_to_int(q.hi[i])), q.t[i],
-                                   stretched[i] ? amplitude[i] * q.shrink[i] : amplitude[i],
-                                   q.inv_two_var[i]);
+    const auto add = [&] {  // the runs of q's count contributions, kRows at a time
+        GaussianRun runs[kBatch];
+        make_runs(q, count, out.bin_ns, sigma_p, first, last, runs);
+        for (std::size_t c0 = 0; c0 < count; c0 += kRows) {
+            add_runs(out, runs + c0, std::min(kRows, count - c0));
         }
-        add_runs(out, runs, count);
         count = 0;
     };
     for (const auto& c : contributions) {
         q.t[count] = c.range_m * round_trip_ns_per_m();
         q.sigma[count] = sigma_of(c);
-        amplitude[count] = c.power_w;
-        stretched[count] = c.sigma_ns > 0;
-        if (++count == kRows) {
+        q.amplitude[count] = c.power_w;
+        q.stretched[count] = c.sigma_ns > 0;
+        if (++count == kBatch) {
             add();
         }
     }

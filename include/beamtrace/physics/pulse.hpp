@@ -178,7 +178,8 @@ class PulseSimulator {
     /// echo_sigma_ns of every sample into `out` (resized): bit for bit, four at a time with AVX2.
     void echo_sigmas(std::span<const BeamSample> samples, std::vector<double>& out) const;
     /// The received power of one sub-ray hit with pattern weight `weight` [W], with the
-    /// configured BRDF's monostatic L(i).
+    /// configured BRDF's monostatic L(i) and the two-way transmission exp(-2 alpha R) (by
+    /// beamtrace's exp, within an ulp of std::exp's: the same bits in lanes).
     [[nodiscard]] double sub_ray_power_w(const SubRayHit& hit, double weight) const;
     /// The returns of pulse `pulse_index` whose sub-rays saw `hits` (hits.size() must equal
     /// sub_ray_count(); hits[j] belongs to pattern()[j]), each sub-ray filling its cell.
@@ -228,6 +229,13 @@ class PulseSimulator {
 
     /// echo_sigma_ns of a footprint of per-axis spread `cell_sigma` (beam units).
     [[nodiscard]] double echo_sigma_ns(const SubRayHit& hit, double cell_sigma) const;
+    /// -2 alpha R: the exponent of the two-way transmission over `range_m`.
+    [[nodiscard]] double transmission_exponent(double range_m) const;
+    /// sub_ray_power_w with the two-way `transmission` given.
+    [[nodiscard]] double sub_ray_power_w(const SubRayHit& hit, double weight,
+                                         double transmission) const;
+    /// sub_ray_power_w of every sample into out[0, samples.size()), the transmissions in lanes.
+    void sub_ray_powers(std::span<const BeamSample> samples, std::span<double> out) const;
     double alpha_per_m_ = 0.0;
     std::optional<WeatherMedium> medium_;  ///< with weather in the air
 

@@ -8,12 +8,13 @@
 namespace beamtrace::detail {
 
 /// amplitude * exp(-(t - t0)^2 / (2 sigma^2)) on the bins [b0, b0 + n), by recurrence (three
-/// exp calls): g is the first sample; the ratio of consecutive samples is
-/// exp(-k (2 dt h + h^2)), itself scaled by `step` = exp(-2 k h^2) per bin.
+/// exps, fast_exp's, detail/fast_exp.hpp): g is the first sample; the ratio of consecutive samples
+/// is exp(-k (2 dt h + h^2)), itself scaled by `step` = exp(-2 k h^2) per bin.
+/// No default member initialisers: arrays of them are not zeroed first (GaussianRun{} is all 0).
 struct GaussianRun {
-    double g = 0.0, ratio = 0.0, step = 0.0;
-    std::int64_t b0 = 0;
-    std::size_t n = 0;
+    double g, ratio, step;
+    std::int64_t b0;
+    std::size_t n;
 };
 
 /// Runs added together by one call of add_runs_lanes, at most.
