@@ -69,8 +69,12 @@ double extinction_per_m(const AtmosphereConfig& config, double wavelength_nm) {
     return extinction_per_m(config.model, config.visibility_km, wavelength_nm);
 }
 
+double two_way_transmission_exponent(double extinction_per_m, double range_m) {
+    return -2.0 * extinction_per_m * range_m;
+}
+
 double two_way_transmission(double extinction_per_m, double range_m) {
-    return std::exp(-2.0 * extinction_per_m * range_m);
+    return std::exp(two_way_transmission_exponent(extinction_per_m, range_m));
 }
 
 }  // namespace beamtrace

@@ -256,7 +256,7 @@ bool powered(double range_m) {
 }  // namespace
 
 double PulseSimulator::transmission_exponent(double range_m) const {
-    return -2.0 * alpha_per_m_ * range_m;  // two_way_transmission's, with our exp
+    return two_way_transmission_exponent(alpha_per_m_, range_m);  // its exp: fast_exp's
 }
 
 double PulseSimulator::sub_ray_power_w(const SubRayHit& hit, double weight,

@@ -44,6 +44,8 @@ struct AtmosphereConfig {
 /// The extinction coefficient the config gives at `wavelength_nm` (0 when disabled).
 [[nodiscard]] double extinction_per_m(const AtmosphereConfig& config, double wavelength_nm);
 
+/// -2 alpha R: the exponent of two_way_transmission (the survey's sub-rays take its exp in lanes).
+[[nodiscard]] double two_way_transmission_exponent(double extinction_per_m, double range_m);
 /// Two-way transmission exp(-2 alpha R) of a monostatic path of one-way length `range_m`.
 [[nodiscard]] double two_way_transmission(double extinction_per_m, double range_m);
 

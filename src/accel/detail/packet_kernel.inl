@@ -981,8 +981,8 @@ BT_PK bool trace_walk(const Stage& st, std::size_t at, std::size_t n, bool split
 
 /// trace_range for rays in beams of `per_beam` (at most kWalkRays): as many whole beams as
 /// kWalkRays holds walk the tree together (trace_walk), in the order the rays come in; where
-/// their watertight axis orders differ, beam by beam, and a beam whose do in runs of one
-/// packet group (trace_runs).
+/// their watertight axis orders differ (or their directions spread too wide), beam by beam, and
+/// a beam whose own rays differ in it in runs of one packet group (trace_runs).
 BT_PK_ENTRY void trace_beams(const Bvh& bvh, const TriangleMesh& mesh, const RayBatch& rays,
                              std::size_t begin, std::size_t end, std::size_t per_beam,
                              HitBatch& hits, bool only_coherent, float min_cos) {
