@@ -39,15 +39,15 @@ BT_RL void transpose(const Oct v[8], Oct t[8]) {
 
 }  // namespace
 
-bool run_lanes_available() {
+bool run_lanes_avx512_available() {
     return __builtin_cpu_supports("avx512f");
 }
 
 // The runs in the lanes of one register, all stepping through the same bins: a lane is active
 // in its run's bins (its recurrence advances there only) and gives +0 elsewhere. Eight bins of
 // eight lanes at a time are transposed so that each run's eight samples add to eight bins.
-BT_RL_ENTRY void add_runs_lanes(double* y, std::size_t width, std::int64_t first,
-                                const GaussianRun* runs, std::size_t count) {
+BT_RL_ENTRY void add_runs_lanes_avx512(double* y, std::size_t width, std::int64_t first,
+                                       const GaussianRun* runs, std::size_t count) {
     std::size_t lo = width, hi = 0;  // the bins some run reaches
     for (std::size_t l = 0; l < count; ++l) {
         if (runs[l].n > 0) {
@@ -96,11 +96,11 @@ BT_RL_ENTRY void add_runs_lanes(double* y, std::size_t width, std::int64_t first
 
 #else
 
-bool run_lanes_available() {
+bool run_lanes_avx512_available() {
     return false;
 }
 
-void add_runs_lanes(double*, std::size_t, std::int64_t, const GaussianRun*, std::size_t) {}
+void add_runs_lanes_avx512(double*, std::size_t, std::int64_t, const GaussianRun*, std::size_t) {}
 
 #endif
 

@@ -154,8 +154,9 @@ RunLanes start_lanes(const GaussianRun* runs, std::size_t count, std::int64_t fi
 /// The samples of runs[0, count) (count <= kRows) into their rows (start_lanes): each lane's
 /// products in the order of its run alone, so each sample rounds as it did alone. Four bins of
 /// four runs at a time are transposed so that each run's four samples are stored at once.
-BEAMTRACE_WAVEFORM_CLONES void sample_runs(const GaussianRun* runs, std::size_t count,
-                                           std::int64_t first, double* rows, std::size_t width) {
+/// (Before AVX2 only: add_runs_lanes adds the runs on CPUs with AVX2 or AVX-512.)
+void sample_runs(const GaussianRun* runs, std::size_t count, std::int64_t first, double* rows,
+                 std::size_t width) {
     RunLanes r = start_lanes(runs, count, first, rows, width);
     std::size_t common = count == 0 ? 0 : runs[0].n;  // at most width
     for (std::size_t l = 1; l < count; ++l) {
@@ -196,8 +197,7 @@ BEAMTRACE_WAVEFORM_CLONES void sample_runs(const GaussianRun* runs, std::size_t 
 }
 
 /// y[s] = (((y[s] + rows[0][s]) + rows[1][s]) + ...) for the `count` rows of `width` bins.
-BEAMTRACE_WAVEFORM_CLONES void add_rows(double* y, const double* rows, std::size_t count,
-                                        std::size_t width) {
+void add_rows(double* y, const double* rows, std::size_t count, std::size_t width) {
     std::size_t s = 0;
     for (; s + 4 <= width; s += 4) {
         Quad v;
@@ -240,7 +240,7 @@ void add_runs(Waveform& out, const GaussianRun* runs, std::size_t count) {
         }
         return;
     }
-    if (detail::run_lanes_available()) {
+    if (detail::run_lanes_available()) {  // AVX2 or AVX-512: the runs in lanes, no rows
         detail::add_runs_lanes(out.samples_w.data(), width, out.first_bin, runs, count);
         return;
     }

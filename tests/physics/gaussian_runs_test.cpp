@@ -1,8 +1,10 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "physics/detail/gaussian_runs.hpp"
@@ -25,10 +27,17 @@ void add_one_by_one(std::vector<double>& y, std::int64_t first, const std::vecto
     }
 }
 
-TEST(GaussianRunLanes, BitForBitOneRunAfterTheOther) {
-    if (!detail::run_lanes_available()) {
-        BEAMTRACE_SKIP_HARDWARE("no AVX-512F on this CPU");
+/// The paths of add_runs_lanes, AVX2 and AVX-512.
+class GaussianRunLanes : public ::testing::TestWithParam<detail::RunLanes> {
+  protected:
+    void SetUp() override {
+        if (!detail::run_lanes_available(GetParam())) {
+            BEAMTRACE_SKIP_HARDWARE("this path does not run on this CPU");
+        }
     }
+};
+
+TEST_P(GaussianRunLanes, BitForBitOneRunAfterTheOther) {
     std::uint64_t s = 99;
     const auto next = [&s] {
         s = s * 6364136223846793005ULL + 1442695040888963407ULL;
@@ -50,7 +59,7 @@ TEST(GaussianRunLanes, BitForBitOneRunAfterTheOther) {
                 r.step = 0.9 + 0.09 * next();
             }
             add_one_by_one(want, first, runs);
-            detail::add_runs_lanes(got.data(), width, first, runs.data(), runs.size());
+            detail::add_runs_lanes(GetParam(), got.data(), width, first, runs.data(), runs.size());
         }
         for (std::size_t b = 0; b < width; ++b) {
             ASSERT_EQ(std::bit_cast<std::uint64_t>(got[b]), std::bit_cast<std::uint64_t>(want[b]))
@@ -59,18 +68,40 @@ TEST(GaussianRunLanes, BitForBitOneRunAfterTheOther) {
     }
 }
 
-TEST(GaussianRunLanes, LeavesBinsOutsideTheRunsAsTheyAre) {
-    if (!detail::run_lanes_available()) {
-        BEAMTRACE_SKIP_HARDWARE("no AVX-512F on this CPU");
-    }
+TEST_P(GaussianRunLanes, LeavesBinsOutsideTheRunsAsTheyAre) {
     std::vector<double> y(40, 0.25);
     const GaussianRun run{2.0, 0.5, 1.0, 110, 3};  // bins 110, 111, 112: 2, 1, 0.5
-    detail::add_runs_lanes(y.data(), y.size(), 100, &run, 1);
+    detail::add_runs_lanes(GetParam(), y.data(), y.size(), 100, &run, 1);
     for (std::size_t b = 0; b < y.size(); ++b) {
         const double want = b == 10 ? 2.25 : b == 11 ? 1.25 : b == 12 ? 0.75 : 0.25;
         EXPECT_EQ(y[b], want) << b;
     }
 }
+
+// Eight runs, each of its own bins, over a width not a multiple of four: the last block's bins
+// beyond the width are neither read nor written, and each run lands in its own bins only.
+TEST_P(GaussianRunLanes, EightRunsEachInItsOwnBins) {
+    std::vector<double> y(27, 0.0);
+    y.push_back(-0.0);  // a guard past the width (-0 + +0 would make it +0)
+    std::vector<GaussianRun> runs(8);
+    for (std::size_t l = 0; l < runs.size(); ++l) {
+        runs[l] = GaussianRun{static_cast<double>(l + 1), 1.0, 1.0, 50 + 3 * std::int64_t(l), 3};
+    }
+    runs[7].n = 6;  // bins 71..76: up to the last bin (index 26)
+    detail::add_runs_lanes(GetParam(), y.data(), 27, 50, runs.data(), runs.size());
+    for (std::size_t b = 0; b < 27; ++b) {
+        EXPECT_EQ(y[b], static_cast<double>(std::min<std::size_t>(b / 3, 7) + 1)) << b;
+    }
+    EXPECT_EQ(std::bit_cast<std::uint64_t>(y[27]), std::bit_cast<std::uint64_t>(-0.0));
+}
+
+std::string path_name(const ::testing::TestParamInfo<detail::RunLanes>& info) {
+    return info.param == detail::RunLanes::avx2 ? "Avx2" : "Avx512";
+}
+
+INSTANTIATE_TEST_SUITE_P(Paths, GaussianRunLanes,
+                         ::testing::Values(detail::RunLanes::avx2, detail::RunLanes::avx512),
+                         path_name);
 
 }  // namespace
 }  // namespace beamtrace

@@ -1,5 +1,5 @@
-// The sampled Gaussians of a waveform (waveform.cpp) and their AVX-512 kernel (physics' private
-// helpers).
+// The sampled Gaussians of a waveform (waveform.cpp) and their AVX2 and AVX-512 kernels
+// (physics' private helpers).
 #pragma once
 
 #include <cstddef>
@@ -20,16 +20,32 @@ struct GaussianRun {
 /// Runs added together by one call of add_runs_lanes, at most.
 inline constexpr std::size_t kRunLanes = 8;
 
-/// True when the CPU runs add_runs_lanes (AVX-512F; not under ThreadSanitizer's build).
+/// The paths of add_runs_lanes: eight runs in one AVX-512 register, or in two AVX2 ones.
+enum class RunLanes { avx2, avx512 };
+
+/// True when the CPU runs add_runs_lanes by `path` (AVX2 or AVX-512F; neither under
+/// ThreadSanitizer's build), or by some path (no argument).
+[[nodiscard]] bool run_lanes_available(RunLanes path);
 [[nodiscard]] bool run_lanes_available();
 
 /// Adds runs[0, count) (count <= kRunLanes, each inside the bins [first, first + width)) to
 /// y[0, width), bin b at y[b - first]: every bin receives the runs' samples in the order of
 /// the runs, each sample the product of its run's recurrence alone, so every bin ends as one
-/// run after the other added by recurrence would leave it, bit for bit (a run adds nothing
-/// outside its bins; +0, which leaves a bin as it is: bins are never -0). Needs
-/// run_lanes_available().
+/// run after the other added by recurrence would leave it, bit for bit, on either path (a run
+/// adds nothing outside its bins; +0, which leaves a bin as it is: bins are never -0). By the
+/// widest path this CPU runs (needs run_lanes_available()), or by `path` (needs
+/// run_lanes_available(path)).
 void add_runs_lanes(double* y, std::size_t width, std::int64_t first, const GaussianRun* runs,
                     std::size_t count);
+void add_runs_lanes(RunLanes path, double* y, std::size_t width, std::int64_t first,
+                    const GaussianRun* runs, std::size_t count);
+
+/// The paths' kernels (gaussian_runs_avx2.cpp, gaussian_runs_avx512.cpp) and whether they run.
+[[nodiscard]] bool run_lanes_avx2_available();
+[[nodiscard]] bool run_lanes_avx512_available();
+void add_runs_lanes_avx2(double* y, std::size_t width, std::int64_t first, const GaussianRun* runs,
+                         std::size_t count);
+void add_runs_lanes_avx512(double* y, std::size_t width, std::int64_t first,
+                           const GaussianRun* runs, std::size_t count);
 
 }  // namespace beamtrace::detail
