@@ -10,6 +10,7 @@
 #include <numbers>
 
 #include "physics/detail/fast_exp.hpp"
+#include "physics/detail/fast_log.hpp"
 #include "physics/detail/gaussian_runs.hpp"
 
 namespace beamtrace {
@@ -353,6 +354,7 @@ double minus_fit(double v, const GaussianFit& f, double t_ns) {
 /// Working space of the fits: the values of one fit's samples.
 struct FitScratch {
     std::vector<double> left, right;
+    std::vector<double> logs;       ///< ln(v / peak) of the kept samples, from the first
     std::vector<std::size_t> near;  ///< the other fits not 0 on the span being fitted
 };
 
@@ -385,12 +387,18 @@ bool fit_gaussian(const Waveform& waveform, const EchoSpan& span, Value v, FitSc
     const auto value = [&](std::size_t m) {
         return m < span.top ? left[span.top - m - 1] : right[m - span.top];
     };
+    // The logs of the samples over the peak in one pass of fast_log_lanes (ln 1 is exactly 0).
+    std::vector<double>& logs = scratch.logs;
+    logs.resize(b - a + 1);
+    for (std::size_t m = a; m <= b; ++m) {
+        logs[m - a] = value(m) / peak;
+    }
+    detail::fast_log_lanes(logs.data(), logs.data(), logs.size());
     // Moments in bins from the top: s[n] = sum w t^n, r[n] = sum w ln(v / peak) t^n, w = v^2.
     double s[5] = {0, 0, 0, 0, 0}, r[3] = {0, 0, 0};
     for (std::size_t m = a; m <= b; ++m) {
         const double t = static_cast<double>(m) - static_cast<double>(span.top);
-        // ln 1 is exactly 0: the top's term (and any sample's equal to it) needs no log.
-        const double y = value(m), q = y / peak, l = q == 1.0 ? 0.0 : std::log(q);
+        const double y = value(m), l = logs[m - a];
         double tn = y * y;
         for (int n = 0; n < 5; ++n) {
             s[n] += tn;

@@ -8,6 +8,7 @@
 
 #include "beamtrace/physics/pulse.hpp"
 #include "beamtrace/physics/waveform.hpp"
+#include "physics/detail/fast_log.hpp"
 
 namespace beamtrace {
 namespace {
@@ -309,7 +310,7 @@ bool fit(const Waveform& w, const Span& s, V v, Fit& out) {
     double S[5] = {0, 0, 0, 0, 0}, R[3] = {0, 0, 0};
     for (std::size_t m = a; m <= b; ++m) {
         const double t = static_cast<double>(m) - static_cast<double>(s.top);
-        const double y = v(m), l = std::log(y / peak);
+        const double y = v(m), l = detail::fast_log(y / peak);  // the fit's log
         double tn = y * y;
         for (int n = 0; n < 5; ++n) {
             S[n] += tn;
