@@ -16,9 +16,10 @@ namespace {
 
 /// Four runs in the lanes of AVX2 registers: their recurrences, and rel = s - offset (bin s's
 /// place in each run) and n with the sign bit flipped, so that the signed compare n > rel is
-/// the unsigned rel < n (active where 0 <= rel < n: below 0 wraps past every n).
+/// the unsigned rel < n (active where 0 <= rel < n: below 0 wraps past every n); live: the
+/// lanes of a run with bins (all ones), the others 0.
 struct Four {
-    __m256d g, ratio, step;
+    __m256d g, ratio, step, live;
     __m256i rel, n;
 };
 
@@ -46,7 +47,9 @@ BT_R4 Four load_four(const GaussianRun* runs, std::size_t from, std::size_t coun
                                             _mm256_set1_epi64x(first));
     f.rel = _mm256_xor_si256(
         _mm256_sub_epi64(_mm256_set1_epi64x(static_cast<long long>(lo)), offset), sign);
-    f.n = _mm256_xor_si256(_mm256_mask_i64gather_epi64(zeroi, n, field, used, 8), sign);
+    const __m256i count_n = _mm256_mask_i64gather_epi64(zeroi, n, field, used, 8);
+    f.n = _mm256_xor_si256(count_n, sign);
+    f.live = _mm256_castsi256_pd(_mm256_andnot_si256(_mm256_cmpeq_epi64(count_n, zeroi), used));
     return f;
 }
 
@@ -63,6 +66,17 @@ BT_R4 void step_four(Four& f, __m256d a[4]) {
     }
 }
 
+/// As step_four where every live lane is active at all four bins: the same products, no masks
+/// but the live lanes'.
+BT_R4 void step_four_live(Four& f, __m256d a[4]) {
+    for (int k = 0; k < 4; ++k) {
+        a[k] = _mm256_and_pd(f.live, f.g);
+        f.g = _mm256_mul_pd(f.g, f.ratio);
+        f.ratio = _mm256_mul_pd(f.ratio, f.step);
+    }
+    f.rel = _mm256_add_epi64(f.rel, _mm256_set1_epi64x(4));
+}
+
 /// a[k] (bin k of four, lanes the runs) into t[l] (run l, lanes the four bins).
 BT_R4 void transpose(const __m256d a[4], __m256d t[4]) {
     const __m256d t0 = _mm256_unpacklo_pd(a[0], a[1]);
@@ -76,28 +90,39 @@ BT_R4 void transpose(const __m256d a[4], __m256d t[4]) {
 }
 
 /// The bins [lo, hi) of y (width bins) receive the samples of `groups` fours of runs (count
-/// runs in all), four bins at a time, each bin the runs' samples in the order of the runs.
+/// runs in all), four bins at a time, each bin the runs' samples in the order of the runs;
+/// every run with bins has all of [inner_lo, inner_hi) (no masks needed there).
 template <std::size_t groups>
-BT_R4 void add_fours(double* y, std::size_t width, std::size_t lo, std::size_t hi, Four* f,
-                     std::size_t count) {
+BT_R4 void add_fours(double* y, std::size_t width, std::size_t lo, std::size_t hi,
+                     std::size_t inner_lo, std::size_t inner_hi, Four* f, std::size_t count) {
     for (std::size_t s0 = lo; s0 < hi; s0 += 4) {
         __m256d t[4 * groups];
+        const bool inner = s0 >= inner_lo && s0 + 4 <= inner_hi;
         for (std::size_t q = 0; q < groups; ++q) {
             __m256d a[4];
-            step_four(f[q], a);
+            if (inner) {
+                step_four_live(f[q], a);
+            } else {
+                step_four(f[q], a);
+            }
             transpose(a, t + 4 * q);
         }
-        const auto left = static_cast<long long>(std::min<std::size_t>(4, width - s0));
-        const __m256i in =
-            _mm256_cmpgt_epi64(_mm256_set1_epi64x(left), _mm256_setr_epi64x(0, 1, 2, 3));
-        __m256d sum = _mm256_maskload_pd(y + s0, in);
+        // A whole block by plain loads and stores (a masked store is slow on some CPUs: AMD's).
+        const bool whole = s0 + 4 <= width;
+        const __m256i in = _mm256_cmpgt_epi64(
+            _mm256_set1_epi64x(static_cast<long long>(width - s0)), _mm256_setr_epi64x(0, 1, 2, 3));
+        __m256d sum = whole ? _mm256_loadu_pd(y + s0) : _mm256_maskload_pd(y + s0, in);
 #pragma GCC unroll 8
         for (std::size_t l = 0; l < 4 * groups; ++l) {
             if (l < count) {
                 sum = _mm256_add_pd(sum, t[l]);
             }
         }
-        _mm256_maskstore_pd(y + s0, in, sum);
+        if (whole) {
+            _mm256_storeu_pd(y + s0, sum);
+        } else {
+            _mm256_maskstore_pd(y + s0, in, sum);
+        }
     }
 }
 
@@ -109,17 +134,21 @@ bool run_lanes_avx2_available() {
 
 // As add_runs_lanes_avx512, with two four-lane registers for the eight runs: a lane is active
 // in its run's bins (its recurrence advances there only) and gives +0 elsewhere; four bins of
-// four lanes at a time are transposed so that each run's four samples add to four bins.
+// four lanes at a time are transposed so that each run's four samples add to four bins. Where
+// every run with bins is active at all four bins, the same products go without the masks.
 __attribute__((target("avx2"))) void add_runs_lanes_avx2(double* y, std::size_t width,
                                                          std::int64_t first,
                                                          const GaussianRun* runs,
                                                          std::size_t count) {
-    std::size_t lo = width, hi = 0;  // the bins some run reaches
+    std::size_t lo = width, hi = 0;              // the bins some run reaches
+    std::size_t inner_lo = 0, inner_hi = width;  // the bins every run with bins reaches
     for (std::size_t l = 0; l < count; ++l) {
         if (runs[l].n > 0) {
             const auto offset = static_cast<std::size_t>(runs[l].b0 - first);
             lo = std::min(lo, offset);
             hi = std::max(hi, offset + runs[l].n);
+            inner_lo = std::max(inner_lo, offset);
+            inner_hi = std::min(inner_hi, offset + runs[l].n);
         }
     }
     if (lo >= hi) {
@@ -128,11 +157,11 @@ __attribute__((target("avx2"))) void add_runs_lanes_avx2(double* y, std::size_t 
     Four f[2];
     f[0] = load_four(runs, 0, count, first, lo);
     if (count <= 4) {
-        add_fours<1>(y, width, lo, hi, f, count);
+        add_fours<1>(y, width, lo, hi, inner_lo, inner_hi, f, count);
         return;
     }
     f[1] = load_four(runs, 4, count, first, lo);
-    add_fours<2>(y, width, lo, hi, f, count);
+    add_fours<2>(y, width, lo, hi, inner_lo, inner_hi, f, count);
 }
 
 #else
