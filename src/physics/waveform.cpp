@@ -390,8 +390,11 @@ bool fit_gaussian(const Waveform& waveform, const EchoSpan& span, Value v, FitSc
     // The logs of the samples over the peak in one pass of fast_log_lanes (ln 1 is exactly 0).
     std::vector<double>& logs = scratch.logs;
     logs.resize(b - a + 1);
-    for (std::size_t m = a; m <= b; ++m) {
-        logs[m - a] = value(m) / peak;
+    for (std::size_t m = a; m < span.top; ++m) {  // the two sides apart: loops that vectorise
+        logs[m - a] = left[span.top - m - 1] / peak;
+    }
+    for (std::size_t m = span.top; m <= b; ++m) {
+        logs[m - a] = right[m - span.top] / peak;
     }
     detail::fast_log_lanes(logs.data(), logs.data(), logs.size());
     // Moments in bins from the top: s[n] = sum w t^n, r[n] = sum w ln(v / peak) t^n, w = v^2.
