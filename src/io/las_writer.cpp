@@ -401,6 +401,14 @@ namespace {
                      std::to_string(p.number_of_returns) + " exceeds 15");
 }
 
+[[noreturn, gnu::cold, gnu::noinline]] void reject_scanner_channel(
+    const std::filesystem::path& path, std::uint64_t index, std::uint8_t channel) {
+    reject_point(path, index, "scanner channel " + std::to_string(channel) + " exceeds 3");
+}
+
+/// Bytes 0-29: the part of a record every format 6-10 has (LasWriter::encode_base).
+constexpr std::size_t kBaseRecordBytes = 30;
+
 [[noreturn, gnu::cold, gnu::noinline]] void reject_angle(const std::filesystem::path& path,
                                                          std::uint64_t index, float angle_deg) {
     reject_point(path, index, "scan angle " + number(angle_deg) + " deg is outside [-180, 180]");
@@ -494,8 +502,7 @@ void LasWriter::encode_record(const LasPoint& p, std::uint64_t index, std::uint8
 void LasWriter::encode_record(const LasSimplePoint& p, std::uint64_t index, std::uint8_t* r,
                               std::int32_t q[3], const RecordConstants& c) const {
     if (p.scanner_channel > 3) [[unlikely]] {
-        reject_point(path_, index,
-                     "scanner channel " + std::to_string(p.scanner_channel) + " exceeds 3");
+        reject_scanner_channel(path_, index, p.scanner_channel);
     }
     encode_base(p, static_cast<std::uint8_t>(p.scanner_channel << 4), index, r, q, c);
     // Extra bytes (and wave packet fields, written after) are zero: block bytes are reused.
@@ -586,18 +593,34 @@ template <class Point>
     const RecordConstants c = record_constants();
     std::size_t count = block.count;
     std::array<std::uint64_t, 15> by_return = block.by_return;
-    for (const LasSimplePoint& p : points) {
-        std::int32_t q[3];
-        encode_record(p, count, r, q, c);
-        for (std::size_t k = 0; k < 3; ++k) {
-            lo[k] = std::min(lo[k], q[k]);
-            hi[k] = std::max(hi[k], q[k]);
+    // Bare: the 30 bytes every record has and nothing after them (format 6, no extra bytes),
+    // chosen once for the block rather than for each point after its first 30 bytes.
+    const auto encode_all = [&]<bool Bare>() {
+        for (const LasSimplePoint& p : points) {
+            std::int32_t q[3];
+            if constexpr (Bare) {
+                if (p.scanner_channel > 3) [[unlikely]] {
+                    reject_scanner_channel(path_, count, p.scanner_channel);
+                }
+                encode_base(p, static_cast<std::uint8_t>(p.scanner_channel << 4), count, r, q, c);
+            } else {
+                encode_record(p, count, r, q, c);
+            }
+            for (std::size_t k = 0; k < 3; ++k) {
+                lo[k] = std::min(lo[k], q[k]);
+                hi[k] = std::max(hi[k], q[k]);
+            }
+            if (p.return_number >= 1) {
+                ++by_return[p.return_number - 1u];
+            }
+            ++count;
+            r += size;
         }
-        if (p.return_number >= 1) {
-            ++by_return[p.return_number - 1u];
-        }
-        ++count;
-        r += size;
+    };
+    if (c.point_format == 6 && c.record_length == kBaseRecordBytes) {
+        encode_all.template operator()<true>();
+    } else {
+        encode_all.template operator()<false>();
     }
     block.count = count;
     block.by_return = by_return;

@@ -406,22 +406,47 @@ void Trajectory::poses_at(std::span<const double> times_s, std::span<Pose> out) 
 
 void LinearLegs::poses_at(std::span<const double> times_s, std::span<Pose> out) const {
     // Pulse times mostly stay on one leg: keep the leg while the time is on it (the leg
-    // segment_of would find), search again otherwise.
-    std::size_t k = 0;
-    bool have_leg = false;
+    // segment_of would find), search again otherwise. The leg's times, ends and attitude in
+    // locals: the stores of each pose's doubles may alias them, which were loaded again for
+    // every pulse.
     const double start = start_time_s(), end = end_time_s();
+    const bool turning = !config_.attitudes.empty();  // attitudes slerped along each leg
+    bool have_leg = false, last_leg = false;
+    std::size_t k = 0;
+    double t0 = 0.0, t1 = 0.0;
+    Vec3d w0, w1;
+    Quat q;
     for (std::size_t i = 0; i < times_s.size(); ++i) {
         const double t = times_s[i] >= start && times_s[i] <= end
                              ? times_s[i]
                              : checked_time("linear legs", times_s[i], start, end);
-        if (!have_leg || !(times_s_[k] <= t && (t < times_s_[k + 1] || k + 2 == times_s_.size()))) {
+        if (!have_leg || !(t0 <= t && (t < t1 || last_leg))) {
             k = segment_of(times_s_, t);
             have_leg = true;
+            last_leg = k + 2 == times_s_.size();
+            t0 = times_s_[k];
+            t1 = times_s_[k + 1];
+            w0 = config_.waypoints_m[k];
+            w1 = config_.waypoints_m[k + 1];
+            q = attitude_[k];
         }
-        // Straight into the output (a pose returned through memory and copied was read back
-        // as 16-byte pieces right after being stored as doubles, which stalls store
-        // forwarding: two thirds of the time here).
-        pose_on_leg_into(t, k, out[i]);
+        if (turning) {
+            pose_on_leg_into(t, k, out[i]);
+            continue;
+        }
+        // pose_on_leg_into()'s values, stored field by field (a pose returned through memory
+        // and copied was read back as 16-byte pieces right after being stored as doubles,
+        // which stalls store forwarding).
+        const double f = (t - t0) / (t1 - t0);
+        const Vec3d p = f >= 1.0 ? w1 : lerp(w0, w1, f);
+        Pose& pose = out[i];
+        pose.position_m.x = p.x;
+        pose.position_m.y = p.y;
+        pose.position_m.z = p.z;
+        pose.attitude.w = q.w;
+        pose.attitude.x = q.x;
+        pose.attitude.y = q.y;
+        pose.attitude.z = q.z;
     }
 }
 

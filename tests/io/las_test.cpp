@@ -367,6 +367,70 @@ TEST_F(LasWriterTest, EncodePointsGivesWhatEncodingOneByOneGives) {
               std::vector<std::int32_t>(one.hi, one.hi + 3));
 }
 
+// encode_points() runs a loop of its own for format 6 without extra bytes (the bare 30-byte
+// record) and the general one otherwise: each gives the bytes, bounds and return counts of
+// encoding the points one by one (which never takes the bare loop), and rejects the same points.
+TEST_F(LasWriterTest, EncodePointsBareOrNotGivesWhatEncodingOneByOneGives) {
+    std::mt19937 rng(12);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    std::vector<LasSimplePoint> points(257);
+    for (std::size_t i = 0; i < points.size(); ++i) {
+        LasSimplePoint& p = points[i];
+        p.x = 634000 + 2000 * u(rng);
+        p.y = 4849000 + 2000 * u(rng);
+        p.z = 200 * u(rng);
+        p.gps_time = static_cast<double>(i) * 1e-5;
+        p.scan_angle_deg = static_cast<float>(60 * u(rng) - 30);
+        p.intensity = static_cast<std::uint16_t>(i * 13);
+        p.point_source_id = static_cast<std::uint16_t>(i * 3);
+        p.return_number = static_cast<std::uint8_t>(i % 5);  // 0: counted in no return
+        p.number_of_returns = 4;
+        p.classification = static_cast<std::uint8_t>(i % 7);
+        p.user_data = static_cast<std::uint8_t>(i);
+        p.red = p.green = p.blue = p.nir = static_cast<std::uint16_t>(i + 1);
+        p.scanner_channel = static_cast<std::uint8_t>(i % 4);
+    }
+    for (const auto& [format, extra] :
+         {std::pair{6, 0}, std::pair{6, 4}, std::pair{7, 0}, std::pair{8, 0}}) {
+        SCOPED_TRACE("format " + std::to_string(format) + ", " + std::to_string(extra) +
+                     " extra bytes");
+        LasWriterConfig config =
+            las_config_for_extent({634000, 4849000, 0}, {636000, 4851000, 200});
+        config.point_format = format;
+        config.extra_bytes_per_point = static_cast<std::uint16_t>(extra);
+        const LasWriter writer(config);
+        LasRecordBlock one, batch;
+        for (const LasSimplePoint& p : points) {
+            writer.encode(p, one);
+        }
+        // Stale bytes in the block's reused space: every byte of each record is written.
+        batch.bytes.assign(points.size() * writer.header().point_record_length, 0xA5);
+        const std::span<const LasSimplePoint> all(points);
+        writer.encode_points(all.first(100), batch);
+        writer.encode_points(all.subspan(100), batch);
+        ASSERT_EQ(batch.count, one.count);
+        const auto size =
+            static_cast<std::ptrdiff_t>(points.size() * writer.header().point_record_length);
+        EXPECT_TRUE(std::equal(one.bytes.begin(), one.bytes.begin() + size, batch.bytes.begin()));
+        EXPECT_EQ(batch.by_return, one.by_return);
+        for (std::size_t k = 0; k < 3; ++k) {
+            EXPECT_EQ(batch.lo[k], one.lo[k]);
+            EXPECT_EQ(batch.hi[k], one.hi[k]);
+        }
+        std::vector<LasSimplePoint> bad(points.begin(), points.begin() + 3);
+        bad[2].scanner_channel = 4;
+        LasRecordBlock rejected;
+        try {
+            writer.encode_points(std::span<const LasSimplePoint>(bad), rejected);
+            ADD_FAILURE() << "expected OutputError";
+        } catch (const OutputError& e) {
+            EXPECT_NE(std::string(e.what()).find("point 2: scanner channel 4 exceeds 3"),
+                      std::string::npos)
+                << e.what();
+        }
+    }
+}
+
 TEST_F(LasWriterTest, BlockEncodingRejectsBadPointsWithoutHarmingTheWriter) {
     LasWriter writer(dir_ / "x.las", {});
     LasRecordBlock block;
