@@ -1,6 +1,7 @@
 // The packet kernel, included by packet_trace.cpp once per instruction set inside a namespace
 // that defines kLanes, the vector types vf (float), vi (int32, what comparisons give) and vu
-// (uint32), lane_bits(vi) (one bit per lane), lanes_of(mask) (all bits set in its lanes), BT_PK
+// (uint32), lane_bits(vi) (one bit per lane), lanes_of(mask) (all bits set in its lanes),
+// lanes_to_float(x) (kLanes doubles in float), BT_PK
 // (inline helpers) and BT_PK_ENTRY (the entry point), all compiled for that instruction set. Every
 // float expression below is the scalar one of trace_ray.hpp / ray_triangle.hpp / queries.hpp in
 // lanes, operand for operand.
@@ -787,18 +788,16 @@ BT_PK std::uint32_t packet_group(std::uint32_t key) {
     return key >> 24;
 }
 
-/// kLanes doubles from x (count of them, the rest 0) in float.
+/// kLanes doubles from x (count of them, the rest 0) in float (a whole packet's: lanes_to_float).
 BT_PK vf to_float(const double* x, std::size_t count) {
-    using vd = double __attribute__((vector_size(kLanes * sizeof(double))));
-    vd v{};
     if (count >= kLanes) {
-        __builtin_memcpy(&v, x, sizeof v);
-    } else {
-        for (std::size_t l = 0; l < count; ++l) {
-            v[l] = x[l];
-        }
+        return lanes_to_float(x);
     }
-    return __builtin_convertvector(v, vf);
+    vf r = splat(0.0f);
+    for (std::size_t l = 0; l < count; ++l) {
+        r[l] = static_cast<float>(x[l]);
+    }
+    return r;
 }
 
 /// Rays [first, first + n) of the batch into st.in (make_box_ray's conversions, in lanes) and
@@ -811,13 +810,20 @@ BT_PK void stage_rays(Stage& st, const RayBatch& rays, std::size_t first, std::s
     float* dst[8] = {st.in.o[0], st.in.o[1], st.in.o[2], st.in.d[0],
                      st.in.d[1], st.in.d[2], st.in.tmin, st.in.tmax};
     for (std::size_t j = 0; j < n; j += kLanes) {
-        vf f[8];
+        vf dir[3];
         for (int k = 0; k < 8; ++k) {
-            f[k] = to_float(src[k] + first + j, n - j);
-            __builtin_memcpy(dst[k] + j, &f[k], sizeof f[k]);
+            const vf f = to_float(src[k] + first + j, n - j);
+            __builtin_memcpy(dst[k] + j, &f, sizeof f);
+            if (k >= 3 && k < 6) {
+                dir[k - 3] = f;
+            }
         }
-        const vu key = sorted ? order_keys(f + 3) : (axis_order(f + 3).group * 9) << 24;
-        __builtin_memcpy(st.keys + j, &key, std::min<std::size_t>(n - j, kLanes) * 4);
+        const vu key = sorted ? order_keys(dir) : (axis_order(dir).group * 9) << 24;
+        if (n - j >= kLanes) {
+            __builtin_memcpy(st.keys + j, &key, sizeof key);
+        } else {
+            __builtin_memcpy(st.keys + j, &key, (n - j) * 4);
+        }
     }
     // A packet's loads may read kLanes floats past the last ray: zeros there.
     const std::size_t end = (n + kLanes - 1) / kLanes * kLanes;
