@@ -501,7 +501,7 @@ TEST(CrossCheck, AxisAlignedRaysThroughGridVerticesAndEdges) {
                 continue;
             }
             ASSERT_TRUE(hits.hit(i)) << name << " ray " << i << " leaked";
-            EXPECT_EQ(hits.t[i], 10.0f);
+            EXPECT_EQ(hits.t[i], 10.0f) << name << " ray " << i;
         }
     }
     // Embree against brute force on the interior rays only (see above).

@@ -708,26 +708,63 @@ BT_PK TraceRay stage_ray(const StageRays& st, std::size_t j) {
     return r;
 }
 
-/// Traces rays [at, at + n) of the stage, of watertight group `group`, as one packet (or one by
-/// one, with `only_coherent`, if their directions spread wider than acos(min_cos)).
+/// The rays of a run that walk the tree as one frustum in trace_range (a spinning scanner's beam's
+/// 16 firings): one packet of AVX-512, two of AVX2. Two packets of 8 walking apart took two
+/// walks of the inner nodes for what AVX-512 does in one (~40 % of the car's trace_range).
+constexpr int kRunRays = kLanes > 16 ? kLanes : 16;
+constexpr int kRunPackets = kRunRays / kLanes;
+
+/// The packets ps[0, np) of one watertight group through the tree: as one frustum if their
+/// directions are within acos(kFrustumMinCos) of ps[0]'s lane 0 and bound every axis; else each
+/// packet alone, as a frustum of its own if there are several and its directions are that
+/// close, or lane by lane.
+BT_PK void walk_packets(Packet* ps, int np, const Bvh& bvh, const TriangleMesh& mesh) {
+    bool narrow = true;
+    for (int q = 0; q < np; ++q) {
+        narrow = narrow && coherent(ps[q], kFrustumMinCos, ps[0]);
+    }
+    Frustum fr;
+    if (narrow && make_frustum(ps, np, false, fr)) {
+        walk_frustum(ps, np, fr, bvh, mesh);
+        return;
+    }
+    for (int q = 0; q < np; ++q) {
+        if (np > 1 && coherent(ps[q], kFrustumMinCos) && make_frustum(&ps[q], 1, false, fr)) {
+            walk_frustum(&ps[q], 1, fr, bvh, mesh);
+        } else {
+            walk_packet(ps[q], bvh, mesh);
+        }
+    }
+}
+
+/// Traces rays [at, at + n) of the stage (n at most kRunRays), of watertight group `group`, as
+/// packets of kLanes (walk_packets); with `only_coherent`, a packet whose directions spread
+/// wider than acos(min_cos) (or of one ray) is traced ray by ray.
 BT_PK void trace_packet(const Stage& st, std::size_t at, int n, int group, const Bvh& bvh,
                         const TriangleMesh& mesh, HitBatch& hits, bool only_coherent,
                         float min_cos) {
-    Packet p;
-    load_packet(p, *st.rays, at, n, group);
-    if (only_coherent && (n == 1 || !coherent(p, min_cos))) {
-        for (std::size_t j = at; j < at + static_cast<std::size_t>(n); ++j) {
-            trace_single(bvh, mesh, stage_ray(*st.rays, j), hits, st.first + st.order[j]);
+    Packet ps[kRunPackets];
+    std::size_t from[kRunPackets];
+    int np = 0;
+    for (int q = 0; q * kLanes < n; ++q) {
+        const std::size_t j = at + static_cast<std::size_t>(q) * kLanes;
+        const int k = std::min(kLanes, n - q * kLanes);
+        load_packet(ps[np], *st.rays, j, k, group);
+        if (only_coherent && (k == 1 || !coherent(ps[np], min_cos))) {
+            for (std::size_t i = j; i < j + static_cast<std::size_t>(k); ++i) {
+                trace_single(bvh, mesh, stage_ray(*st.rays, i), hits, st.first + st.order[i]);
+            }
+            continue;
         }
+        from[np++] = j;
+    }
+    if (np == 0) {
         return;
     }
-    Frustum fr;
-    if (coherent(p, kFrustumMinCos) && make_frustum(&p, 1, false, fr)) {
-        walk_frustum(&p, 1, fr, bvh, mesh);
-    } else {
-        walk_packet(p, bvh, mesh);
+    walk_packets(ps, np, bvh, mesh);
+    for (int q = 0; q < np; ++q) {
+        store_packet(ps[q], st, from[q], hits);
     }
-    store_packet(p, st, at, hits);
 }
 
 /// A coordinate in [-1, 1] in 12 bits, lane by lane (NaN and outside: the nearest end).
@@ -898,7 +935,7 @@ BT_PK void order_stage(Stage& st, std::size_t n) {
 }
 
 /// Rays [at, end) of a stage in packet order, each run of one packet group whose keys rise (all
-/// of a sorted stage's group) cut into packets that are loaded whole.
+/// of a sorted stage's group) cut into pieces of kRunRays that are loaded whole.
 BT_PK void trace_runs(const Stage& st, std::size_t at, std::size_t end, const Bvh& bvh,
                       const TriangleMesh& mesh, HitBatch& hits, bool only_coherent, float min_cos) {
     while (at < end) {
@@ -909,7 +946,7 @@ BT_PK void trace_runs(const Stage& st, std::size_t at, std::size_t end, const Bv
             ++run;
         }
         while (at < run) {
-            const std::size_t k = std::min<std::size_t>(kLanes, run - at);
+            const std::size_t k = std::min<std::size_t>(kRunRays, run - at);
             trace_packet(st, at, static_cast<int>(k), static_cast<int>(group / 9), bvh, mesh, hits,
                          only_coherent, min_cos);
             at += k;
