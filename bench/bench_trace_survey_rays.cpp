@@ -3,10 +3,13 @@
 // (the widest lanes, and 8: the AVX2 kernel on an AVX-512 CPU): the A/B figure for the packet
 // walk's grouping of rays; and the 19-sub-ray survey's rays as beams (Backend::intersect_beams,
 // what the survey calls: a pulse's sub-rays walk the tree as one frustum), checked bit for bit
-// against the rays' hits. The hits are checked against Embree's (watertight, the same faces)
-// before anything is timed. CPU time is the figure to read on a shared machine.
+// against the rays' hits. The hits are checked against Embree's (watertight, the same faces),
+// and the packets' against the single-ray walk's bit for bit, before anything is timed. CPU
+// time is the figure to read on a shared machine.
 #include <benchmark/benchmark.h>
 
+#include <bit>
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <map>
@@ -62,6 +65,26 @@ bool beams_match(const bt::Backend& backend, const bt::RayBatch& rays, const bt:
     return beams.t == want.t && beams.face == want.face && beams.u == want.u && beams.v == want.v;
 }
 
+/// Whether the packets' hits (`got`) are the single-ray walk's, bit for bit.
+bool packets_match(const bt::SceneGeometry& geometry, const bt::RayBatch& rays,
+                   const bt::HitBatch& got, bt::ThreadPool& pool) {
+    bt::BackendConfig single;
+    single.bvh_trace.packets = bt::BvhPackets::off;
+    bt::HitBatch want;
+    want.resize(rays.size());
+    bt::make_backend(bt::BackendKind::bvh, geometry, pool, single)
+        ->intersect(rays, 0, rays.size(), want, pool);
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+        if (std::bit_cast<std::uint32_t>(got.t[i]) != std::bit_cast<std::uint32_t>(want.t[i]) ||
+            got.face[i] != want.face[i] ||
+            std::bit_cast<std::uint32_t>(got.u[i]) != std::bit_cast<std::uint32_t>(want.u[i]) ||
+            std::bit_cast<std::uint32_t>(got.v[i]) != std::bit_cast<std::uint32_t>(want.v[i])) {
+            return false;
+        }
+    }
+    return true;
+}
+
 void BM_SurveyRays(benchmark::State& state, const std::string& file, Mode mode) {
     const SurveyRays& s = survey_rays(file);
     bt::ThreadPool pool(1);
@@ -99,6 +122,11 @@ void BM_SurveyRays(benchmark::State& state, const std::string& file, Mode mode) 
             state.SkipWithError("the BVH's faces differ from Embree's");
             return;
         }
+    }
+    const bool packets = mode == Mode::bvh_packets || mode == Mode::bvh_packets8;
+    if (packets && !packets_match(s.scene.geometry, s.rays, hits, pool)) {
+        state.SkipWithError("the packets' hits differ from the single-ray walk's");
+        return;
     }
     const bool beams = mode == Mode::bvh_beams;
     if (beams && !beams_match(*backend, s.rays, hits, pool)) {

@@ -501,7 +501,13 @@ TEST(CrossCheck, AxisAlignedRaysThroughGridVerticesAndEdges) {
                 continue;
             }
             ASSERT_TRUE(hits.hit(i)) << name << " ray " << i << " leaked";
-            EXPECT_EQ(hits.t[i], 10.0f);
+            if (shares_watertight_test(kind)) {
+                EXPECT_EQ(hits.t[i], 10.0f) << name << " ray " << i;
+            } else {
+                // Embree's AVX2 kernels divide by a refined reciprocal: 10 within an ulp or two
+                // on an AVX2-only CPU (AMD Zen 3), exactly 10 on an AVX-512 one.
+                EXPECT_NEAR(hits.t[i], 10.0f, 4e-6f) << name << " ray " << i;
+            }
         }
     }
     // Embree against brute force on the interior rays only (see above).

@@ -1,6 +1,7 @@
 // The packet kernel, included by packet_trace.cpp once per instruction set inside a namespace
 // that defines kLanes, the vector types vf (float), vi (int32, what comparisons give) and vu
-// (uint32), lane_bits(vi) (one bit per lane), lanes_of(mask) (all bits set in its lanes), BT_PK
+// (uint32), lane_bits(vi) (one bit per lane), lanes_of(mask) (all bits set in its lanes),
+// lanes_to_float(x) (kLanes doubles in float), BT_PK
 // (inline helpers) and BT_PK_ENTRY (the entry point), all compiled for that instruction set. Every
 // float expression below is the scalar one of trace_ray.hpp / ray_triangle.hpp / queries.hpp in
 // lanes, operand for operand.
@@ -640,7 +641,8 @@ struct Stage {
     const StageRays* rays = &in;  ///< rays in packet order
     std::size_t first = 0;        ///< the batch's index of in's ray 0
     std::uint32_t keys[StageRays::kRays];
-    std::uint16_t order[StageRays::kRays], scratch[StageRays::kRays];
+    std::uint16_t order[StageRays::kRays];
+    std::uint64_t items[StageRays::kRays], spare[StageRays::kRays];  ///< sort_by_key's
 };
 
 /// NearestVisitor::store for the active lanes, lane l into the slot of the stage's ray at + l.
@@ -667,11 +669,23 @@ BT_PK void store_in_order(const Packet& p, const Stage& st, std::size_t at, HitB
     const vi hit = p.best_face != kNoFace;
     const vf t = hit ? p.best_t : splat(std::numeric_limits<float>::infinity());
     const vf u = hit ? p.best_u : splat(0.0f), v = hit ? p.best_v : splat(0.0f);
-    const std::size_t i = st.first + at, bytes = std::size_t{4} * std::popcount(p.active);
-    __builtin_memcpy(&hits.t[i], &t, bytes);
-    __builtin_memcpy(&hits.face[i], &p.best_face, bytes);
-    __builtin_memcpy(&hits.u[i], &u, bytes);
-    __builtin_memcpy(&hits.v[i], &v, bytes);
+    const std::size_t i = st.first + at;
+    if (p.active == kAllLanes) {
+        // A whole packet in one store per array: a copy of a variable size was a `rep movsq`
+        // per array (~10 % of the 19-sub-ray survey's trace_beams on AVX2).
+        __builtin_memcpy(&hits.t[i], &t, sizeof t);
+        __builtin_memcpy(&hits.face[i], &p.best_face, sizeof p.best_face);
+        __builtin_memcpy(&hits.u[i], &u, sizeof u);
+        __builtin_memcpy(&hits.v[i], &v, sizeof v);
+        return;
+    }
+    for (int l = 0; l < std::popcount(p.active); ++l) {
+        const std::size_t j = i + static_cast<std::size_t>(l);
+        hits.t[j] = t[l];
+        hits.face[j] = p.best_face[l];
+        hits.u[j] = u[l];
+        hits.v[j] = v[l];
+    }
 }
 
 /// Whether every active lane's direction is within acos(min_cos) of lane 0's of `ref` (the
@@ -707,26 +721,64 @@ BT_PK TraceRay stage_ray(const StageRays& st, std::size_t j) {
     return r;
 }
 
-/// Traces rays [at, at + n) of the stage, of watertight group `group`, as one packet (or one by
-/// one, with `only_coherent`, if their directions spread wider than acos(min_cos)).
+/// The rays of a run that walk the tree as one frustum in trace_range: one packet of AVX-512 (a
+/// spinning scanner's beam's 16 firings), four of AVX2. Packets of 8 walking apart took a walk
+/// of the inner nodes each (~40 % of the car's trace_range). AVX2, AMD Zen 3, time against one
+/// packet a walk: 16 rays car 0.85x, airborne 0.80x; 32 rays 0.80x, 0.65x; 64 rays 0.85x, 0.58x.
+constexpr int kRunRays = kLanes == 8 ? 32 : kLanes;
+constexpr int kRunPackets = kRunRays / kLanes;
+
+/// The packets ps[0, np) of one watertight group through the tree: as one frustum if their
+/// directions are within acos(kFrustumMinCos) of ps[0]'s lane 0 and bound every axis; else each
+/// packet alone, as a frustum of its own if there are several and its directions are that
+/// close, or lane by lane.
+BT_PK void walk_packets(Packet* ps, int np, const Bvh& bvh, const TriangleMesh& mesh) {
+    bool narrow = true;
+    for (int q = 0; q < np; ++q) {
+        narrow = narrow && coherent(ps[q], kFrustumMinCos, ps[0]);
+    }
+    Frustum fr;
+    if (narrow && make_frustum(ps, np, false, fr)) {
+        walk_frustum(ps, np, fr, bvh, mesh);
+        return;
+    }
+    for (int q = 0; q < np; ++q) {
+        if (np > 1 && coherent(ps[q], kFrustumMinCos) && make_frustum(&ps[q], 1, false, fr)) {
+            walk_frustum(&ps[q], 1, fr, bvh, mesh);
+        } else {
+            walk_packet(ps[q], bvh, mesh);
+        }
+    }
+}
+
+/// Traces rays [at, at + n) of the stage (n at most kRunRays), of watertight group `group`, as
+/// packets of kLanes (walk_packets); with `only_coherent`, a packet whose directions spread
+/// wider than acos(min_cos) (or of one ray) is traced ray by ray.
 BT_PK void trace_packet(const Stage& st, std::size_t at, int n, int group, const Bvh& bvh,
                         const TriangleMesh& mesh, HitBatch& hits, bool only_coherent,
                         float min_cos) {
-    Packet p;
-    load_packet(p, *st.rays, at, n, group);
-    if (only_coherent && (n == 1 || !coherent(p, min_cos))) {
-        for (std::size_t j = at; j < at + static_cast<std::size_t>(n); ++j) {
-            trace_single(bvh, mesh, stage_ray(*st.rays, j), hits, st.first + st.order[j]);
+    Packet ps[kRunPackets];
+    std::size_t from[kRunPackets];
+    int np = 0;
+    for (int q = 0; q * kLanes < n; ++q) {
+        const std::size_t j = at + static_cast<std::size_t>(q) * kLanes;
+        const int k = std::min(kLanes, n - q * kLanes);
+        load_packet(ps[np], *st.rays, j, k, group);
+        if (only_coherent && (k == 1 || !coherent(ps[np], min_cos))) {
+            for (std::size_t i = j; i < j + static_cast<std::size_t>(k); ++i) {
+                trace_single(bvh, mesh, stage_ray(*st.rays, i), hits, st.first + st.order[i]);
+            }
+            continue;
         }
+        from[np++] = j;
+    }
+    if (np == 0) {
         return;
     }
-    Frustum fr;
-    if (coherent(p, kFrustumMinCos) && make_frustum(&p, 1, false, fr)) {
-        walk_frustum(&p, 1, fr, bvh, mesh);
-    } else {
-        walk_packet(p, bvh, mesh);
+    walk_packets(ps, np, bvh, mesh);
+    for (int q = 0; q < np; ++q) {
+        store_packet(ps[q], st, from[q], hits);
     }
-    store_packet(p, st, at, hits);
 }
 
 /// A coordinate in [-1, 1] in 12 bits, lane by lane (NaN and outside: the nearest end).
@@ -787,18 +839,16 @@ BT_PK std::uint32_t packet_group(std::uint32_t key) {
     return key >> 24;
 }
 
-/// kLanes doubles from x (count of them, the rest 0) in float.
+/// kLanes doubles from x (count of them, the rest 0) in float (a whole packet's: lanes_to_float).
 BT_PK vf to_float(const double* x, std::size_t count) {
-    using vd = double __attribute__((vector_size(kLanes * sizeof(double))));
-    vd v{};
     if (count >= kLanes) {
-        __builtin_memcpy(&v, x, sizeof v);
-    } else {
-        for (std::size_t l = 0; l < count; ++l) {
-            v[l] = x[l];
-        }
+        return lanes_to_float(x);
     }
-    return __builtin_convertvector(v, vf);
+    vf r = splat(0.0f);
+    for (std::size_t l = 0; l < count; ++l) {
+        r[l] = static_cast<float>(x[l]);
+    }
+    return r;
 }
 
 /// Rays [first, first + n) of the batch into st.in (make_box_ray's conversions, in lanes) and
@@ -811,13 +861,20 @@ BT_PK void stage_rays(Stage& st, const RayBatch& rays, std::size_t first, std::s
     float* dst[8] = {st.in.o[0], st.in.o[1], st.in.o[2], st.in.d[0],
                      st.in.d[1], st.in.d[2], st.in.tmin, st.in.tmax};
     for (std::size_t j = 0; j < n; j += kLanes) {
-        vf f[8];
+        vf dir[3];
         for (int k = 0; k < 8; ++k) {
-            f[k] = to_float(src[k] + first + j, n - j);
-            __builtin_memcpy(dst[k] + j, &f[k], sizeof f[k]);
+            const vf f = to_float(src[k] + first + j, n - j);
+            __builtin_memcpy(dst[k] + j, &f, sizeof f);
+            if (k >= 3 && k < 6) {
+                dir[k - 3] = f;
+            }
         }
-        const vu key = sorted ? order_keys(f + 3) : (axis_order(f + 3).group * 9) << 24;
-        __builtin_memcpy(st.keys + j, &key, std::min<std::size_t>(n - j, kLanes) * 4);
+        const vu key = sorted ? order_keys(dir) : (axis_order(dir).group * 9) << 24;
+        if (n - j >= kLanes) {
+            __builtin_memcpy(st.keys + j, &key, sizeof key);
+        } else {
+            __builtin_memcpy(st.keys + j, &key, (n - j) * 4);
+        }
     }
     // A packet's loads may read kLanes floats past the last ray: zeros there.
     const std::size_t end = (n + kLanes - 1) / kLanes * kLanes;
@@ -834,9 +891,12 @@ constexpr std::size_t kMaxDescents = 4;
 /// order[0..n) = 0..n-1 sorted by keys; false if that left them in place (a stable LSD radix sort
 /// of the keys less the least, in as few passes of at most 9 bits as their range needs: a line
 /// scanner's stage differs in its across-track slope only, two passes of 6 bits; none when the keys
-/// descend at most kMaxDescents times: they are in order, or a few runs that are).
+/// descend at most kMaxDescents times: they are in order, or a few runs that are). The items
+/// sorted are (key - least) << 16 | index, in `items` and `spare` (n each): the passes read no
+/// key through the order, and every pass's counts are made in one read of the keys (a car's
+/// stage took three passes, ~25 % of its trace_range on AVX2 when each read its keys via order).
 BT_PK bool sort_by_key(const std::uint32_t* keys, std::size_t n, std::uint16_t* order,
-                       std::uint16_t* scratch) {
+                       std::uint64_t* items, std::uint64_t* spare) {
     std::uint32_t lo = ~std::uint32_t{0}, hi = 0;
     std::size_t descents = 0;
     for (std::size_t j = 0; j < n; ++j) {
@@ -851,19 +911,43 @@ BT_PK bool sort_by_key(const std::uint32_t* keys, std::size_t n, std::uint16_t* 
         return false;
     }
     const int width = (bits + passes - 1) / passes;
-    const std::uint32_t digit = (std::uint32_t{1} << width) - 1;
-    for (int shift = 0; shift < passes * width; shift += width) {
-        std::uint32_t count[513] = {};
-        for (std::size_t j = 0; j < n; ++j) {
-            ++count[(((keys[order[j]] - lo) >> shift) & digit) + 1];
+    const std::uint64_t digit = (std::uint64_t{1} << width) - 1;
+    // Each pass scatters the two halves of its items at once, each with its own counts (the
+    // second half's bucket starts after the first half's items in it: stable still), so two
+    // chains of count increments run side by side.
+    const std::size_t half = n / 2;
+    std::uint32_t count[4][513] = {};
+    for (std::size_t j = 0; j < n; ++j) {
+        items[j] = std::uint64_t{keys[j] - lo} << 16 | j;
+        for (int pass = 0; pass < passes; ++pass) {
+            ++count[pass][((items[j] >> (16 + pass * width)) & digit) + 1];
         }
-        for (std::uint32_t b = 0; b < digit + 1; ++b) {
-            count[b + 1] += count[b];
+    }
+    for (int pass = 0; pass < passes; ++pass) {
+        std::uint32_t c0[513] = {}, c1[513];
+        for (std::size_t j = 0; j < half; ++j) {
+            ++c0[((items[j] >> (16 + pass * width)) & digit) + 1];
         }
-        for (std::size_t j = 0; j < n; ++j) {
-            scratch[count[((keys[order[j]] - lo) >> shift) & digit]++] = order[j];
+        std::uint32_t at = 0;
+        for (std::uint64_t b = 1; b < digit + 2; ++b) {
+            const std::uint32_t first = c0[b], all = count[pass][b];
+            c0[b] = at;
+            c1[b] = at + first;
+            at += all;
         }
-        std::copy(scratch, scratch + n, order);
+        const int shift = 16 + pass * width;
+        for (std::size_t j = 0; j < half; ++j) {
+            const std::uint64_t a = items[j], b = items[half + j];
+            spare[c0[((a >> shift) & digit) + 1]++] = a;
+            spare[c1[((b >> shift) & digit) + 1]++] = b;
+        }
+        for (std::size_t j = 2 * half; j < n; ++j) {
+            spare[c1[((items[j] >> shift) & digit) + 1]++] = items[j];
+        }
+        std::swap(items, spare);
+    }
+    for (std::size_t j = 0; j < n; ++j) {
+        order[j] = static_cast<std::uint16_t>(items[j]);
     }
     return true;
 }
@@ -871,7 +955,7 @@ BT_PK bool sort_by_key(const std::uint32_t* keys, std::size_t n, std::uint16_t* 
 /// Puts the stage's n rays in packet order (st.rays), or leaves them where they are if that is
 /// the order they came in.
 BT_PK void order_stage(Stage& st, std::size_t n) {
-    const bool moved = sort_by_key(st.keys, n, st.order, st.scratch);
+    const bool moved = sort_by_key(st.keys, n, st.order, st.items, st.spare);
     st.rays = moved ? &st.sorted : &st.in;
     if (!moved) {
         return;
@@ -892,7 +976,7 @@ BT_PK void order_stage(Stage& st, std::size_t n) {
 }
 
 /// Rays [at, end) of a stage in packet order, each run of one packet group whose keys rise (all
-/// of a sorted stage's group) cut into packets that are loaded whole.
+/// of a sorted stage's group) cut into pieces of kRunRays that are loaded whole.
 BT_PK void trace_runs(const Stage& st, std::size_t at, std::size_t end, const Bvh& bvh,
                       const TriangleMesh& mesh, HitBatch& hits, bool only_coherent, float min_cos) {
     while (at < end) {
@@ -903,7 +987,7 @@ BT_PK void trace_runs(const Stage& st, std::size_t at, std::size_t end, const Bv
             ++run;
         }
         while (at < run) {
-            const std::size_t k = std::min<std::size_t>(kLanes, run - at);
+            const std::size_t k = std::min<std::size_t>(kRunRays, run - at);
             trace_packet(st, at, static_cast<int>(k), static_cast<int>(group / 9), bvh, mesh, hits,
                          only_coherent, min_cos);
             at += k;
