@@ -3,8 +3,10 @@
 // Results are checked (hierarchical == brute-force reference, most pixels hit) before timing.
 #include <benchmark/benchmark.h>
 
+#include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <ctime>
 #include <filesystem>
 #include <memory>
 #include <random>
@@ -145,10 +147,19 @@ void time_frames(benchmark::State& state, bt::ViewSession& session, const std::s
     options.simd_lanes = simd_lanes;
     check_against_reference(session, options, what);
     bt::ViewImage img;
+    // The process's CPU time (every thread's) over the loop's wall time: about the threads the
+    // frames ran on. Under 2 at threads:0 on 2 cores, something else took a core: with the
+    // kernel's autogroups a nice'd process of another session still gets its group's full share.
+    const std::clock_t cpu0 = std::clock();
+    const auto wall0 = std::chrono::steady_clock::now();
     for (auto _ : state) {
         session.render(cam, options, img);
         benchmark::DoNotOptimize(img.rgb.data());
     }
+    const double wall =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+    const double cpu = static_cast<double>(std::clock() - cpu0) / CLOCKS_PER_SEC;
+    state.counters["cores"] = wall > 0.0 ? cpu / wall : 0.0;
     state.counters["fps"] =
         benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
     state.counters["resident_MB"] = static_cast<double>(session.budgeted_bytes()) / 1e6;
