@@ -327,13 +327,12 @@ TEST_F(LasWriterTest, SimplePointsEncodeLikeTheSameLasPointsEvenInReusedBlocks) 
               std::vector<std::int32_t>(fresh.lo, fresh.lo + 3));
 }
 
-TEST_F(LasWriterTest, EncodePointsGivesWhatEncodingOneByOneGives) {
-    LasWriterConfig config = las_config_for_extent({634000, 4849000, 0}, {636000, 4851000, 200});
-    config.point_format = 7;
-    const LasWriter writer(config);
-    std::mt19937 rng(11);
+/// n points at random places over the extent {634000, 4849000, 0}-{636000, 4851000, 200}, with
+/// random scan angles and GPS times 10 us apart (the other fields their defaults).
+std::vector<LasSimplePoint> random_points(std::size_t n, unsigned seed) {
+    std::mt19937 rng(seed);
     std::uniform_real_distribution<double> u(0.0, 1.0);
-    std::vector<LasSimplePoint> points(300);
+    std::vector<LasSimplePoint> points(n);
     for (std::size_t i = 0; i < points.size(); ++i) {
         LasSimplePoint& p = points[i];
         p.x = 634000 + 2000 * u(rng);
@@ -341,6 +340,17 @@ TEST_F(LasWriterTest, EncodePointsGivesWhatEncodingOneByOneGives) {
         p.z = 200 * u(rng);
         p.gps_time = static_cast<double>(i) * 1e-5;
         p.scan_angle_deg = static_cast<float>(60 * u(rng) - 30);
+    }
+    return points;
+}
+
+TEST_F(LasWriterTest, EncodePointsGivesWhatEncodingOneByOneGives) {
+    LasWriterConfig config = las_config_for_extent({634000, 4849000, 0}, {636000, 4851000, 200});
+    config.point_format = 7;
+    const LasWriter writer(config);
+    std::vector<LasSimplePoint> points = random_points(300, 11);
+    for (std::size_t i = 0; i < points.size(); ++i) {
+        LasSimplePoint& p = points[i];
         p.intensity = static_cast<std::uint16_t>(i * 7);
         p.return_number = static_cast<std::uint8_t>(i % 4);  // 0: counted in no return
         p.number_of_returns = 3;
@@ -371,16 +381,9 @@ TEST_F(LasWriterTest, EncodePointsGivesWhatEncodingOneByOneGives) {
 // record) and the general one otherwise: each gives the bytes, bounds and return counts of
 // encoding the points one by one (which never takes the bare loop), and rejects the same points.
 TEST_F(LasWriterTest, EncodePointsBareOrNotGivesWhatEncodingOneByOneGives) {
-    std::mt19937 rng(12);
-    std::uniform_real_distribution<double> u(0.0, 1.0);
-    std::vector<LasSimplePoint> points(257);
+    std::vector<LasSimplePoint> points = random_points(257, 12);
     for (std::size_t i = 0; i < points.size(); ++i) {
         LasSimplePoint& p = points[i];
-        p.x = 634000 + 2000 * u(rng);
-        p.y = 4849000 + 2000 * u(rng);
-        p.z = 200 * u(rng);
-        p.gps_time = static_cast<double>(i) * 1e-5;
-        p.scan_angle_deg = static_cast<float>(60 * u(rng) - 30);
         p.intensity = static_cast<std::uint16_t>(i * 13);
         p.point_source_id = static_cast<std::uint16_t>(i * 3);
         p.return_number = static_cast<std::uint8_t>(i % 5);  // 0: counted in no return

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "physics/detail/fast_exp.hpp"
+#include "physics/ulp_support.hpp"
 
 namespace beamtrace {
 namespace {
@@ -17,20 +18,12 @@ using detail::fast_exp;
 /// |y - e^x| in ulps of e^x (e^x from the 64-bit long double exp, whose own error is below
 /// 2^-11 of a double's ulp), the subnormals' ulp being 2^-1074.
 double ulp_error(double x) {
-    const long double ref = std::exp(static_cast<long double>(x));
-    int e = 0;
-    std::frexp(ref, &e);  // ref = m 2^e, 0.5 <= m < 1
-    const long double ulp = std::ldexp(1.0L, std::max(e - 53, -1074));
-    return static_cast<double>(std::abs(static_cast<long double>(fast_exp(x)) - ref) / ulp);
+    return test::ulps_from(std::exp(static_cast<long double>(x)), fast_exp(x));
 }
 
 /// A fixed sequence of doubles uniform in [0, 1).
-struct Uniform {
-    std::uint64_t s = 7;
-    double operator()() {
-        s = s * 6364136223846793005ULL + 1442695040888963407ULL;
-        return static_cast<double>(s >> 11) * 0x1p-53;
-    }
+struct Uniform : test::UniformSequence {
+    Uniform() : test::UniformSequence{7} {}
 };
 
 TEST(FastExp, WithinOneUlpOverTheRangeTheWaveformUses) {

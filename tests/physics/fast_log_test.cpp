@@ -9,6 +9,7 @@
 
 #include "physics/detail/fast_exp.hpp"
 #include "physics/detail/fast_log.hpp"
+#include "physics/ulp_support.hpp"
 
 namespace beamtrace {
 namespace {
@@ -19,20 +20,12 @@ using detail::fast_log;
 /// |y - ln x| in ulps of ln x (from the 64-bit long double log, whose own error is far below a
 /// double's ulp); x > 0, x != 1.
 double ulp_error(double x) {
-    const long double ref = std::log(static_cast<long double>(x));
-    int e = 0;
-    std::frexp(ref, &e);  // |ref| = m 2^e, 0.5 <= m < 1
-    const long double ulp = std::ldexp(1.0L, e - 53);
-    return static_cast<double>(std::abs(static_cast<long double>(fast_log(x)) - ref) / ulp);
+    return test::ulps_from(std::log(static_cast<long double>(x)), fast_log(x));
 }
 
 /// A fixed sequence of doubles uniform in [0, 1).
-struct Uniform {
-    std::uint64_t s = 11;
-    double operator()() {
-        s = s * 6364136223846793005ULL + 1442695040888963407ULL;
-        return static_cast<double>(s >> 11) * 0x1p-53;
-    }
+struct Uniform : test::UniformSequence {
+    Uniform() : test::UniformSequence{11} {}
 };
 
 // The fit's arguments: a sample over its echo's top, in [kEchoFitFraction, 1], most near 1.
