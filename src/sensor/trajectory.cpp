@@ -63,6 +63,16 @@ constexpr std::size_t kMaxFileBytes = std::size_t{512} << 20;
     return a + (b - a) * f;
 }
 
+/// Where along leg [t0, t1] the time t lies (0 at its start, 1 at its end).
+[[gnu::always_inline]] inline double leg_fraction(double t, double t0, double t1) {
+    return (t - t0) / (t1 - t0);
+}
+
+/// The point at fraction f of the leg from w0 to w1 (its end from f = 1 on).
+[[gnu::always_inline]] inline Vec3d point_on_leg(double f, const Vec3d& w0, const Vec3d& w1) {
+    return f >= 1.0 ? w1 : lerp(w0, w1, f);
+}
+
 }  // namespace
 
 bool Trajectory::covers(double first_s, double last_s) const {
@@ -187,9 +197,9 @@ Pose LinearLegs::pose_on_leg(double t, std::size_t k) const {
 
 [[gnu::always_inline]] inline void LinearLegs::pose_on_leg_into(double t, std::size_t k,
                                                                 Pose& pose) const {
-    const double f = (t - times_s_[k]) / (times_s_[k + 1] - times_s_[k]);
+    const double f = leg_fraction(t, times_s_[k], times_s_[k + 1]);
     const auto& w = config_.waypoints_m;
-    pose.position_m = f >= 1.0 ? w[k + 1] : lerp(w[k], w[k + 1], f);
+    pose.position_m = point_on_leg(f, w[k], w[k + 1]);
     if (config_.attitudes.empty()) {
         pose.attitude = attitude_[k];
     } else {
@@ -437,8 +447,7 @@ void LinearLegs::poses_at(std::span<const double> times_s, std::span<Pose> out) 
         // pose_on_leg_into()'s values, stored field by field (a pose returned through memory
         // and copied was read back as 16-byte pieces right after being stored as doubles,
         // which stalls store forwarding).
-        const double f = (t - t0) / (t1 - t0);
-        const Vec3d p = f >= 1.0 ? w1 : lerp(w0, w1, f);
+        const Vec3d p = point_on_leg(leg_fraction(t, t0, t1), w0, w1);
         Pose& pose = out[i];
         pose.position_m.x = p.x;
         pose.position_m.y = p.y;
