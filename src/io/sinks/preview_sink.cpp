@@ -18,10 +18,10 @@
 #include <vector>
 
 #include "beamtrace/core/thread_pool.hpp"
-#include "beamtrace/io/colormap.hpp"
 #include "beamtrace/io/png_writer.hpp"
 #include "beamtrace/io/point_sink.hpp"
 #include "io/sinks/preview_font.hpp"
+#include "io/sinks/preview_shading.hpp"
 #include "io/sinks/raster_cells.hpp"
 #include "io/sinks/raster_text.hpp"
 
@@ -151,21 +151,6 @@ std::optional<Crop> crop_of(const Raster& r) {
     return c;
 }
 
-/// Brightness of pixel (x, y) lit from the north-west, 45 degrees up: 1 on flat ground.
-double hill_shade(const Raster& r, int x, int y) {
-    const auto z = [&](int u, int v) {
-        u = std::clamp(u, 0, r.width - 1);
-        v = std::clamp(v, 0, r.height - 1);
-        const float h = r.at(u, v);
-        return h == kEmpty ? static_cast<double>(r.at(x, y)) : static_cast<double>(h);
-    };
-    const double gx = (z(x + 1, y) - z(x - 1, y)) / (2.0 * r.cell_m);  // east
-    const double gy = (z(x, y - 1) - z(x, y + 1)) / (2.0 * r.cell_m);  // north
-    const Vec3d n = normalize(Vec3d{-gx, -gy, 1.0});
-    const Vec3d light = normalize(Vec3d{-1.0, 1.0, std::sqrt(2.0)});
-    return std::clamp(0.35 + 0.65 * std::max(0.0, dot(n, light)) / light.z, 0.0, 1.0);
-}
-
 /// The 1-2-5 length nearest below a quarter of `width_m`, and its text ("50 m", "2 km").
 std::pair<double, std::string> scale_bar_length(double width_m) {
     const double want = width_m / 4.0;
@@ -209,23 +194,17 @@ void draw_scale_bar(std::vector<std::uint8_t>& rgb, int w, int h, double cell_m)
     detail::draw_text(rgb, w, h, x0, ty, s, text, {255, 255, 255});
 }
 
-/// The pixels of rows [y0, y1) of the crop into `rgb`.
+/// The pixels of rows [y0, y1) of the crop into `rgb` (shade_preview_row()).
 void render_rows(const Raster& r, const Crop& c, int y0, int y1, std::vector<std::uint8_t>& rgb) {
-    const double span = static_cast<double>(c.z_hi) - static_cast<double>(c.z_lo);
+    const detail::PreviewShading shading{static_cast<double>(c.z_lo),
+                                         static_cast<double>(c.z_hi) - static_cast<double>(c.z_lo),
+                                         r.cell_m};
+    const auto line = [&](int y) { return &r.z[static_cast<std::size_t>(y) * r.width]; };
     for (int y = y0; y < y1; ++y) {
-        for (int x = c.x0; x < c.x1; ++x) {
-            const float z = r.at(x, y);
-            if (z == kEmpty) {
-                continue;
-            }
-            const double t = span > 0 ? (static_cast<double>(z) - c.z_lo) / span : 0.5;
-            auto colour = jet_color(t);
-            const double shade = hill_shade(r, x, y);
-            for (auto& ch : colour) {
-                ch = static_cast<std::uint8_t>(std::lround(ch * shade));
-            }
-            detail::put_pixel(rgb, c.width(), c.height(), x - c.x0, y - c.y0, colour);
-        }
+        const detail::PreviewRows rows{line(std::max(y - 1, 0)), line(y),
+                                       line(std::min(y + 1, r.height - 1)), r.width, kEmpty};
+        detail::shade_preview_row(rows, shading, c.x0, c.x1,
+                                  rgb.data() + 3 * static_cast<std::size_t>(y - c.y0) * c.width());
     }
 }
 
