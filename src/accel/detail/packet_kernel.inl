@@ -725,20 +725,33 @@ BT_PK TraceRay stage_ray(const StageRays& st, std::size_t j) {
 /// spinning scanner's beam's 16 firings), four of AVX2. Packets of 8 walking apart took a walk
 /// of the inner nodes each (~40 % of the car's trace_range). AVX2, AMD Zen 3, time against one
 /// packet a walk: 16 rays car 0.85x, airborne 0.80x; 32 rays 0.80x, 0.65x; 64 rays 0.85x, 0.58x.
-constexpr int kRunRays = kLanes == 8 ? 32 : kLanes;
+constexpr int kWalkRunRays = kLanes == 8 ? 32 : kLanes;
+constexpr int kWalkRunPackets = kWalkRunRays / kLanes;
+/// Rays a run piece loads: with AVX2 two walks' worth, which walk as one where their directions
+/// lie within acos(kWideWalkMinCos) of the first (a line scanner's neighbouring pulses: the
+/// 64-ray walk above), else as two walks of kWalkRunRays (a spinning scanner's beam, whose 64
+/// firings fan out over ~13 degrees and walk slower as one).
+constexpr int kRunRays = kLanes == 8 ? 2 * kWalkRunRays : kLanes;
 constexpr int kRunPackets = kRunRays / kLanes;
+constexpr float kWideWalkMinCos = 0.9986f;  // 3 degrees
 
-/// The packets ps[0, np) of one watertight group through the tree: as one frustum if their
-/// directions are within acos(kFrustumMinCos) of ps[0]'s lane 0 and bound every axis; else each
-/// packet alone, as a frustum of its own if there are several and its directions are that
-/// close, or lane by lane.
-BT_PK void walk_packets(Packet* ps, int np, const Bvh& bvh, const TriangleMesh& mesh) {
-    bool narrow = true;
+/// Whether packets ps[0, np) all lie within acos(min_cos) of ps[0]'s lane 0.
+BT_PK bool all_coherent(const Packet* ps, int np, float min_cos) {
     for (int q = 0; q < np; ++q) {
-        narrow = narrow && coherent(ps[q], kFrustumMinCos, ps[0]);
+        if (!coherent(ps[q], min_cos, ps[0])) {
+            return false;
+        }
     }
+    return true;
+}
+
+/// The packets ps[0, np) (np at most kWalkRunPackets) of one watertight group through the
+/// tree: as one frustum if their directions are within acos(kFrustumMinCos) of ps[0]'s lane 0
+/// and bound every axis; else each packet alone, as a frustum of its own if there are several
+/// and its directions are that close, or lane by lane.
+BT_PK void walk_run_packets(Packet* ps, int np, const Bvh& bvh, const TriangleMesh& mesh) {
     Frustum fr;
-    if (narrow && make_frustum(ps, np, false, fr)) {
+    if (all_coherent(ps, np, kFrustumMinCos) && make_frustum(ps, np, false, fr)) {
         walk_frustum(ps, np, fr, bvh, mesh);
         return;
     }
@@ -749,6 +762,23 @@ BT_PK void walk_packets(Packet* ps, int np, const Bvh& bvh, const TriangleMesh& 
             walk_packet(ps[q], bvh, mesh);
         }
     }
+}
+
+/// The packets ps[0, np) of one watertight group through the tree: more than kWalkRunPackets as
+/// one frustum where they are within acos(kWideWalkMinCos), else kWalkRunPackets at a time.
+BT_PK void walk_packets(Packet* ps, int np, const Bvh& bvh, const TriangleMesh& mesh) {
+    if (np > kWalkRunPackets) {
+        Frustum fr;
+        if (all_coherent(ps, np, kWideWalkMinCos) && make_frustum(ps, np, false, fr)) {
+            walk_frustum(ps, np, fr, bvh, mesh);
+            return;
+        }
+        for (int q = 0; q < np; q += kWalkRunPackets) {
+            walk_run_packets(ps + q, std::min(kWalkRunPackets, np - q), bvh, mesh);
+        }
+        return;
+    }
+    walk_run_packets(ps, np, bvh, mesh);
 }
 
 /// Traces rays [at, at + n) of the stage (n at most kRunRays), of watertight group `group`, as
