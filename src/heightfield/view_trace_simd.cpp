@@ -1,6 +1,7 @@
 #include "detail/view_trace_simd.hpp"
 
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
