@@ -1,6 +1,7 @@
-// The lane operations of view_lanes_kernel.inl for AVX2: four 64-bit lanes, masks as vectors of
-// all-ones or zero lanes. Included by view_trace_simd.cpp inside its own namespace, with
-// BT_LANES (the target attribute) defined.
+// The lane operations for AVX2 (of the ray set-up and shading, and of each half of the walk's
+// register pairs, view_lanes_avx2x2.inl): four 64-bit lanes, masks as vectors of all-ones or
+// zero lanes. Included by view_trace_simd.cpp inside its own namespace, with BT_LANES (the
+// target attribute) defined.
 
 constexpr int kLanes = 4;
 using I = __m256i;

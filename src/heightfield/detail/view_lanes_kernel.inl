@@ -1,7 +1,8 @@
 // The hierarchical traversal of trace_octant (view_renderer.cpp) for kLanes rays at once, one
 // ray per lane: descending or stepping is a per-lane select, and a lane takes the next ray as
-// soon as its ray ends. Written once against the lane operations of view_lanes_avx2.inl or
-// view_lanes_avx512.inl, which view_trace_simd.cpp includes first in the same namespace.
+// soon as its ray ends. Written once against the lane operations of view_lanes_avx2x2.inl
+// (AVX2: eight lanes in pairs of registers) or view_lanes_avx512.inl, which
+// view_trace_simd.cpp includes first in the same namespace.
 
 /// The lanes' rays and walks, one value per field. A new ray enters its lane by masked
 /// broadcasts (put): stored one field at a time into arrays instead, the next turn's vector
