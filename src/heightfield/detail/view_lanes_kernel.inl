@@ -82,6 +82,22 @@ struct Lookup {
     I n, n2, top1, shift, pyramid_base, pyramid_shift0, one;
 };
 
+/// The height lookup's constants of `table`.
+BT_LANES_INLINE Lookup lookup_of(const LevelTable& table) {
+    const int top = table.section_top();
+    const auto n = static_cast<std::int64_t>(table.sections_per_side());
+    Lookup p{};
+    p.address = table.address_table();
+    p.n = set1(n);
+    p.n2 = set1(n * n);
+    p.top1 = set1(top + 1);
+    p.shift = set1(table.finest_shift());
+    p.pyramid_base = set1(static_cast<std::int64_t>(table.pyramid_slot(0)));
+    p.pyramid_shift0 = set1(table.root() > top ? table.row_shift(0) : 0);
+    p.one = set1(1);
+    return p;
+}
+
 /// LevelTable::height(level, x, y) for the lanes of `enabled`.
 BT_LANES_INLINE D heights(const Lookup& p, I level, I x, I y, M enabled) {
     // The sections' levels: slot (y >> sh) * n + (x >> sh), rows of 2^sh cells.
@@ -96,6 +112,38 @@ BT_LANES_INLINE D heights(const Lookup& p, I level, I x, I y, M enabled) {
     const M in_sections = gt(p.top1, level);
     return load_heights(p.address, sel(in_sections, entry_s, add(p.pyramid_base, k)),
                         sel(in_sections, off_s, off_p), enabled);
+}
+
+/// found[i] of the rays of the lanes of `done` (1 for those of `hit_bits`) and hits[i] of
+/// their hits: the lanes' cell (cx, cy), entry t, exit t_end, face and height h.
+BT_LANES_INLINE void record(const Feed& feed, int done, int hit_bits, D h, D t_end, D t, I cx, I cy,
+                            I entered, GridHit* hits, std::uint8_t* found) {
+    alignas(64) double h_lanes[kLanes], t_end_lanes[kLanes], t_lanes[kLanes];
+    alignas(64) std::int64_t cx_lanes[kLanes], cy_lanes[kLanes], entered_lanes[kLanes];
+    store(h_lanes, h);
+    store(t_end_lanes, t_end);
+    store(t_lanes, t);
+    store(cx_lanes, cx);
+    store(cy_lanes, cy);
+    store(entered_lanes, entered);
+    // Only the lanes that ended, lowest first (a test of every lane mispredicted about once a
+    // turn: which lanes end is all but random).
+    for (int left = done; left != 0; left &= left - 1) {
+        const int j = __builtin_ctz(static_cast<unsigned>(left));
+        const std::size_t i = feed.ray[j];
+        const bool is_hit = (hit_bits & (1 << j)) != 0;
+        found[i] = is_hit ? 1 : 0;
+        if (is_hit) {
+            GridHit& g = hits[i];
+            g.x = cx_lanes[j];
+            g.y = cy_lanes[j];
+            g.t_in = t_lanes[j];
+            g.t_out = t_end_lanes[j];
+            g.entered_axis = static_cast<int>(entered_lanes[j]);
+            g.h = static_cast<float>(h_lanes[j]);
+            g.bottom = false;
+        }
+    }
 }
 
 /// The climb of the walk's step into the pyramid's levels, for the lanes of `climbing` (those
@@ -127,18 +175,9 @@ BT_LANES_INLINE D heights(const Lookup& p, I level, I x, I y, M enabled) {
 BT_LANES void trace(const LevelTable& table, const GridRay* rays, std::size_t count, GridHit* hits,
                     std::uint8_t* found) {
     const int top = table.section_top();
-    const auto n = static_cast<std::int64_t>(table.sections_per_side());
     const I zero = set1(0);
     const I one = set1(1);
-    Lookup p{};
-    p.address = table.address_table();
-    p.n = set1(n);
-    p.n2 = set1(n * n);
-    p.top1 = set1(top + 1);
-    p.shift = set1(table.finest_shift());
-    p.pyramid_base = set1(static_cast<std::int64_t>(table.pyramid_slot(0)));
-    p.pyramid_shift0 = set1(table.root() > top ? table.row_shift(0) : 0);
-    p.one = one;
+    const Lookup p = lookup_of(table);
     const I top_v = set1(top);
     const I root = set1(table.root());
     const I window = set1(table.cells(0));
@@ -220,32 +259,7 @@ BT_LANES void trace(const LevelTable& table, const GridRay* rays, std::size_t co
         const int hit_bits = bits(hit);
         const int done = hit_bits | bits(miss);
         if (done != 0) {
-            alignas(64) double h_lanes[kLanes], t_end_lanes[kLanes], t_lanes[kLanes];
-            alignas(64) std::int64_t cx_lanes[kLanes], cy_lanes[kLanes], entered_lanes[kLanes];
-            store(h_lanes, h);
-            store(t_end_lanes, t_end);
-            store(t_lanes, t);
-            store(cx_lanes, cx);
-            store(cy_lanes, cy);
-            store(entered_lanes, s.entered);
-            // Only the lanes that ended, lowest first (a test of every lane mispredicted about
-            // once a turn: which lanes end is all but random).
-            for (int left = done; left != 0; left &= left - 1) {
-                const int j = __builtin_ctz(static_cast<unsigned>(left));
-                const std::size_t i = feed.ray[j];
-                const bool is_hit = (hit_bits & (1 << j)) != 0;
-                found[i] = is_hit ? 1 : 0;
-                if (is_hit) {
-                    GridHit& g = hits[i];
-                    g.x = cx_lanes[j];
-                    g.y = cy_lanes[j];
-                    g.t_in = t_lanes[j];
-                    g.t_out = t_end_lanes[j];
-                    g.entered_axis = static_cast<int>(entered_lanes[j]);
-                    g.h = static_cast<float>(h_lanes[j]);
-                    g.bottom = false;
-                }
-            }
+            record(feed, done, hit_bits, h, t_end, t, cx, cy, s.entered, hits, found);
         }
         s.streak = sel(below, zero, add(streak, one));
         s.cx = sel(below, dcx, acx);
