@@ -357,9 +357,13 @@ void collect_beam_lanes(const PixelDirections& directions, const detail::RaySetu
     const detail::ClipFrame c = setup.clip_frame();
     b.beam = {};
     b.entering = 0;
+    // Every row set up first, then the bounds: the rows' divisions and square roots overlap,
+    // where the bounds' loop (a branch per entering ray) between two rows held the next one back.
     for (int py = b.block.y0; py < b.block.y1; ++py) {
-        detail::RowDirections& dirs = b.rows[static_cast<std::size_t>(py - b.block.y0)];
-        directions.row_lanes(setup, b.block, py, dirs);
+        directions.row_lanes(setup, b.block, py, b.rows[static_cast<std::size_t>(py - b.block.y0)]);
+    }
+    for (int py = b.block.y0; py < b.block.y1; ++py) {
+        const detail::RowDirections& dirs = b.rows[static_cast<std::size_t>(py - b.block.y0)];
         b.entering |= dirs.enter;
         for (int left = dirs.enter; left != 0; left &= left - 1) {
             const int k = __builtin_ctz(static_cast<unsigned>(left));

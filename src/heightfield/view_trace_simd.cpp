@@ -1,6 +1,7 @@
 #include "detail/view_trace_simd.hpp"
 
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -27,12 +28,26 @@ namespace avx2 {
 #undef BT_LANES
 #define BT_LANES __attribute__((target("avx2")))
 #define BT_LANES_INLINE __attribute__((target("avx2"), always_inline)) inline
-#include "detail/view_lanes_kernel.inl"
 #include "detail/view_lanes_setup.inl"
 #include "detail/view_lanes_shade.inl"
 #undef BT_LANES_INLINE
 #undef BT_LANES
 }  // namespace avx2
+
+// The walk for AVX2 CPUs: eight rays, two registers a value (view_lanes_avx2x2.inl).
+namespace avx2x2 {
+#define BT_LANES __attribute__((target("avx2"), always_inline)) inline
+namespace one {
+#include "detail/view_lanes_avx2.inl"
+}  // namespace one
+#include "detail/view_lanes_avx2x2.inl"
+#undef BT_LANES
+#define BT_LANES __attribute__((target("avx2")))
+#define BT_LANES_INLINE __attribute__((target("avx2"), always_inline)) inline
+#include "detail/view_lanes_kernel.inl"
+#undef BT_LANES_INLINE
+#undef BT_LANES
+}  // namespace avx2x2
 
 // GCC 12 warns of its own AVX-512 intrinsics' placeholder operands (GCC bug 105593).
 #pragma GCC diagnostic push
@@ -76,7 +91,7 @@ int trace_rays_lanes(int lanes, const LevelTable& table, const GridRay* rays, st
         return 8;
     }
     if (lanes == 4 && widest_lanes() >= 4) {
-        avx2::trace(table, rays, count, hits, found);
+        avx2x2::trace(table, rays, count, hits, found);
         return 4;
     }
     throw std::logic_error("trace_rays_lanes: " + std::to_string(lanes) +

@@ -5,6 +5,7 @@
 // one (which has none) on every ray.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -119,6 +120,130 @@ TEST(ViewLanes, FinestNeighboursAreTheFinestHeightsAroundACell) {
 /// The same double, bit for bit (0.0 and -0.0 differ).
 bool same_bits(double a, double b) {
     return std::memcmp(&a, &b, sizeof a) == 0;
+}
+
+/// The finest cells along `r` in order (trace_reference's walk, view_renderer.cpp, with the same
+/// arithmetic: cell_exits and column_hit), for a table without height stacks.
+bool walk_finest_cells(const detail::LevelTable& table, const detail::GridRay& r,
+                       detail::GridHit& hit) {
+    std::int64_t cx = r.gx, cy = r.gy;
+    double t = r.t_min;
+    int entered = r.entered;
+    for (;;) {
+        double tx = 0, ty = 0;
+        detail::cell_exits(r, cx, cy, 0, tx, ty);
+        const double t_out = std::min(tx, ty);
+        const double t_end = std::min(t_out, r.t_max);
+        const float h = table.height(0, cx, cy);
+        if (detail::column_hit(r, t, t_end, h)) {
+            hit = {};
+            hit.x = cx;
+            hit.y = cy;
+            hit.t_in = t;
+            hit.t_out = t_end;
+            hit.entered_axis = entered;
+            hit.h = h;
+            return true;
+        }
+        if (t_out >= r.t_max) {
+            return false;
+        }
+        t = t_out;
+        const bool step_x = tx <= ty, step_y = ty <= tx;
+        cx += step_x ? r.sx : 0;
+        cy += step_y ? r.sy : 0;
+        entered = step_x ? 0 : 1;
+        if (cx < 0 || cy < 0 || cx >= table.cells(0) || cy >= table.cells(0)) {
+            return false;
+        }
+    }
+}
+
+/// Rays over `grid` in every octant from heights around its terrain's, from their origin's cell
+/// at the sections' coarsest level (as RaySetup sets up a ray that starts inside the window).
+std::vector<detail::GridRay> rays_in_every_octant(const SectionGrid& grid, std::mt19937& rng,
+                                                  int count) {
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    const auto w = static_cast<double>(grid.window_cells());
+    std::vector<detail::GridRay> rays;
+    for (int i = 0; i < count; ++i) {
+        detail::GridRay r;
+        r.ox = w * u(rng);
+        r.oy = w * u(rng);
+        r.oz = 6.0 + 10.0 * u(rng);
+        // Level rays and rays along an axis among them (every eighth: dx or dy zero).
+        const double ax = i % 16 == 3 ? 0.0 : u(rng) - 0.5, ay = i % 16 == 11 ? 0.0 : u(rng) - 0.5;
+        const Vec3d d = normalize(Vec3d{ax, ay, i % 8 == 5 ? 0.0 : -0.2 * u(rng)});
+        r.dx = d.x;
+        r.dy = d.y;
+        r.dz = d.z;
+        r.inv_dx = r.dx == 0 ? detail::kInf : 1.0 / r.dx;
+        r.inv_dy = r.dy == 0 ? detail::kInf : 1.0 / r.dy;
+        r.sx = r.dx < 0 ? -1 : 1;
+        r.sy = r.dy < 0 ? -1 : 1;
+        r.gx = static_cast<std::int64_t>(r.ox);
+        r.gy = static_cast<std::int64_t>(r.oy);
+        r.t_max = 4.0 * w;
+        rays.push_back(r);
+    }
+    return rays;
+}
+
+TEST(ViewLanes, EveryBatchOfRaysInLanesHitsWhereTheFinestWalkDoes) {
+    if (detail::widest_lanes() < 4) {
+        BEAMTRACE_SKIP_HARDWARE("no AVX2 on this CPU");
+    }
+    // 2 x 2 sections of 16 cells over 3 levels (a pyramid level above them), terrain with holes.
+    const HeightFieldConfig c = small_window(1.0, 16);
+    SectionGrid grid(c, {0, 0, 0});
+    test::fill_grid(grid, [](std::int64_t x, std::int64_t y) {
+        const auto fx = static_cast<double>(x), fy = static_cast<double>(y);
+        return (x * 7 + y * 3) % 11 == 0 ? std::nan("") : 4.0 + 3.0 * std::sin(0.3 * fx + 0.2 * fy);
+    });
+    const detail::LevelTable table(grid);
+    std::mt19937 rng(21);
+    const std::vector<detail::GridRay> rays = rays_in_every_octant(grid, rng, 3000);
+    std::vector<detail::GridHit> want(rays.size());
+    std::vector<std::uint8_t> want_found(rays.size());
+    int hits = 0;
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+        want_found[i] = walk_finest_cells(table, rays[i], want[i]) ? 1 : 0;
+        hits += want_found[i];
+    }
+    // Both outcomes, many of each (the misses leave the window through each of its sides).
+    ASSERT_GT(hits, 600);
+    ASSERT_LT(hits, 2400);
+    // Batches of every size up to 19 rays (lanes left without a ray in either half of the
+    // AVX2 kernel's registers), then all of them; the AVX-512 kernel too where the CPU has it.
+    for (const int lanes : {4, 8}) {
+        if (detail::widest_lanes() < lanes) {
+            continue;
+        }
+        std::size_t first = 0;
+        for (std::size_t size = 0; first < rays.size(); ++size) {
+            const std::size_t n = size < 20 ? std::min(size, rays.size() - first) : rays.size();
+            const std::size_t from = size < 20 ? first : 0;
+            std::vector<detail::GridHit> got(n);
+            std::vector<std::uint8_t> found(n, 7);
+            ASSERT_EQ(detail::trace_rays_lanes(lanes, table, rays.data() + from, n, got.data(),
+                                               found.data()),
+                      lanes);
+            for (std::size_t k = 0; k < n; ++k) {
+                const std::size_t i = from + k;
+                ASSERT_EQ(found[k], want_found[i]) << lanes << " lanes, ray " << i;
+                if (found[k] == 0) {
+                    continue;
+                }
+                EXPECT_EQ(got[k].x, want[i].x) << i;
+                EXPECT_EQ(got[k].y, want[i].y) << i;
+                EXPECT_TRUE(same_bits(got[k].t_in, want[i].t_in)) << i;
+                EXPECT_TRUE(same_bits(got[k].t_out, want[i].t_out)) << i;
+                EXPECT_EQ(got[k].entered_axis, want[i].entered_axis) << i;
+                EXPECT_EQ(got[k].h, want[i].h) << i;
+            }
+            first = size < 20 ? first + n : rays.size();
+        }
+    }
 }
 
 TEST(ViewLanes, ExactDivisorIsTheQuotientBitForBit) {

@@ -18,6 +18,7 @@ BT_LANES I add(I a, I b) { return _mm512_add_epi64(a, b); }
 BT_LANES I sub(I a, I b) { return _mm512_sub_epi64(a, b); }
 BT_LANES I band(I a, I b) { return _mm512_and_si512(a, b); }
 BT_LANES I bxor(I a, I b) { return _mm512_xor_si512(a, b); }
+BT_LANES I bor(I a, I b) { return _mm512_or_si512(a, b); }
 /// a * b for a, b below 2^32.
 BT_LANES I mul32(I a, I b) { return _mm512_mul_epu32(a, b); }
 /// Shifts by each lane's count (a count of 64 or more gives 0).
@@ -52,9 +53,15 @@ BT_LANES void store_ints(std::int32_t* p, D a) {
 }
 
 BT_LANES M gt(I a, I b) { return _mm512_cmpgt_epi64_mask(a, b); }
+/// a < b as unsigned 64-bit numbers.
+BT_LANES M ult(I a, I b) { return _mm512_cmplt_epu64_mask(a, b); }
 BT_LANES M eq(I a, I b) { return _mm512_cmpeq_epi64_mask(a, b); }
 BT_LANES M led(D a, D b) { return _mm512_cmp_pd_mask(a, b, _CMP_LE_OQ); }
 BT_LANES M ltd(D a, D b) { return _mm512_cmp_pd_mask(a, b, _CMP_LT_OQ); }
+/// -1 in the lanes where a < 0, else 0.
+BT_LANES I negative(D a) {
+    return _mm512_movm_epi64(_mm512_cmp_pd_mask(a, _mm512_setzero_pd(), _CMP_LT_OQ));
+}
 BT_LANES M ged(D a, D b) { return _mm512_cmp_pd_mask(a, b, _CMP_GE_OQ); }
 BT_LANES M eqd(D a, D b) { return _mm512_cmp_pd_mask(a, b, _CMP_EQ_OQ); }
 
@@ -95,7 +102,7 @@ BT_LANES I trailing_zeros(I v) {
 /// address[entry][off] in the lanes of `on` (bits) where the address is not null, kEmptyHeight
 /// elsewhere: scalar loads (the gather instructions are slow on CPUs with the Gather Data
 /// Sampling mitigation), the lanes read from a vector store.
-BT_LANES D load_heights(const float* const* address, I entry, I off, int on) {
+BT_LANES D load_heights(const float* const* address, I entry, I off, M on) {
     alignas(64) std::int64_t e[kLanes], o[kLanes];
     store(e, entry);
     store(o, off);

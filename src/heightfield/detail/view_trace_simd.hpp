@@ -17,11 +17,14 @@ namespace beamtrace::detail {
 
 /// Traces rays[0, count) through `table` (which must have no height stacks) with the walk and
 /// the arithmetic of the scalar traversal (start at the sections' coarsest level, descend on a
-/// potential hit, step and climb otherwise, into the pyramid only over empty cells), `lanes`
-/// rays (4 or 8, at most widest_lanes()) in the lanes of SIMD registers, a lane taking the next
-/// ray as soon as its ray ends. Sets found[i] (1: hit) and, for hits, hits[i]: the same cell,
-/// distances and height as the scalar traversal, bit for bit. Returns the lanes of the kernel
-/// that ran (8: AVX-512, 4: AVX2), which the renderer reports in ViewImage::kernel_lanes.
+/// potential hit, step and climb otherwise, into the pyramid only over empty cells) in the
+/// lanes of SIMD registers of `lanes` (4 or 8, at most widest_lanes()) 64-bit lanes, a lane
+/// taking the next ray as soon as its ray ends: 8 rays a turn with AVX-512, and with AVX2 8 too,
+/// in pairs of 4-lane registers (the walk waits on its height loads: 8 rays overlap them).
+/// Each ray's sx and sy are RaySetup's: -1 where dx (dy) < 0, else 1. Sets found[i] (1: hit)
+/// and, for hits, hits[i]: the same cell, distances and height as the scalar traversal, bit for
+/// bit. Returns the register width that ran (8: AVX-512, 4: AVX2), which the renderer reports in
+/// ViewImage::kernel_lanes.
 [[nodiscard]] int trace_rays_lanes(int lanes, const LevelTable& table, const GridRay* rays,
                                    std::size_t count, GridHit* hits, std::uint8_t* found);
 
