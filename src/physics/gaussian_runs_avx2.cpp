@@ -92,30 +92,31 @@ BT_R4 void transpose(const __m256d a[4], __m256d t[4]) {
 /// The bins [lo, hi) of y (width bins) receive the samples of `groups` fours of runs (count
 /// runs in all), four bins at a time, each bin the runs' samples in the order of the runs;
 /// every run with bins has all of [inner_lo, inner_hi) (no masks needed there).
-template <std::size_t groups>
+template <std::size_t groups, bool full>
 BT_R4 void add_fours(double* y, std::size_t width, std::size_t lo, std::size_t hi,
                      std::size_t inner_lo, std::size_t inner_hi, Four* f, std::size_t count) {
     for (std::size_t s0 = lo; s0 < hi; s0 += 4) {
-        __m256d t[4 * groups];
         const bool inner = s0 >= inner_lo && s0 + 4 <= inner_hi;
-        for (std::size_t q = 0; q < groups; ++q) {
-            __m256d a[4];
-            if (inner) {
-                step_four_live(f[q], a);
-            } else {
-                step_four(f[q], a);
-            }
-            transpose(a, t + 4 * q);
-        }
         // A whole block by plain loads and stores (a masked store is slow on some CPUs: AMD's).
         const bool whole = s0 + 4 <= width;
         const __m256i in = _mm256_cmpgt_epi64(
             _mm256_set1_epi64x(static_cast<long long>(width - s0)), _mm256_setr_epi64x(0, 1, 2, 3));
         __m256d sum = whole ? _mm256_loadu_pd(y + s0) : _mm256_maskload_pd(y + s0, in);
-#pragma GCC unroll 8
-        for (std::size_t l = 0; l < 4 * groups; ++l) {
-            if (l < count) {
-                sum = _mm256_add_pd(sum, t[l]);
+        // Each four's samples join the sum as soon as they are transposed (the runs' order
+        // still), so that only four of them are held at once; a full call (count = 4 groups)
+        // adds every lane without asking.
+        for (std::size_t q = 0; q < groups; ++q) {
+            __m256d a[4], t[4];
+            if (inner) {
+                step_four_live(f[q], a);
+            } else {
+                step_four(f[q], a);
+            }
+            transpose(a, t);
+            for (std::size_t l = 0; l < 4; ++l) {
+                if (full || 4 * q + l < count) {
+                    sum = _mm256_add_pd(sum, t[l]);
+                }
             }
         }
         if (whole) {
@@ -157,11 +158,19 @@ __attribute__((target("avx2"))) void add_runs_lanes_avx2(double* y, std::size_t 
     Four f[2];
     f[0] = load_four(runs, 0, count, first, lo);
     if (count <= 4) {
-        add_fours<1>(y, width, lo, hi, inner_lo, inner_hi, f, count);
+        if (count == 4) {
+            add_fours<1, true>(y, width, lo, hi, inner_lo, inner_hi, f, count);
+        } else {
+            add_fours<1, false>(y, width, lo, hi, inner_lo, inner_hi, f, count);
+        }
         return;
     }
     f[1] = load_four(runs, 4, count, first, lo);
-    add_fours<2>(y, width, lo, hi, inner_lo, inner_hi, f, count);
+    if (count == 8) {
+        add_fours<2, true>(y, width, lo, hi, inner_lo, inner_hi, f, count);
+    } else {
+        add_fours<2, false>(y, width, lo, hi, inner_lo, inner_hi, f, count);
+    }
 }
 
 #else

@@ -13,6 +13,10 @@
 #include "physics/detail/fast_log.hpp"
 #include "physics/detail/gaussian_runs.hpp"
 
+#if defined(__x86_64__) && defined(__GNUC__)
+#include <immintrin.h>
+#endif
+
 namespace beamtrace {
 namespace {
 
@@ -24,12 +28,14 @@ using detail::GaussianRun;
 
 /// The exponents of the run from bin b0 of width h [ns] of amplitude * exp(-(t - t0)^2 /
 /// (2 sigma^2)), inv_two_var = 1 / (2 sigma^2): their exps are its first sample over the
-/// amplitude, its first ratio and the ratio's step (GaussianRun).
-void run_exponents(double h, std::int64_t b0, double t0, double inv_two_var, double* e) {
+/// amplitude, its first ratio and the ratio's step (GaussianRun), at e[0], e[stride] and
+/// e[2 stride].
+void run_exponents(double h, std::int64_t b0, double t0, double inv_two_var, double* e,
+                   std::size_t stride) {
     const double dt0 = static_cast<double>(b0) * h - t0;
     e[0] = -dt0 * dt0 * inv_two_var;
-    e[1] = -(2.0 * dt0 * h + h * h) * inv_two_var;
-    e[2] = -2.0 * h * h * inv_two_var;
+    e[stride] = -(2.0 * dt0 * h + h * h) * inv_two_var;
+    e[2 * stride] = -2.0 * h * h * inv_two_var;
 }
 
 /// static_cast<std::int64_t>(std::floor(x)) and (ceil) without the libm calls (baseline x86-64
@@ -89,32 +95,98 @@ BEAMTRACE_WAVEFORM_CLONES void run_quotients(RunQuotients& q, std::size_t n, dou
     }
 }
 
+#if defined(__x86_64__) && defined(__GNUC__)
+/// make_runs' bins and exponents of runs [0, count) four at a time (AVX2, no FMA: each product
+/// and sum rounded alone, run_exponents' order), for the fours whose reach ends lie within
+/// 2^52 bins: there floor and ceil are exact in doubles and equal floor_to_int's and
+/// ceil_to_int's integers (+0 for 0, as the integer's conversion gives). Each run's b0 and n
+/// into runs[i], its exponents into e[i], e[count + i], e[2 count + i]. Returns how many it did.
+__attribute__((target("avx2"))) std::size_t run_bins_avx2(const RunQuotients& q, std::size_t count,
+                                                          double h, std::int64_t first,
+                                                          std::int64_t last, GaussianRun* runs,
+                                                          double* e) {
+    const __m256d big = _mm256_set1_pd(0x1p52), zero = _mm256_setzero_pd();
+    const __m256d sign = _mm256_set1_pd(-0.0), hv = _mm256_set1_pd(h);
+    const __m256d first_d = _mm256_set1_pd(static_cast<double>(first));
+    const __m256d last_d = _mm256_set1_pd(static_cast<double>(last));
+    const __m256d hh = _mm256_mul_pd(hv, hv);
+    const __m256d two_hh = _mm256_mul_pd(_mm256_mul_pd(_mm256_set1_pd(-2.0), hv), hv);
+    if (!(std::abs(static_cast<double>(first)) < 0x1p52) ||
+        !(std::abs(static_cast<double>(last)) < 0x1p52)) {
+        return 0;
+    }
+    std::size_t i = 0;
+    for (; i + 4 <= count; i += 4) {
+        const __m256d lo = _mm256_loadu_pd(q.lo + i), hi = _mm256_loadu_pd(q.hi + i);
+        const __m256d near =
+            _mm256_and_pd(_mm256_cmp_pd(_mm256_andnot_pd(sign, lo), big, _CMP_LT_OQ),
+                          _mm256_cmp_pd(_mm256_andnot_pd(sign, hi), big, _CMP_LT_OQ));
+        if (_mm256_movemask_pd(near) != 0xf) {
+            break;
+        }
+        const __m256d b0 = _mm256_add_pd(_mm256_max_pd(_mm256_floor_pd(lo), first_d), zero);
+        const __m256d b1 = _mm256_min_pd(_mm256_ceil_pd(hi), last_d);
+        const __m256d some = _mm256_cmp_pd(b1, b0, _CMP_GE_OQ);
+        const __m256d inv = _mm256_loadu_pd(q.inv_two_var + i);
+        const __m256d dt0 = _mm256_sub_pd(_mm256_mul_pd(b0, hv), _mm256_loadu_pd(q.t + i));
+        const __m256d e0 = _mm256_mul_pd(_mm256_mul_pd(_mm256_xor_pd(dt0, sign), dt0), inv);
+        const __m256d e1 = _mm256_mul_pd(
+            _mm256_xor_pd(
+                _mm256_add_pd(_mm256_mul_pd(_mm256_mul_pd(_mm256_set1_pd(2.0), dt0), hv), hh),
+                sign),
+            inv);
+        _mm256_storeu_pd(e + i, _mm256_and_pd(some, e0));
+        _mm256_storeu_pd(e + count + i, _mm256_and_pd(some, e1));
+        _mm256_storeu_pd(e + 2 * count + i, _mm256_and_pd(some, _mm256_mul_pd(two_hh, inv)));
+        alignas(32) double b0s[4], b1s[4];
+        _mm256_store_pd(b0s, b0);
+        _mm256_store_pd(b1s, b1);
+        for (std::size_t l = 0; l < 4; ++l) {
+            runs[i + l] = GaussianRun{};
+            runs[i + l].b0 = static_cast<std::int64_t>(b0s[l]);
+            if (b1s[l] >= b0s[l]) {
+                runs[i + l].n = static_cast<std::size_t>(b1s[l] - b0s[l]) + 1;
+            }
+        }
+    }
+    return i;
+}
+#endif
+
 /// The runs of q's `count` contributions, each inside the bins [first, last] (width h [ns]):
 /// their 3 count exps in one pass of fast_exp_lanes (the same bits in every lane and path).
 void make_runs(RunQuotients& q, std::size_t count, double h, double sigma_p, std::int64_t first,
                std::int64_t last, GaussianRun* runs) {
     run_quotients(q, count, h, sigma_p);
     double e[3 * kBatch];
-    for (std::size_t i = 0; i < count; ++i) {
+    std::size_t i = 0;
+#if defined(__x86_64__) && defined(__GNUC__)
+    if (__builtin_cpu_supports("avx2")) {
+        i = run_bins_avx2(q, count, h, first, last, runs, e);
+    }
+#endif
+    for (; i < count; ++i) {
         const std::int64_t b0 = std::max(first, floor_to_int(q.lo[i]));
         const std::int64_t b1 = std::min(last, ceil_to_int(q.hi[i]));
         runs[i] = GaussianRun{};
         runs[i].b0 = b0;
         if (b1 >= b0) {
             runs[i].n = static_cast<std::size_t>(b1 - b0 + 1);
-            run_exponents(h, b0, q.t[i], q.inv_two_var[i], e + 3 * i);
+            run_exponents(h, b0, q.t[i], q.inv_two_var[i], e + i, count);
         } else {
-            std::fill(e + 3 * i, e + 3 * i + 3, 0.0);  // an empty run: no exps needed
+            for (std::size_t k = 0; k < 3; ++k) {
+                e[i + k * count] = 0.0;  // an empty run: no exps needed
+            }
         }
     }
     detail::fast_exp_lanes(e, e, 3 * count);
-    for (std::size_t i = 0; i < count; ++i) {
-        if (runs[i].n > 0) {
+    for (std::size_t j = 0; j < count; ++j) {
+        if (runs[j].n > 0) {
             // The stretched echo keeps its energy: its peak drops as sigma_p / sigma.
-            const double a = q.amplitude[i];
-            runs[i].g = (q.stretched[i] ? a * q.shrink[i] : a) * e[3 * i];
-            runs[i].ratio = e[3 * i + 1];
-            runs[i].step = e[3 * i + 2];
+            const double a = q.amplitude[j];
+            runs[j].g = (q.stretched[j] ? a * q.shrink[j] : a) * e[j];
+            runs[j].ratio = e[count + j];
+            runs[j].step = e[2 * count + j];
         }
     }
 }

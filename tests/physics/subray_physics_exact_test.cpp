@@ -164,6 +164,34 @@ TEST(PhysicsSubRayExact, DominantSampleIsTheBruteForceOne) {
     EXPECT_GT(outer, 100u);  // the case the shortcut skips most in is exercised
 }
 
+TEST(PhysicsSubRayExact, WaveformNearZeroAndFarIsBitIdenticalToOneGaussianAtATime) {
+    // Runs whose bins start below 0, at 0 and far out (their bins and exponents four at a
+    // time), fours with empty or clipped runs: bit for bit the one-at-a-time waveform.
+    std::mt19937_64 rng(5);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    WaveformConfig config;
+    for (int trial = 0; trial < 300; ++trial) {
+        const std::size_t n = 1 + static_cast<std::size_t>(trial % 19);
+        const double base_m = trial % 3 == 0 ? 0.0 : (trial % 3 == 1 ? 0.37 : 2.5e5);
+        std::vector<EchoContribution> c;
+        for (std::size_t i = 0; i < n; ++i) {
+            const double sigma = u(rng) < 0.3 ? 0.0 : 1.7 * (1.0 + 9.0 * u(rng));
+            const double range_m = u(rng) < 0.2 ? base_m : base_m + 2.0 * u(rng);
+            c.push_back({range_m, 1e-7 * (0.01 + u(rng)), sigma});
+        }
+        Waveform w;
+        build_waveform(config, c, w);
+        const Waveform expected = one_gaussian_at_a_time(config, c);
+        ASSERT_EQ(w.first_bin, expected.first_bin);
+        ASSERT_EQ(w.samples_w.size(), expected.samples_w.size());
+        for (std::size_t k = 0; k < w.samples_w.size(); ++k) {
+            ASSERT_EQ(std::bit_cast<std::uint64_t>(w.samples_w[k]),
+                      std::bit_cast<std::uint64_t>(expected.samples_w[k]))
+                << "trial " << trial << " bin " << k;
+        }
+    }
+}
+
 TEST(PhysicsSubRayExact, SubRayPowersInLanesAreEachHitsPowerBitForBit) {
     // Up to 61 samples (the lanes' chunks of 32 and their tails), misses and bad ranges among
     // them, through an atmosphere: the pulse's powers are sub_ray_power_w's one by one, and
@@ -206,6 +234,50 @@ TEST(PhysicsSubRayExact, SubRayPowersInLanesAreEachHitsPowerBitForBit) {
                 ASSERT_NEAR(p, exact, 2.0 * (std::nextafter(exact, 1.0) - exact));
             }
         }
+    }
+}
+
+TEST(PhysicsSubRayExact, MattePowersInLanesMatchEachSampleUnderEitherBrdf) {
+    // Matte samples (no specular weight) go four at a time (the reflectance is cos_i where
+    // positive): grazing, back-facing and NaN incidences, misses and bad ranges among them,
+    // and now and then a glossy sample (its four and the rest one by one), under both BRDFs.
+    for (const Brdf brdf : {Brdf::normalized_phong, Brdf::phenomenological}) {
+        PhysicsConfig config;
+        config.brdf = brdf;
+        const PulseSimulator sim(config);
+        std::mt19937_64 rng(17);
+        std::uniform_real_distribution<double> u(0.0, 1.0);
+        PulseResponse r;
+        std::size_t glossy_pulses = 0;
+        for (std::uint64_t pulse = 0; pulse < 400; ++pulse) {
+            std::vector<BeamSample> samples(1 + pulse % 41);
+            bool glossy = false;
+            for (BeamSample& s : samples) {
+                s.weight = u(rng);
+                s.hit.range_m = 10.0 + 3000.0 * u(rng);
+                s.hit.cos_incidence = 2.0 * u(rng) - 0.2;  // some <= 0, some > 1
+                s.hit.albedo = u(rng);
+                const double pick = u(rng);
+                if (pick < 0.04) {
+                    s.hit.cos_incidence = pick < 0.02 ? 0.0 : std::nan("");
+                } else if (pick < 0.08) {
+                    s.hit.range_m = pick < 0.06 ? -2.0 : std::numeric_limits<double>::infinity();
+                } else if (pulse % 3 == 0 && pick > 0.97) {
+                    s.hit.specular_weight = 0.5;
+                    glossy = true;
+                }
+            }
+            glossy_pulses += glossy ? 1 : 0;
+            sim.simulate_samples(1, pulse, samples, r);
+            ASSERT_EQ(r.sub_ray_power_w.size(), samples.size());
+            for (std::size_t j = 0; j < samples.size(); ++j) {
+                const double p = sim.sub_ray_power_w(samples[j].hit, samples[j].weight);
+                ASSERT_EQ(std::bit_cast<std::uint64_t>(r.sub_ray_power_w[j]),
+                          std::bit_cast<std::uint64_t>(p))
+                    << to_string(brdf) << " pulse " << pulse << " sample " << j;
+            }
+        }
+        EXPECT_GT(glossy_pulses, 20u);
     }
 }
 
