@@ -9,6 +9,7 @@
 
 #include "beamtrace/core/error.hpp"
 #include "beamtrace/core/name_table.hpp"
+#include "sensor/detail/line_angles.hpp"
 #include "sensor/detail/mechanism_preset_yaml.hpp"
 #include "sensor/detail/scan_pattern_types.hpp"
 #include "sensor/detail/scanner_yaml.hpp"
@@ -89,12 +90,12 @@ double LineScanner::angle_at_lines(double lines) const {
     const double a = config_.scan_angle_max_deg;
     switch (config_.waveform) {
         case ScanWaveform::sawtooth:
-            return -a + 2.0 * a * frac(lines);
+            return detail::sawtooth_deg(a, lines);
         case ScanWaveform::triangle:
             if (config_.turn_duration_s > 0.0) {
                 return turning_angle_at_lines(lines);
             }
-            return a * (1.0 - 4.0 * std::abs(frac(0.5 * lines) - 0.5));
+            return detail::triangle_deg(a, lines);
         case ScanWaveform::sinusoid:
             return -a * std::cos(2.0 * std::numbers::pi * frac(0.5 * lines));
     }
@@ -141,23 +142,41 @@ void LineScanner::generate_pulses(std::uint64_t first, std::size_t count, PulseB
     }
     const double a = config_.scan_angle_max_deg;
     const double slots_per_deg = static_cast<double>(kMemoSlots) / (2.0 * a);
-    for (std::size_t j = 0; j < count; ++j) {
-        const std::uint64_t i = first + j;
-        // The same expression as line_of_pulse, so a pulse's angle and line always agree.
-        const double lines = static_cast<double>(i) * lines_per_s_ / config_.pulse_rate_hz;
-        const double s_deg = angle_at_lines(lines);
-        const double s = s_deg * kDegToRad;
-        const double u = std::min((s_deg + a) * slots_per_deg, kMemoSlots - 1.0);
-        SincosMemo::Entry& e = memo[u >= 0.0 ? static_cast<std::size_t>(u) : 0];
-        if (e.angle_bits != std::bit_cast<std::uint64_t>(s)) {  // not s == key: -0.0 and 0.0
-            e.angle_bits = std::bit_cast<std::uint64_t>(s);
-            e.cos = std::cos(s);
-            e.sin = std::sin(s);
+    // Sawtooth and triangle without turns: the angles and times of a chunk of pulses in lanes
+    // first (detail::line_angles_lanes, the same bits), then the memo one pulse at a time.
+    const bool lanes = config_.waveform == ScanWaveform::sawtooth ||
+                       (config_.waveform == ScanWaveform::triangle && config_.turn_duration_s <= 0);
+    const detail::LineAngleParams params{config_.start_time_s, config_.pulse_rate_hz, lines_per_s_,
+                                         a, config_.waveform == ScanWaveform::triangle};
+    constexpr std::size_t kChunk = 256;
+    std::array<double, kChunk> angles{}, times{};
+    for (std::size_t c = 0; c < count; c += kChunk) {
+        const std::size_t n = std::min(kChunk, count - c);
+        std::size_t done = 0;
+        if (lanes) {
+            done = detail::line_angles_lanes(params, first + c, n, angles.data(), times.data());
         }
-        out.time_s[j] = pulse_time_s(i);
-        out.direction[j] = {e.cos, e.sin, 0.0};
-        out.channel[j] = 0;
-        out.scan_angle_deg[j] = static_cast<float>(s_deg);
+        for (std::size_t j = done; j < n; ++j) {
+            const std::uint64_t i = first + c + j;
+            // The same expression as line_of_pulse, so a pulse's angle and line always agree.
+            angles[j] = angle_at_lines(detail::lines_of_pulse(params, i));
+            times[j] = pulse_time_s(i);
+        }
+        for (std::size_t j = 0; j < n; ++j) {
+            const double s_deg = angles[j];
+            const double s = s_deg * kDegToRad;
+            const double u = std::min((s_deg + a) * slots_per_deg, kMemoSlots - 1.0);
+            SincosMemo::Entry& e = memo[u >= 0.0 ? static_cast<std::size_t>(u) : 0];
+            if (e.angle_bits != std::bit_cast<std::uint64_t>(s)) {  // not s == key: -0.0, 0.0
+                e.angle_bits = std::bit_cast<std::uint64_t>(s);
+                e.cos = std::cos(s);
+                e.sin = std::sin(s);
+            }
+            out.time_s[c + j] = times[j];
+            out.direction[c + j] = {e.cos, e.sin, 0.0};
+            out.channel[c + j] = 0;
+            out.scan_angle_deg[c + j] = static_cast<float>(s_deg);
+        }
     }
 }
 
