@@ -129,6 +129,62 @@ TEST(PreviewSink, TheSameImageForBlocksEncodedInAnyOrderOnAnyThreads) {
     }
 }
 
+TEST(PreviewSink, GapsOfUpToTwoPixelsClosedAlongRowsAndColumnsAtTheLowerHeight) {
+    // Pixels of 100 m / 1024 (the footprint's side over kPreviewPixels); a point at the centre
+    // of pixel (u, v), v counted from the north edge.
+    test::TempDir dir;
+    SinkFacts facts;
+    facts.output_dir = dir.path();
+    facts.footprint_m = {{0, 0, 0}, {100, 100, 10}};
+    facts.pulses = 100000000;
+    auto sink = point_sink("preview").make(facts);
+    const double cell = 100.0 / 1024;
+    PointBlock block;
+    const auto hit = [&](int u, int v, double z) {
+        BlockPoint& p = block.points.emplace_back();
+        p.x = (u + 0.5) * cell;
+        p.y = 100.0 - (v + 0.5) * cell;
+        p.z = z;
+    };
+    // Along row 20: gaps of 1, 2 and 3 pixels; down column 30 the same.
+    for (const int k : {10, 12, 15, 19, 20}) {
+        hit(k, 20, k == 12 ? 3.0 : 1.0);
+        hit(30, k + 10, 2.0);
+    }
+    auto buffer = sink->make_buffer();
+    sink->encode(block, *buffer);
+    sink->write(*buffer);
+    const auto files = sink->commit();
+    ASSERT_EQ(files.size(), 1u);
+    // Cropped to columns 10-30 and rows 20-30 with 8 pixels of margin.
+    EXPECT_NE(sink->notes()[0].find("37 x 27 pixels of 0.0977 m, north up, heights 1.00 to 3.00"),
+              std::string::npos)
+        << sink->notes()[0];
+    const RgbImage img = read_png_rgb8(files[0]);
+    ASSERT_EQ(img.width, 37);
+    ASSERT_EQ(img.height, 27);
+    const auto filled = [&](int u, int v) {
+        const auto i = 3 * (static_cast<std::size_t>(v - 12) * img.width + (u - 2));
+        return img.rgb[i] != 40 || img.rgb[i + 1] != 40 || img.rgb[i + 2] != 40;
+    };
+    for (int k = 9; k <= 21; ++k) {
+        const bool want = (k >= 10 && k <= 15) || (k >= 19 && k <= 20);
+        EXPECT_EQ(filled(k, 20), want) << "row 20, column " << k;
+        EXPECT_EQ(filled(30, k + 10), want) << "column 30, row " << k + 10;
+    }
+    // The gaps beside pixel 12 (3 m: red) at the lower height (1 m: blue, no red).
+    const auto red_blue = [&](int u, int v) {
+        const auto i = 3 * (static_cast<std::size_t>(v - 12) * img.width + (u - 2));
+        return std::pair<int, int>{img.rgb[i], img.rgb[i + 2]};
+    };
+    EXPECT_GT(red_blue(12, 20).first, 0);
+    EXPECT_EQ(red_blue(12, 20).second, 0);
+    for (const int u : {11, 13}) {
+        EXPECT_EQ(red_blue(u, 20).first, 0) << u;
+        EXPECT_GT(red_blue(u, 20).second, 0) << u;
+    }
+}
+
 TEST(PreviewSink, NoPointsNoFile) {
     test::TempDir dir;
     SinkFacts facts;

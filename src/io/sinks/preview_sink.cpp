@@ -20,9 +20,9 @@
 #include "beamtrace/core/thread_pool.hpp"
 #include "beamtrace/io/png_writer.hpp"
 #include "beamtrace/io/point_sink.hpp"
+#include "io/sinks/preview_cells.hpp"
 #include "io/sinks/preview_font.hpp"
 #include "io/sinks/preview_shading.hpp"
-#include "io/sinks/raster_cells.hpp"
 #include "io/sinks/raster_text.hpp"
 
 namespace beamtrace {
@@ -72,23 +72,79 @@ Raster raster_for(const Vec3d& lo, const Vec3d& hi, std::uint64_t points) {
     return r;
 }
 
-/// close_gaps() on lines [l0, l1).
-void close_gaps(Raster& r, bool rows, int l0, int l1) {
-    const int n = rows ? r.width : r.height;
-    for (int l = l0; l < l1; ++l) {
+struct Crop {
+    int x0 = 0, y0 = 0, x1 = 0, y1 = 0;  ///< [x0, x1) x [y0, y1)
+    float z_lo = 0.0f, z_hi = 0.0f;
+    [[nodiscard]] int width() const { return x1 - x0; }
+    [[nodiscard]] int height() const { return y1 - y0; }
+};
+
+/// No hit yet: a box and height range that any hit replaces.
+constexpr Crop kNoHit{std::numeric_limits<int>::max(),
+                      std::numeric_limits<int>::max(),
+                      -1,
+                      -1,
+                      std::numeric_limits<float>::infinity(),
+                      kEmpty};
+
+/// The box and height range of the hits of both.
+Crop merged(const Crop& a, const Crop& b) {
+    return {std::min(a.x0, b.x0), std::min(a.y0, b.y0),     std::max(a.x1, b.x1),
+            std::max(a.y1, b.y1), std::min(a.z_lo, b.z_lo), std::max(a.z_hi, b.z_hi)};
+}
+
+/// The box and height range of the hits of rows [y0, y1) (row_hits()).
+Crop hits_of_rows(const Raster& r, int y0, int y1) {
+    Crop c = kNoHit;
+    for (int y = y0; y < y1; ++y) {
+        const detail::RowHits h =
+            detail::row_hits(&r.z[static_cast<std::size_t>(y) * r.width], r.width, kEmpty);
+        if (h.first >= 0) {
+            c = merged(c, {h.first, y, h.last + 1, y + 1, h.lo, h.hi});
+        }
+    }
+    return c;
+}
+
+/// Closes runs of at most kGapPixels empty pixels between two hits along rows [y0, y1), columns
+/// [box.x0, box.x1) (the hits' box: nothing to close outside it), at the lower of the two heights.
+void close_row_gaps(Raster& r, const Crop& box, int y0, int y1) {
+    for (int y = y0; y < y1; ++y) {
+        float* row = &r.at(0, y);
         int last = -1;
-        for (int k = 0; k < n; ++k) {
-            const float z = rows ? r.at(k, l) : r.at(l, k);
+        for (int x = box.x0; x < box.x1; ++x) {
+            const float z = row[x];
             if (z == kEmpty) {
                 continue;
             }
-            if (last >= 0 && k - last - 1 > 0 && k - last - 1 <= kGapPixels) {
-                const float fill = std::min(z, rows ? r.at(last, l) : r.at(l, last));
-                for (int j = last + 1; j < k; ++j) {
-                    (rows ? r.at(j, l) : r.at(l, j)) = fill;
+            if (last >= 0 && x - last - 1 > 0 && x - last - 1 <= kGapPixels) {
+                const float fill = std::min(z, row[last]);
+                std::fill(row + last + 1, row + x, fill);
+            }
+            last = x;
+        }
+    }
+}
+
+/// The same down columns [x0, x1), rows [box.y0, box.y1) walked in order (each column's last hit
+/// kept) rather than each column down the raster: the same fills, the memory read in order.
+void close_column_gaps(Raster& r, const Crop& box, int x0, int x1) {
+    std::vector<int> last(static_cast<std::size_t>(x1 - x0), -1);
+    for (int y = box.y0; y < box.y1; ++y) {
+        const float* row = &r.at(0, y);
+        for (int x = x0; x < x1; ++x) {
+            const float z = row[x];
+            if (z == kEmpty) {
+                continue;
+            }
+            int& l = last[static_cast<std::size_t>(x - x0)];
+            if (l >= 0 && y - l - 1 > 0 && y - l - 1 <= kGapPixels) {
+                const float fill = std::min(z, r.at(x, l));
+                for (int j = l + 1; j < y; ++j) {
+                    r.at(x, j) = fill;
                 }
             }
-            last = k;
+            l = y;
         }
     }
 }
@@ -113,36 +169,25 @@ void in_halves(std::size_t n, const F& f) {
     f(0, n);
 }
 
-/// Closes runs of at most kGapPixels empty pixels between two hits along a row (dx = 1) or a
-/// column (dx = 0) at the lower of the two heights.
-void close_gaps(Raster& r, bool rows) {
-    const int lines = rows ? r.height : r.width;
-    in_halves(static_cast<std::size_t>(lines), [&](std::size_t l0, std::size_t l1) {
-        close_gaps(r, rows, static_cast<int>(l0), static_cast<int>(l1));
+/// Closes runs of at most kGapPixels empty pixels between two hits along each row, then along
+/// each column, at the lower of the two heights; returns the hits' box with a margin, and their
+/// height range (nullopt without hits). The box and range are the same before and after: the
+/// closing fills between two hits at one of their heights.
+std::optional<Crop> close_gaps_and_crop(Raster& r) {
+    Crop halves[2] = {kNoHit, kNoHit};
+    in_halves(static_cast<std::size_t>(r.height), [&](std::size_t y0, std::size_t y1) {
+        halves[y0 == 0 ? 0 : 1] = hits_of_rows(r, static_cast<int>(y0), static_cast<int>(y1));
     });
-}
-
-struct Crop {
-    int x0 = 0, y0 = 0, x1 = 0, y1 = 0;  ///< [x0, x1) x [y0, y1)
-    float z_lo = 0.0f, z_hi = 0.0f;
-    [[nodiscard]] int width() const { return x1 - x0; }
-    [[nodiscard]] int height() const { return y1 - y0; }
-};
-
-/// The hits' box with a margin, and their height range; nullopt without hits.
-std::optional<Crop> crop_of(const Raster& r) {
-    Crop c{r.width, r.height, -1, -1, std::numeric_limits<float>::infinity(), kEmpty};
-    for (int y = 0; y < r.height; ++y) {
-        for (int x = 0; x < r.width; ++x) {
-            if (const float z = r.at(x, y); z != kEmpty) {
-                c = {std::min(c.x0, x),     std::min(c.y0, y),   std::max(c.x1, x + 1),
-                     std::max(c.y1, y + 1), std::min(c.z_lo, z), std::max(c.z_hi, z)};
-            }
-        }
-    }
+    Crop c = merged(halves[0], halves[1]);
     if (c.x1 < 0) {
         return std::nullopt;
     }
+    in_halves(static_cast<std::size_t>(c.height()), [&](std::size_t a, std::size_t b) {
+        close_row_gaps(r, c, c.y0 + static_cast<int>(a), c.y0 + static_cast<int>(b));
+    });
+    in_halves(static_cast<std::size_t>(c.width()), [&](std::size_t a, std::size_t b) {
+        close_column_gaps(r, c, c.x0 + static_cast<int>(a), c.x0 + static_cast<int>(b));
+    });
     const int margin = std::max(8, std::max(c.width(), c.height()) / 50);
     c.x0 = std::max(0, c.x0 - margin);
     c.y0 = std::max(0, c.y0 - margin);
@@ -309,9 +354,7 @@ class PreviewSink final : public PointSink {
         }
     }
     std::vector<std::filesystem::path> commit() override {
-        close_gaps(raster_, true);
-        close_gaps(raster_, false);
-        const auto crop = crop_of(raster_);
+        const auto crop = close_gaps_and_crop(raster_);
         if (!crop) {
             notes_.emplace_back("preview.png: not written (no point)");
             return {};
@@ -333,24 +376,14 @@ class PreviewSink final : public PointSink {
 
   private:
     /// The pixel and height of each point of `block` that falls on the raster, in block order,
-    /// into `out`.
+    /// into `out` (preview_cells()).
     void pixels_of(const PointBlock& block, PreviewBuffer& out) const {
         out.pixel.resize(block.points.size());
         out.height.resize(block.points.size());
-        std::size_t n = 0;
-        const double per_cell = 1.0 / raster_.cell_m;
-        for (const BlockPoint& p : block.points) {
-            double uv[2];
-            detail::cells_floor_pair(p.x - raster_.west, raster_.north - p.y, raster_.cell_m,
-                                     per_cell, uv);
-            const double u = uv[0], v = uv[1];
-            if (u >= 0 && v >= 0 && u < raster_.width && v < raster_.height) {
-                const auto pixel = static_cast<std::uint32_t>(v * raster_.width + u);
-                out.pixel[n] = pixel;
-                out.height[n] = static_cast<float>(p.z) + 0.0f;
-                ++n;
-            }
-        }
+        const detail::PreviewGrid grid{raster_.west,         raster_.north, raster_.cell_m,
+                                       1.0 / raster_.cell_m, raster_.width, raster_.height};
+        const std::size_t n =
+            detail::preview_cells(block.points, grid, out.pixel.data(), out.height.data());
         out.pixel.resize(n);
         out.height.resize(n);
     }
