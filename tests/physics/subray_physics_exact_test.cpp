@@ -66,6 +66,24 @@ Waveform one_gaussian_at_a_time(const WaveformConfig& config,
     return out;
 }
 
+/// Whether two waveforms start at the same bin and hold the same samples, bit for bit (the
+/// first differing bin named).
+::testing::AssertionResult same_bits(const Waveform& w, const Waveform& expected) {
+    if (w.first_bin != expected.first_bin || w.samples_w.size() != expected.samples_w.size()) {
+        return ::testing::AssertionFailure()
+               << "bins " << w.first_bin << " + " << w.samples_w.size() << ", expected "
+               << expected.first_bin << " + " << expected.samples_w.size();
+    }
+    for (std::size_t k = 0; k < w.samples_w.size(); ++k) {
+        if (std::bit_cast<std::uint64_t>(w.samples_w[k]) !=
+            std::bit_cast<std::uint64_t>(expected.samples_w[k])) {
+            return ::testing::AssertionFailure() << "bin " << k << ": " << w.samples_w[k]
+                                                 << ", expected " << expected.samples_w[k];
+        }
+    }
+    return ::testing::AssertionSuccess();
+}
+
 TEST(PhysicsSubRayExact, WaveformIsBitIdenticalToOneGaussianAtATime) {
     std::mt19937_64 rng(21);
     std::uniform_real_distribution<double> u(0.0, 1.0);
@@ -82,12 +100,7 @@ TEST(PhysicsSubRayExact, WaveformIsBitIdenticalToOneGaussianAtATime) {
         }
         Waveform w;
         build_waveform(config, c, w);
-        const Waveform expected = one_gaussian_at_a_time(config, c);
-        ASSERT_EQ(w.first_bin, expected.first_bin);
-        ASSERT_EQ(w.samples_w.size(), expected.samples_w.size());
-        for (std::size_t k = 0; k < w.samples_w.size(); ++k) {
-            ASSERT_EQ(w.samples_w[k], expected.samples_w[k]) << "trial " << trial << " bin " << k;
-        }
+        ASSERT_TRUE(same_bits(w, one_gaussian_at_a_time(config, c))) << "trial " << trial;
         // And the samples are the Gaussians' sum (closed form) to rounding.
         const double sigma_p = config.pulse_fwhm_ns / (2.0 * std::sqrt(2.0 * std::log(2.0)));
         for (std::size_t k = 0; k < w.samples_w.size(); k += 7) {
@@ -181,14 +194,7 @@ TEST(PhysicsSubRayExact, WaveformNearZeroAndFarIsBitIdenticalToOneGaussianAtATim
         }
         Waveform w;
         build_waveform(config, c, w);
-        const Waveform expected = one_gaussian_at_a_time(config, c);
-        ASSERT_EQ(w.first_bin, expected.first_bin);
-        ASSERT_EQ(w.samples_w.size(), expected.samples_w.size());
-        for (std::size_t k = 0; k < w.samples_w.size(); ++k) {
-            ASSERT_EQ(std::bit_cast<std::uint64_t>(w.samples_w[k]),
-                      std::bit_cast<std::uint64_t>(expected.samples_w[k]))
-                << "trial " << trial << " bin " << k;
-        }
+        ASSERT_TRUE(same_bits(w, one_gaussian_at_a_time(config, c))) << "trial " << trial;
     }
 }
 
