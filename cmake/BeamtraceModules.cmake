@@ -80,6 +80,13 @@ set_source_files_properties("${PROJECT_SOURCE_DIR}/src/physics/pulse.cpp"
 set_source_files_properties("${PROJECT_SOURCE_DIR}/src/physics/fast_exp.cpp" PROPERTIES
   COMPILE_OPTIONS "-ffp-contract=off" COMPILE_DEFINITIONS BEAMTRACE_FP_CONTRACT_OFF)
 
+# AVX2 lanes that must give the scalar path's bits (the preview's pixels, the line scanner's
+# angles): each product and sum rounded alone, also where a build enables FMA everywhere.
+set_source_files_properties("${PROJECT_SOURCE_DIR}/src/io/sinks/preview_shading.cpp"
+  "${PROJECT_SOURCE_DIR}/src/io/sinks/preview_cells.cpp"
+  "${PROJECT_SOURCE_DIR}/src/sensor/line_angles.cpp" PROPERTIES
+  COMPILE_OPTIONS "-ffp-contract=off" COMPILE_DEFINITIONS BEAMTRACE_FP_CONTRACT_OFF)
+
 # Third-party libraries, each on the module that uses it.
 target_link_libraries(beamtrace_core PUBLIC Threads::Threads)
 target_compile_definitions(beamtrace_core PUBLIC BEAMTRACE_VERSION="${PROJECT_VERSION}")
