@@ -84,20 +84,33 @@ Waveform one_gaussian_at_a_time(const WaveformConfig& config,
     return ::testing::AssertionSuccess();
 }
 
+/// n echo contributions of random power (1e-7 W times [0.01, 1.01)): three in ten of the pulse's
+/// width (sigma 0), the others of width(u), each at range(u) metres; u() draws from [0, 1).
+template <class Width, class Range>
+std::vector<EchoContribution> random_echoes(std::size_t n, std::mt19937_64& rng, Width width,
+                                            Range range) {
+    std::uniform_real_distribution<double> uniform(0.0, 1.0);
+    auto u = [&] { return uniform(rng); };
+    std::vector<EchoContribution> c;
+    for (std::size_t i = 0; i < n; ++i) {
+        const double sigma = u() < 0.3 ? 0.0 : width(u);
+        const double range_m = range(u);
+        c.push_back({range_m, 1e-7 * (0.01 + u()), sigma});
+    }
+    return c;
+}
+
 TEST(PhysicsSubRayExact, WaveformIsBitIdenticalToOneGaussianAtATime) {
     std::mt19937_64 rng(21);
-    std::uniform_real_distribution<double> u(0.0, 1.0);
     WaveformConfig config;
     // 1 to 21 contributions: groups of four and eight and every remainder; widths from the pulse's
     // to 20 times it, so the runs of one group differ in length (and the longest's tail runs
     // alone).
     for (int trial = 0; trial < 400; ++trial) {
-        const std::size_t n = 1 + static_cast<std::size_t>(trial % 21);
-        std::vector<EchoContribution> c;
-        for (std::size_t i = 0; i < n; ++i) {
-            const double sigma = u(rng) < 0.3 ? 0.0 : 1.7 * (1.0 + 19.0 * u(rng) * u(rng));
-            c.push_back({1500.0 + 3.0 * u(rng), 1e-7 * (0.01 + u(rng)), sigma});
-        }
+        const auto c = random_echoes(
+            1 + static_cast<std::size_t>(trial % 21), rng,
+            [](auto& u) { return 1.7 * (1.0 + 19.0 * u() * u()); },
+            [](auto& u) { return 1500.0 + 3.0 * u(); });
         Waveform w;
         build_waveform(config, c, w);
         ASSERT_TRUE(same_bits(w, one_gaussian_at_a_time(config, c))) << "trial " << trial;
@@ -181,17 +194,13 @@ TEST(PhysicsSubRayExact, WaveformNearZeroAndFarIsBitIdenticalToOneGaussianAtATim
     // Runs whose bins start below 0, at 0 and far out (their bins and exponents four at a
     // time), fours with empty or clipped runs: bit for bit the one-at-a-time waveform.
     std::mt19937_64 rng(5);
-    std::uniform_real_distribution<double> u(0.0, 1.0);
     WaveformConfig config;
     for (int trial = 0; trial < 300; ++trial) {
-        const std::size_t n = 1 + static_cast<std::size_t>(trial % 19);
         const double base_m = trial % 3 == 0 ? 0.0 : (trial % 3 == 1 ? 0.37 : 2.5e5);
-        std::vector<EchoContribution> c;
-        for (std::size_t i = 0; i < n; ++i) {
-            const double sigma = u(rng) < 0.3 ? 0.0 : 1.7 * (1.0 + 9.0 * u(rng));
-            const double range_m = u(rng) < 0.2 ? base_m : base_m + 2.0 * u(rng);
-            c.push_back({range_m, 1e-7 * (0.01 + u(rng)), sigma});
-        }
+        const auto c = random_echoes(
+            1 + static_cast<std::size_t>(trial % 19), rng,
+            [](auto& u) { return 1.7 * (1.0 + 9.0 * u()); },
+            [base_m](auto& u) { return u() < 0.2 ? base_m : base_m + 2.0 * u(); });
         Waveform w;
         build_waveform(config, c, w);
         ASSERT_TRUE(same_bits(w, one_gaussian_at_a_time(config, c))) << "trial " << trial;
