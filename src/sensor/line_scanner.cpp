@@ -24,11 +24,6 @@ constexpr double kDegToRad = std::numbers::pi / 180.0;
 /// of most scanners, 96 KiB.
 constexpr std::size_t kMemoSlots = 4096;
 
-/// The fractional part of x, in [0, 1).
-double frac(double x) {
-    return x - std::floor(x);
-}
-
 constexpr NameTable<ScanWaveform, 3> kScanWaveforms{"scan waveform",
                                                     {{{ScanWaveform::sawtooth, "sawtooth"},
                                                       {ScanWaveform::sinusoid, "sinusoid"},
@@ -97,7 +92,7 @@ double LineScanner::angle_at_lines(double lines) const {
             }
             return detail::triangle_deg(a, lines);
         case ScanWaveform::sinusoid:
-            return -a * std::cos(2.0 * std::numbers::pi * frac(0.5 * lines));
+            return -a * std::cos(2.0 * std::numbers::pi * detail::line_frac(0.5 * lines));
     }
     return 0.0;
 }

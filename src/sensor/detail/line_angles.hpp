@@ -17,7 +17,9 @@ struct LineAngleParams {
     bool triangle = false;       ///< triangle (no turns); else sawtooth
 };
 
-/// The fractional part of x, in [0, 1).
+/// The fractional part of x, in [0, 1) for x >= 0: x - floor(x) alone, the lanes' operations
+/// (detail::frac also maps the 1 that a tiny negative x rounds to back to 0; a line scanner's
+/// mirror angles keep the expression they always had).
 [[nodiscard]] inline double line_frac(double x) {
     return x - std::floor(x);
 }
