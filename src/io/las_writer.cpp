@@ -16,6 +16,7 @@
 #include "beamtrace/io/point_sink.hpp"
 #include "io/detail/direct_sink.hpp"
 #include "io/detail/laz_chunk_writer.hpp"
+#include "io/detail/round_int32.hpp"
 
 namespace beamtrace {
 
@@ -23,6 +24,9 @@ static_assert(std::endian::native == std::endian::little,
               "the LAS writer encodes little-endian records with memcpy");
 
 namespace {
+
+using detail::round_to_int32;
+using detail::rounds_into_int32;
 
 constexpr std::size_t kChunkPoints = std::size_t{1} << 16;
 constexpr std::size_t kHeaderBytes = 375;
@@ -51,19 +55,6 @@ void store_wave_packet(const LasWavePacket& w, std::uint8_t* r) {
 void store_text(std::uint8_t* p, std::string_view text, std::size_t size) {
     std::memset(p, 0, size);
     std::memcpy(p, text.data(), std::min(text.size(), size));
-}
-
-/// std::round (halves away from zero) for |x| < 2^31, without a library call: truncation is one
-/// instruction, and x - trunc(x) is exact in that range.
-[[nodiscard]] inline std::int32_t round_to_int32(double x) {
-    const auto i = static_cast<std::int32_t>(x);
-    const double f = x - static_cast<double>(i);
-    return i + (f >= 0.5 ? 1 : 0) - (f <= -0.5 ? 1 : 0);
-}
-
-/// True when std::round(x) fits in an int32 (false for NaN).
-[[nodiscard]] inline bool rounds_into_int32(double x) {
-    return x > -2147483648.5 && x < 2147483647.5;
 }
 
 [[nodiscard]] std::string number(double v) {

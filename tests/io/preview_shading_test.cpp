@@ -1,6 +1,6 @@
-// preview.png's pixel colours: the exact rounding, the scalar row against the formula written out
-// here with the library's own pieces (jet_color, normalize, std::lround), and the AVX2 lanes
-// against the scalar row, byte for byte.
+// preview.png's pixel colours: the rounding (round_to_int32, shared with the LAS writer), the
+// scalar row against the formula written out here with the library's own pieces (jet_color,
+// normalize, std::lround), and the AVX2 lanes against the scalar row, byte for byte.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -12,7 +12,7 @@
 
 #include "beamtrace/core/vec3.hpp"
 #include "beamtrace/io/colormap.hpp"
-#include "io/sinks/pixel_round.hpp"
+#include "io/detail/round_int32.hpp"
 #include "io/sinks/preview_shading.hpp"
 
 namespace beamtrace::detail {
@@ -20,13 +20,13 @@ namespace {
 
 constexpr float kEmpty = -std::numeric_limits<float>::infinity();
 
-TEST(PreviewShading, RoundHalfUpIsLroundOnNonNegativeValues) {
+TEST(PreviewShading, RoundToInt32IsLround) {
     std::vector<double> values = {
-        0.0,    0.49999999999999994, 0.5, 0.5000000000000001, 1.0, 1.5, 2.5, 254.5, 255.0,
-        0x1p52, 0x1p53 - 1.0};
-    for (double v : {0.5, 1.5, 2.5, 127.5, 254.5}) {
+        0.0,   0.49999999999999994, 0.5, 0.5000000000000001, 1.0, 1.5, 2.5, 254.5,
+        255.0, 2147483647.0};
+    for (double v : {0.5, 1.5, 2.5, 127.5, 254.5, 1e9 + 0.5}) {
         values.push_back(std::nextafter(v, 0.0));
-        values.push_back(std::nextafter(v, 1e9));
+        values.push_back(std::nextafter(v, 1e10));
     }
     std::mt19937_64 rng(7);
     std::uniform_real_distribution<double> u(0.0, 300.0);
@@ -34,7 +34,8 @@ TEST(PreviewShading, RoundHalfUpIsLroundOnNonNegativeValues) {
         values.push_back(u(rng));
     }
     for (const double v : values) {
-        ASSERT_EQ(round_half_up(v), std::lround(v)) << v;
+        ASSERT_EQ(round_to_int32(v), std::lround(v)) << v;
+        ASSERT_EQ(round_to_int32(-v), std::lround(-v)) << -v;
     }
 }
 

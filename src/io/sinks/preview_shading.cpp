@@ -5,8 +5,9 @@
 #include <cstddef>
 
 #include "beamtrace/core/vec3.hpp"
+#include "beamtrace/io/colormap.hpp"
 #include "core/simd_level.hpp"
-#include "io/sinks/pixel_round.hpp"
+#include "io/detail/round_int32.hpp"
 
 #if defined(__x86_64__) && defined(__GNUC__)
 #include <immintrin.h>
@@ -22,13 +23,6 @@ Vec3d preview_light() {
     return normalize(Vec3d{-1.0, 1.0, std::sqrt(2.0)});
 }
 
-/// One channel of jet at t in [0, 1]: a trapezoid of height 1 centred at `centre`, 0.75 wide at
-/// the top, as 0..255 (the bytes of jet_color()).
-double jet_channel(double t, double centre) {
-    const double c = std::clamp(1.5 - std::abs(4.0 * (t - centre)), 0.0, 1.0);
-    return static_cast<double>(round_half_up(c * 255.0));
-}
-
 /// Pixel x of the row (not empty) into p[0..2].
 void shade_pixel(const PreviewRows& r, const PreviewShading& s, const Vec3d& light, int x,
                  std::uint8_t* p) {
@@ -40,16 +34,15 @@ void shade_pixel(const PreviewRows& r, const PreviewShading& s, const Vec3d& lig
     const double gy = (z(r.up[x]) - z(r.down[x])) / two_cells;        // north
     const Vec3d n = normalize(Vec3d{-gx, -gy, 1.0});
     const double shade = std::clamp(0.35 + 0.65 * std::max(0.0, dot(n, light)) / light.z, 0.0, 1.0);
-    double t = s.span > 0 ? (static_cast<double>(own) - s.z_lo) / s.span : 0.5;
-    t = std::isnan(t) ? 0.0 : std::clamp(t, 0.0, 1.0);
-    p[0] = static_cast<std::uint8_t>(round_half_up(jet_channel(t, 0.75) * shade));
-    p[1] = static_cast<std::uint8_t>(round_half_up(jet_channel(t, 0.5) * shade));
-    p[2] = static_cast<std::uint8_t>(round_half_up(jet_channel(t, 0.25) * shade));
+    const auto jet = jet_color(s.span > 0 ? (static_cast<double>(own) - s.z_lo) / s.span : 0.5);
+    for (int k = 0; k < 3; ++k) {
+        p[k] = static_cast<std::uint8_t>(round_to_int32(jet[static_cast<std::size_t>(k)] * shade));
+    }
 }
 
 #if defined(BEAMTRACE_PREVIEW_AVX2)
 
-/// round_half_up() in lanes (values finite, non-negative): the truncation plus one where the
+/// round_to_int32() in lanes (values finite, non-negative): the truncation plus one where the
 /// fraction is at least 0.5. The same doubles.
 __attribute__((target("avx2"))) __m256d round_half_up_lanes(__m256d v) {
     const __m256d i = _mm256_round_pd(v, _MM_FROUND_TO_ZERO | _MM_FROUND_NO_EXC);
@@ -65,7 +58,8 @@ __attribute__((target("avx2"))) __m256d clamp01_lanes(__m256d v) {
     return _mm256_blendv_pd(v, one, _mm256_cmp_pd(one, v, _CMP_LT_OQ));
 }
 
-/// jet_channel() in lanes.
+/// One channel of jet_color() in lanes: a trapezoid of height 1 centred at `centre`, 0.75 wide at
+/// the top, times 255, rounded.
 __attribute__((target("avx2"))) __m256d jet_channel_lanes(__m256d t, double centre) {
     const __m256d d = _mm256_mul_pd(_mm256_set1_pd(4.0), _mm256_sub_pd(t, _mm256_set1_pd(centre)));
     const __m256d abs_d = _mm256_andnot_pd(_mm256_set1_pd(-0.0), d);
