@@ -207,6 +207,25 @@ TEST(PhysicsSubRayExact, WaveformNearZeroAndFarIsBitIdenticalToOneGaussianAtATim
     }
 }
 
+/// Whether the pulse's powers (simulate_samples, into r) are sub_ray_power_w's of each sample,
+/// bit for bit (the first differing sample named).
+::testing::AssertionResult powers_are_each_samples(const PulseSimulator& sim, std::uint64_t pulse,
+                                                   const std::vector<BeamSample>& samples,
+                                                   PulseResponse& r) {
+    sim.simulate_samples(1, pulse, samples, r);
+    if (r.sub_ray_power_w.size() != samples.size()) {
+        return ::testing::AssertionFailure() << r.sub_ray_power_w.size() << " powers";
+    }
+    for (std::size_t j = 0; j < samples.size(); ++j) {
+        const double p = sim.sub_ray_power_w(samples[j].hit, samples[j].weight);
+        if (std::bit_cast<std::uint64_t>(r.sub_ray_power_w[j]) != std::bit_cast<std::uint64_t>(p)) {
+            return ::testing::AssertionFailure()
+                   << "sample " << j << ": " << r.sub_ray_power_w[j] << ", expected " << p;
+        }
+    }
+    return ::testing::AssertionSuccess();
+}
+
 TEST(PhysicsSubRayExact, SubRayPowersInLanesAreEachHitsPowerBitForBit) {
     // Up to 61 samples (the lanes' chunks of 32 and their tails), misses and bad ranges among
     // them, through an atmosphere: the pulse's powers are sub_ray_power_w's one by one, and
@@ -232,13 +251,9 @@ TEST(PhysicsSubRayExact, SubRayPowersInLanesAreEachHitsPowerBitForBit) {
                 s.hit.range_m = pick < 0.07 ? -1.0 : std::numeric_limits<double>::quiet_NaN();
             }
         }
-        sim.simulate_samples(1, pulse, samples, r);
-        ASSERT_EQ(r.sub_ray_power_w.size(), samples.size());
+        ASSERT_TRUE(powers_are_each_samples(sim, pulse, samples, r)) << "pulse " << pulse;
         for (std::size_t j = 0; j < samples.size(); ++j) {
-            const double p = sim.sub_ray_power_w(samples[j].hit, samples[j].weight);
-            ASSERT_EQ(std::bit_cast<std::uint64_t>(r.sub_ray_power_w[j]),
-                      std::bit_cast<std::uint64_t>(p))
-                << "pulse " << pulse << " sample " << j;
+            const double p = r.sub_ray_power_w[j];
             const SubRayHit& h = samples[j].hit;
             if (p > 0) {
                 const double l = monostatic_reflectance(config.brdf, h.cos_incidence,
@@ -283,14 +298,8 @@ TEST(PhysicsSubRayExact, MattePowersInLanesMatchEachSampleUnderEitherBrdf) {
                 }
             }
             glossy_pulses += glossy ? 1 : 0;
-            sim.simulate_samples(1, pulse, samples, r);
-            ASSERT_EQ(r.sub_ray_power_w.size(), samples.size());
-            for (std::size_t j = 0; j < samples.size(); ++j) {
-                const double p = sim.sub_ray_power_w(samples[j].hit, samples[j].weight);
-                ASSERT_EQ(std::bit_cast<std::uint64_t>(r.sub_ray_power_w[j]),
-                          std::bit_cast<std::uint64_t>(p))
-                    << to_string(brdf) << " pulse " << pulse << " sample " << j;
-            }
+            ASSERT_TRUE(powers_are_each_samples(sim, pulse, samples, r))
+                << to_string(brdf) << " pulse " << pulse;
         }
         EXPECT_GT(glossy_pulses, 20u);
     }
