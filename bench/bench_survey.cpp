@@ -2,6 +2,7 @@
 // surveys, with the points checked before anything is timed.
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -92,15 +93,22 @@ namespace {
 
 /// Runs every survey of `specs` once per iteration, in turn (so that the machine's load falls on
 /// each alike), and returns each one's pulse rate over its survey stages [pulses/s].
+/// The rates of each iteration too, into `rounds` (one vector of specs.size() a round) if given.
 std::vector<double> interleaved_pulse_rates(benchmark::State& state,
                                             const std::vector<bt::SurveySpec>& specs,
-                                            const bt::SurveyRunConfig& run) {
+                                            const bt::SurveyRunConfig& run,
+                                            std::vector<std::vector<double>>* rounds = nullptr) {
     std::vector<double> survey_s(specs.size(), 0.0), pulses(specs.size(), 0.0);
     for (auto _ : state) {
+        std::vector<double> round;
         for (std::size_t i = 0; i < specs.size(); ++i) {
             const bt::SurveyResult r = bt::run_survey(specs[i], run);
             survey_s[i] += r.survey_s;
             pulses[i] += static_cast<double>(r.pulses);
+            round.push_back(static_cast<double>(r.pulses) / r.survey_s);
+        }
+        if (rounds != nullptr) {
+            rounds->push_back(std::move(round));
         }
     }
     for (std::size_t i = 0; i < specs.size(); ++i) {
@@ -155,6 +163,16 @@ namespace {
 /// the same physics otherwise): each variant's pulse rate (survey stage), and those of 7 and 19
 /// sub-rays over the single ray's (issue 21's targets: >= 0.5 and >= 0.35), the three surveys
 /// interleaved in every iteration so that the machine's load falls on each alike.
+/// The median of xs (the mean of the middle two for an even count; 0 for none).
+double median(std::vector<double> xs) {
+    if (xs.empty()) {
+        return 0.0;
+    }
+    std::sort(xs.begin(), xs.end());
+    const std::size_t m = xs.size() / 2;
+    return xs.size() % 2 != 0 ? xs[m] : 0.5 * (xs[m - 1] + xs[m]);
+}
+
 void BM_SubRayRates(benchmark::State& state) {
     const auto path =
         std::filesystem::path(BEAMTRACE_EXAMPLES_DIR) / "surveys" / "airborne_srtm_divergence.yaml";
@@ -181,12 +199,20 @@ void BM_SubRayRates(benchmark::State& state) {
             return;
         }
     }
-    const std::vector<double> rate = interleaved_pulse_rates(state, specs, run);
+    // Each iteration runs the three in turn; the ratios are the medians of the iterations'
+    // ratios (a drift of the machine's speed between iterations cancels out in each).
+    std::vector<std::vector<double>> rounds;
+    const std::vector<double> rate = interleaved_pulse_rates(state, specs, run, &rounds);
+    std::vector<double> r7, r19;
+    for (const std::vector<double>& r : rounds) {
+        r7.push_back(r[1] / r[0]);
+        r19.push_back(r[2] / r[0]);
+    }
     state.counters["1_subray_pulses/s"] = rate[0];
     state.counters["7_subray_pulses/s"] = rate[1];
     state.counters["19_subray_pulses/s"] = rate[2];
-    state.counters["7/1"] = rate[1] / rate[0];
-    state.counters["19/1"] = rate[2] / rate[0];
+    state.counters["7/1"] = median(r7);
+    state.counters["19/1"] = median(r19);
     std::filesystem::remove_all(run.output_dir);
 }
 
@@ -196,6 +222,6 @@ BENCHMARK(BM_SubRayRates)
     ->Arg(2)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime()
-    ->MinTime(2.0);
+    ->Iterations(5);
 
 }  // namespace
