@@ -314,24 +314,6 @@ constexpr int kBeamPackets = kWalkRays / kLanes;
 /// The most packets a frustum walks with (a beam walk's, or a run's: kRunRays / kLanes).
 constexpr int kMaxWalkPackets = kBeamPackets > 8 ? kBeamPackets : 8;
 
-/// The least (greatest) of xs[q] over the lanes of m[q], q < np, that are not NaN; +inf (-inf)
-/// if none: the packets' lanes first, then one reduction.
-BT_PK float beam_min(const vf* xs, const Mask* m, int np) {
-    vf acc = splat(std::numeric_limits<float>::infinity());
-    for (int q = 0; q < np; ++q) {
-        acc = (lanes_of(m[q]) & (xs[q] < acc)) ? xs[q] : acc;
-    }
-    return lanes_min(acc);
-}
-
-BT_PK float beam_max(const vf* xs, const Mask* m, int np) {
-    vf acc = splat(-std::numeric_limits<float>::infinity());
-    for (int q = 0; q < np; ++q) {
-        acc = (lanes_of(m[q]) & (xs[q] > acc)) ? xs[q] : acc;
-    }
-    return lanes_max(acc);
-}
-
 /// Bounds of one axis over the active lanes of packets ps[0, np): which way the lanes move,
 /// and the least and greatest origin and inverse direction of all of them or, on a mixed axis,
 /// of those moving up the axis (pos) and of those moving down (neg).
@@ -344,22 +326,20 @@ struct AxisBounds {
     float neg_olo = kInf, neg_ohi = -kInf, neg_lo = kInf, neg_hi = -kInf;  ///< down lanes
 
     BT_PK AxisBounds(const Packet* ps, int np, int a, bool mixed) {
-        // One pass over the packets: each bound's lanes as beam_min and beam_max keep them
-        // (NaN lanes never taken, packets in order), then one reduction per bound in use.
+        // Each bound lane by lane over the packets (a NaN lane never taken: +inf or -inf if
+        // none), then one reduction per bound in use: the lanes' classes and the bounds of all
+        // lanes in one pass, those of the up and down lanes apart in a second where needed.
         const vf hi0 = splat(kInf), lo0 = splat(-kInf);
         vf o_lo = hi0, o_hi = lo0, i_lo = hi0, i_hi = lo0;
-        vf po_lo = hi0, po_hi = lo0, pi_lo = hi0, pi_hi = lo0;
-        vf no_lo = hi0, no_hi = lo0, ni_lo = hi0, ni_hi = lo0;
         Mask not_pos = 0, not_neg = 0, not_still = 0, unclassified = 0;
         Mask some_pos = 0, some_neg = 0, some_still = 0;
         for (int q = 0; q < np; ++q) {
             const Packet& p = ps[q];
             const vf o = p.o[a], inv = p.inv[a];
             const vi act = lanes_of(p.active);
-            const vi pos = (inv > 0.0f) & (inv < kInf) & act;
-            const vi neg = (inv < 0.0f) & (inv > -kInf) & act;
-            const vi still = (vabs(inv) == kInf) & act;
-            const Mask pb = lane_bits(pos), nb = lane_bits(neg), sb = lane_bits(still);
+            const Mask pb = lane_bits((inv > 0.0f) & (inv < kInf)) & p.active;
+            const Mask nb = lane_bits((inv < 0.0f) & (inv > -kInf)) & p.active;
+            const Mask sb = lane_bits(vabs(inv) == kInf) & p.active;
             not_pos |= p.active & ~pb;
             not_neg |= p.active & ~nb;
             not_still |= p.active & ~sb;
@@ -371,17 +351,6 @@ struct AxisBounds {
             o_hi = (act & (o > o_hi)) ? o : o_hi;
             i_lo = (act & (inv < i_lo)) ? inv : i_lo;
             i_hi = (act & (inv > i_hi)) ? inv : i_hi;
-            if (!mixed) {  // the bounds of up and down lanes apart are not needed
-                continue;
-            }
-            po_lo = (pos & (o < po_lo)) ? o : po_lo;
-            po_hi = (pos & (o > po_hi)) ? o : po_hi;
-            pi_lo = (pos & (inv < pi_lo)) ? inv : pi_lo;
-            pi_hi = (pos & (inv > pi_hi)) ? inv : pi_hi;
-            no_lo = (neg & (o < no_lo)) ? o : no_lo;
-            no_hi = (neg & (o > no_hi)) ? o : no_hi;
-            ni_lo = (neg & (inv < ni_lo)) ? inv : ni_lo;
-            ni_hi = (neg & (inv > ni_hi)) ? inv : ni_hi;
         }
         all_pos = not_pos == 0;
         all_neg = not_neg == 0;
@@ -396,37 +365,57 @@ struct AxisBounds {
             inv_lo = lanes_min(i_lo);
             inv_hi = lanes_max(i_hi);
         } else if (mixed && classified && !all_still) {
-            pos_olo = lanes_min(po_lo);
-            pos_ohi = lanes_max(po_hi);
-            pos_lo = lanes_min(pi_lo);
-            pos_hi = lanes_max(pi_hi);
-            neg_olo = lanes_min(no_lo);
-            neg_ohi = lanes_max(no_hi);
-            neg_lo = lanes_min(ni_lo);
-            neg_hi = lanes_max(ni_hi);
+            bound_apart(ps, np, a);
         }
+    }
+
+    /// The bounds of the up lanes and of the down lanes of axis a, apart.
+    BT_PK void bound_apart(const Packet* ps, int np, int a) {
+        const vf hi0 = splat(kInf), lo0 = splat(-kInf);
+        vf po_lo = hi0, po_hi = lo0, pi_lo = hi0, pi_hi = lo0;
+        vf no_lo = hi0, no_hi = lo0, ni_lo = hi0, ni_hi = lo0;
+        for (int q = 0; q < np; ++q) {
+            const Packet& p = ps[q];
+            const vf o = p.o[a], inv = p.inv[a];
+            const vi act = lanes_of(p.active);
+            const vi pos = (inv > 0.0f) & (inv < kInf) & act;
+            const vi neg = (inv < 0.0f) & (inv > -kInf) & act;
+            po_lo = (pos & (o < po_lo)) ? o : po_lo;
+            po_hi = (pos & (o > po_hi)) ? o : po_hi;
+            pi_lo = (pos & (inv < pi_lo)) ? inv : pi_lo;
+            pi_hi = (pos & (inv > pi_hi)) ? inv : pi_hi;
+            no_lo = (neg & (o < no_lo)) ? o : no_lo;
+            no_hi = (neg & (o > no_hi)) ? o : no_hi;
+            ni_lo = (neg & (inv < ni_lo)) ? inv : ni_lo;
+            ni_hi = (neg & (inv > ni_hi)) ? inv : ni_hi;
+        }
+        pos_olo = lanes_min(po_lo);
+        pos_ohi = lanes_max(po_hi);
+        pos_lo = lanes_min(pi_lo);
+        pos_hi = lanes_max(pi_hi);
+        neg_olo = lanes_min(no_lo);
+        neg_ohi = lanes_max(no_hi);
+        neg_lo = lanes_min(ni_lo);
+        neg_hi = lanes_max(ni_hi);
     }
 };
 
-/// The least tmin and the greatest limit of the active lanes of packets ps[0, np).
+/// The least tmin and the greatest limit of the active lanes of packets ps[0, np) that are not
+/// NaN (+inf and -inf if none).
 BT_PK float beam_tmin(const Packet* ps, int np) {
-    vf x[kBeamPackets];
-    Mask m[kBeamPackets];
+    vf acc = splat(std::numeric_limits<float>::infinity());
     for (int q = 0; q < np; ++q) {
-        x[q] = ps[q].tmin;
-        m[q] = ps[q].active;
+        acc = (lanes_of(ps[q].active) & (ps[q].tmin < acc)) ? ps[q].tmin : acc;
     }
-    return beam_min(x, m, np);
+    return lanes_min(acc);
 }
 
 BT_PK float beam_limit(const Packet* ps, int np) {
-    vf x[kBeamPackets];
-    Mask m[kBeamPackets];
+    vf acc = splat(-std::numeric_limits<float>::infinity());
     for (int q = 0; q < np; ++q) {
-        x[q] = ps[q].limit;
-        m[q] = ps[q].active;
+        acc = (lanes_of(ps[q].active) & (ps[q].limit > acc)) ? ps[q].limit : acc;
     }
-    return beam_max(x, m, np);
+    return lanes_max(acc);
 }
 
 /// The mixed axis a (frustum_enters_pair<true>): lanes moving up and down it, or some still.
