@@ -69,9 +69,10 @@ constexpr std::size_t kRunsOneByOne = 2;
 #define BEAMTRACE_WAVEFORM_CLONES
 #endif
 
-/// Contributions whose runs are made together (their exps in one pass), then added kRows at a
-/// time.
-constexpr std::size_t kBatch = 4 * kRows;
+/// Contributions whose runs are made together (their exps in one pass), then added together
+/// (kRows at a time before AVX2).
+constexpr std::size_t kBatch = detail::kRunsPerCall;
+static_assert(kBatch % kRows == 0);
 
 /// The divisions of up to kBatch runs, each rounded as alone (the AVX2 clone: four at a time):
 /// of the run at round-trip time t[i] of width sigma[i], its reach's ends in bins (lo, hi,
@@ -291,10 +292,10 @@ void add_rows(double* y, const double* rows, std::size_t count, std::size_t widt
     }
 }
 
-/// Adds runs[0, count) (count <= kRows) to `out`, in order: every bin receives their samples in
-/// the order of the runs, as one run after the other would add them. A run adds +0 to the bins
-/// it does not reach, which leaves them as they are: a bin is never -0 (it starts at +0, and
-/// a sum is -0 only when both terms are).
+/// Adds runs[0, count) (count <= kBatch) to `out`, in order: every bin receives their samples
+/// in the order of the runs, as one run after the other would add them. A run adds +0 to the
+/// bins it does not reach, which leaves them as they are: a bin is never -0 (it starts at +0,
+/// and a sum is -0 only when both terms are).
 void add_runs(Waveform& out, const GaussianRun* runs, std::size_t count) {
     thread_local std::vector<double> rows;  // grows once per thread: no allocation per pulse
     if (count == 0) {
@@ -320,8 +321,11 @@ void add_runs(Waveform& out, const GaussianRun* runs, std::size_t count) {
     if (rows.size() < kRows * width) {
         rows.resize(kRows * width);
     }
-    sample_runs(runs, count, out.first_bin, rows.data(), width);
-    add_rows(out.samples_w.data(), rows.data(), count, width);
+    for (std::size_t c0 = 0; c0 < count; c0 += kRows) {
+        const std::size_t rows_used = std::min(kRows, count - c0);
+        sample_runs(runs + c0, rows_used, out.first_bin, rows.data(), width);
+        add_rows(out.samples_w.data(), rows.data(), rows_used, width);
+    }
 }
 
 /// A fitted Gaussian: centre (absolute round-trip time) [ns], amplitude [W], sigma [ns].
@@ -700,12 +704,10 @@ void build_waveform(const WaveformConfig& config, std::span<const EchoContributi
     out.samples_w.assign(static_cast<std::size_t>(last - first + 1), 0.0);
     RunQuotients q;
     std::size_t count = 0;
-    const auto add = [&] {  // the runs of q's count contributions, kRows at a time
+    const auto add = [&] {  // the runs of q's count contributions
         GaussianRun runs[kBatch];
         make_runs(q, count, out.bin_ns, sigma_p, first, last, runs);
-        for (std::size_t c0 = 0; c0 < count; c0 += kRows) {
-            add_runs(out, runs + c0, std::min(kRows, count - c0));
-        }
+        add_runs(out, runs, count);
         count = 0;
     };
     for (const auto& c : contributions) {
