@@ -101,7 +101,9 @@ BEAMTRACE_WAVEFORM_CLONES void run_quotients(RunQuotients& q, std::size_t n, dou
 /// and sum rounded alone, run_exponents' order), for the fours whose reach ends lie within
 /// 2^52 bins: there floor and ceil are exact in doubles and equal floor_to_int's and
 /// ceil_to_int's integers (+0 for 0, as the integer's conversion gives). Each run's b0 and n
-/// into runs[i], its exponents into e[i], e[count + i], e[2 count + i]. Returns how many it did.
+/// into runs[i], its exponents into e[i], e[count + i], e[2 count + i]. The last four end at
+/// count (they overlap the four before them: each lane's result alone, the same again). Returns
+/// how many it did: the runs before the first four it leaves, or count (0 where count < 4).
 __attribute__((target("avx2"))) std::size_t run_bins_avx2(const RunQuotients& q, std::size_t count,
                                                           double h, std::int64_t first,
                                                           std::int64_t last, GaussianRun* runs,
@@ -116,14 +118,14 @@ __attribute__((target("avx2"))) std::size_t run_bins_avx2(const RunQuotients& q,
         !(std::abs(static_cast<double>(last)) < 0x1p52)) {
         return 0;
     }
-    std::size_t i = 0;
-    for (; i + 4 <= count; i += 4) {
+    for (std::size_t next = 0; next < count && count >= 4; next += 4) {
+        const std::size_t i = std::min(next, count - 4);
         const __m256d lo = _mm256_loadu_pd(q.lo + i), hi = _mm256_loadu_pd(q.hi + i);
         const __m256d near =
             _mm256_and_pd(_mm256_cmp_pd(_mm256_andnot_pd(sign, lo), big, _CMP_LT_OQ),
                           _mm256_cmp_pd(_mm256_andnot_pd(sign, hi), big, _CMP_LT_OQ));
         if (_mm256_movemask_pd(near) != 0xf) {
-            break;
+            return i;
         }
         const __m256d b0 = _mm256_add_pd(_mm256_max_pd(_mm256_floor_pd(lo), first_d), zero);
         const __m256d b1 = _mm256_min_pd(_mm256_ceil_pd(hi), last_d);
@@ -150,7 +152,7 @@ __attribute__((target("avx2"))) std::size_t run_bins_avx2(const RunQuotients& q,
             }
         }
     }
-    return i;
+    return count >= 4 ? count : 0;
 }
 #endif
 
