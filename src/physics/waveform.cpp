@@ -693,10 +693,25 @@ void build_waveform(const WaveformConfig& config, std::span<const EchoContributi
         t_hi = std::max(t_hi, binned.last_range_m);
         sigma_max = sigma_p;
     }
+    // One batch (a pulse's sub-rays): its quotients' inputs taken in the same loop.
+    RunQuotients q;
+    const bool one_batch = contributions.size() <= kBatch;
+    std::size_t count = 0;
+    const auto take = [&](const EchoContribution& c, double sigma) {
+        q.t[count] = c.range_m * round_trip_ns_per_m();
+        q.sigma[count] = sigma;
+        q.amplitude[count] = c.power_w;
+        q.stretched[count] = c.sigma_ns > 0;
+        ++count;
+    };
     for (const auto& c : contributions) {
         t_lo = std::min(t_lo, c.range_m);
         t_hi = std::max(t_hi, c.range_m);
-        sigma_max = std::max(sigma_max, sigma_of(c));
+        const double sigma = sigma_of(c);
+        sigma_max = std::max(sigma_max, sigma);
+        if (one_batch) {
+            take(c, sigma);
+        }
     }
     t_lo = t_lo * round_trip_ns_per_m() - 5.0 * sigma_max;
     t_hi = t_hi * round_trip_ns_per_m() + 5.0 * sigma_max;
@@ -704,20 +719,15 @@ void build_waveform(const WaveformConfig& config, std::span<const EchoContributi
     const std::int64_t last = ceil_to_int(t_hi / config.bin_ns);
     out.first_bin = first;
     out.samples_w.assign(static_cast<std::size_t>(last - first + 1), 0.0);
-    RunQuotients q;
-    std::size_t count = 0;
     const auto add = [&] {  // the runs of q's count contributions
         GaussianRun runs[kBatch];
         make_runs(q, count, out.bin_ns, sigma_p, first, last, runs);
         add_runs(out, runs, count);
         count = 0;
     };
-    for (const auto& c : contributions) {
-        q.t[count] = c.range_m * round_trip_ns_per_m();
-        q.sigma[count] = sigma_of(c);
-        q.amplitude[count] = c.power_w;
-        q.stretched[count] = c.sigma_ns > 0;
-        if (++count == kBatch) {
+    for (std::size_t i = 0; !one_batch && i < contributions.size(); ++i) {
+        take(contributions[i], sigma_of(contributions[i]));
+        if (count == kBatch) {
             add();
         }
     }
