@@ -6,6 +6,10 @@
 #include <limits>
 #include <numbers>
 
+#if defined(__x86_64__) && defined(__GNUC__)
+#include <immintrin.h>
+#endif
+
 namespace beamtrace {
 
 std::vector<std::string> BeamConfig::validate() const {
@@ -240,11 +244,51 @@ std::vector<Vec3d> beam_frame_directions(std::span<const SubRayOffset> pattern) 
     return out;
 }
 
+namespace {
+
+#if defined(__x86_64__) && defined(__GNUC__)
+/// (u b.x + v b.y) + a b.z in the first three lanes.
+__attribute__((target("avx2"), always_inline)) inline __m256d direction_avx2(__m256d a, __m256d u,
+                                                                             __m256d v,
+                                                                             const Vec3d& b) {
+    return _mm256_add_pd(
+        _mm256_add_pd(_mm256_mul_pd(u, _mm256_set1_pd(b.x)), _mm256_mul_pd(v, _mm256_set1_pd(b.y))),
+        _mm256_mul_pd(a, _mm256_set1_pd(b.z)));
+}
+
+/// out[i] = e1 * b.x + e2 * b.y + axis * b.z for the beam-frame directions b of frame[0, n), one
+/// direction to an AVX2 register (its x, y, z in three lanes; no FMA: each product and sum
+/// rounded alone, in that order). Each store but the last writes four doubles: the fourth is the
+/// next direction's x, which its own store writes after.
+__attribute__((target("avx2"))) void directions_avx2(const Vec3d& axis, const Vec3d& e1,
+                                                     const Vec3d& e2, const Vec3d* frame,
+                                                     std::size_t n, Vec3d* out) {
+    static_assert(sizeof(Vec3d) == 3 * sizeof(double));
+    const __m256d a = _mm256_setr_pd(axis.x, axis.y, axis.z, 0.0);
+    const __m256d u = _mm256_setr_pd(e1.x, e1.y, e1.z, 0.0);
+    const __m256d v = _mm256_setr_pd(e2.x, e2.y, e2.z, 0.0);
+    for (std::size_t i = 0; i + 1 < n; ++i) {
+        _mm256_storeu_pd(&out[i].x, direction_avx2(a, u, v, frame[i]));
+    }
+    const __m256d d = direction_avx2(a, u, v, frame[n - 1]);
+    _mm_storeu_pd(&out[n - 1].x, _mm256_castpd256_pd128(d));
+    _mm_store_sd(&out[n - 1].z, _mm256_extractf128_pd(d, 1));
+}
+#endif
+
+}  // namespace
+
 void sub_ray_directions(const Vec3d& axis, std::span<const Vec3d> beam_frame,
                         std::span<Vec3d> out) {
     assert(out.size() == beam_frame.size());
     Vec3d e1, e2;
     orthonormal_basis(axis, e1, e2);
+#if defined(__x86_64__) && defined(__GNUC__)
+    if (beam_frame.size() > 1 && __builtin_cpu_supports("avx2")) {  // a single ray's: below
+        directions_avx2(axis, e1, e2, beam_frame.data(), beam_frame.size(), out.data());
+        return;
+    }
+#endif
     for (std::size_t i = 0; i < beam_frame.size(); ++i) {
         const Vec3d& b = beam_frame[i];
         out[i] = e1 * b.x + e2 * b.y + axis * b.z;

@@ -1,5 +1,7 @@
 #include "physics/detail/gaussian_runs.hpp"
 
+#include <algorithm>
+
 namespace beamtrace::detail {
 
 bool run_lanes_available(RunLanes path) {
@@ -12,8 +14,10 @@ bool run_lanes_available() {
 
 void add_runs_lanes(RunLanes path, double* y, std::size_t width, std::int64_t first,
                     const GaussianRun* runs, std::size_t count) {
-    if (path == RunLanes::avx512) {
-        add_runs_lanes_avx512(y, width, first, runs, count);
+    if (path == RunLanes::avx512) {  // kRunLanes to a register: one pass per eight runs
+        for (std::size_t from = 0; from < count; from += kRunLanes) {
+            add_runs_lanes_avx512(y, width, first, runs + from, std::min(kRunLanes, count - from));
+        }
     } else {
         add_runs_lanes_avx2(y, width, first, runs, count);
     }

@@ -207,8 +207,9 @@ namespace {
 #if defined(__x86_64__) && defined(__GNUC__)
 /// echo_sigma_ns of the samples of a beam without exit diameter (footprint radius |R theta / 2|),
 /// four at a time (AVX2, no FMA: every product and sum rounded alone; sqrt and division round
-/// alike in lanes): the same operations in the same order. Returns how many it did (n less
-/// n % 4).
+/// alike in lanes): the same operations in the same order. The last four end at n (they
+/// overlap the four before them: each lane's result alone, the same again). Returns how many it
+/// did (n, or 0 where n < 4).
 __attribute__((target("avx2"))) std::size_t narrow_echo_sigmas_avx2(const BeamSample* samples,
                                                                     std::size_t n,
                                                                     double divergence_rad,
@@ -216,8 +217,8 @@ __attribute__((target("avx2"))) std::size_t narrow_echo_sigmas_avx2(const BeamSa
     const __m256d zero = _mm256_setzero_pd(), one = _mm256_set1_pd(1.0);
     const __m256d abs_mask = _mm256_castsi256_pd(_mm256_set1_epi64x(0x7fffffffffffffff));
     const __m256d sp = _mm256_set1_pd(sigma_p), min_cos = _mm256_set1_pd(kMinCos);
-    std::size_t j = 0;
-    for (; j + 4 <= n; j += 4) {
+    for (std::size_t next = 0; next < n && n >= 4; next += 4) {
+        const std::size_t j = std::min(next, n - 4);
         const BeamSample* s = samples + j;
         const __m256d r =
             _mm256_setr_pd(s[0].hit.range_m, s[1].hit.range_m, s[2].hit.range_m, s[3].hit.range_m);
@@ -242,7 +243,7 @@ __attribute__((target("avx2"))) std::size_t narrow_echo_sigmas_avx2(const BeamSa
                                            _mm256_cmp_pd(cell, zero, _CMP_GT_OQ));
         _mm256_storeu_pd(out + j, _mm256_blendv_pd(sp, sigma, wide));
     }
-    return j;
+    return n >= 4 ? n : 0;
 }
 
 /// What sub_ray_power_w reads of the configuration: the emitted peak power and the constant
@@ -254,8 +255,9 @@ struct PowerFactors {
 /// sub_ray_power_w of samples [0, n) four at a time (AVX2, no FMA: every product and quotient
 /// rounded alone, in received_power_w's order), for the fours whose samples have no specular
 /// weight: the reflectance of either BRDF is then cos_i where cos_i > 0 (1 cos_i, 0 + 1 cos_i),
-/// else 0. transmission[j] is sample j's two-way transmission. Returns how many it did: the
-/// fours before the first with a specular weight, or n less n % 4.
+/// else 0. transmission[j] is sample j's two-way transmission. The last four end at n (they
+/// overlap the four before them: each lane's result alone, the same again). Returns how many it
+/// did: the samples before the first four with a specular weight, or n (0 where n < 4).
 __attribute__((target("avx2"))) std::size_t matte_powers_avx2(const BeamSample* samples,
                                                               std::size_t n,
                                                               const double* transmission,
@@ -264,13 +266,13 @@ __attribute__((target("avx2"))) std::size_t matte_powers_avx2(const BeamSample* 
                   inf = _mm256_set1_pd(std::numeric_limits<double>::infinity());
     const __m256d peak = _mm256_set1_pd(k.peak_w), area = _mm256_set1_pd(k.aperture_m2);
     const __m256d pi = _mm256_set1_pd(std::numbers::pi), eff = _mm256_set1_pd(k.efficiency);
-    std::size_t j = 0;
-    for (; j + 4 <= n; j += 4) {
+    for (std::size_t next = 0; next < n && n >= 4; next += 4) {
+        const std::size_t j = std::min(next, n - 4);
         const BeamSample* s = samples + j;
         const __m256d spec = _mm256_setr_pd(s[0].hit.specular_weight, s[1].hit.specular_weight,
                                             s[2].hit.specular_weight, s[3].hit.specular_weight);
         if (_mm256_movemask_pd(_mm256_cmp_pd(spec, zero, _CMP_EQ_OQ)) != 0xf) {
-            break;
+            return j;
         }
         const __m256d r =
             _mm256_setr_pd(s[0].hit.range_m, s[1].hit.range_m, s[2].hit.range_m, s[3].hit.range_m);
@@ -289,7 +291,7 @@ __attribute__((target("avx2"))) std::size_t matte_powers_avx2(const BeamSample* 
             _mm256_and_pd(_mm256_cmp_pd(r, zero, _CMP_GT_OQ), _mm256_cmp_pd(r, inf, _CMP_LT_OQ));
         _mm256_storeu_pd(out + j, _mm256_and_pd(lit, p));
     }
-    return j;
+    return n >= 4 ? n : 0;
 }
 #endif
 
@@ -490,20 +492,18 @@ void PulseSimulator::sample_contributions(std::uint64_t seed, std::uint64_t puls
     std::vector<double>& powers = out.sub_ray_power_w;
     powers.resize(n);
     sub_ray_powers(samples, powers);
-    if (!medium_) {  // no shadows to take off: the echoes, then their widths in a loop of their own
-        for (std::size_t j = 0; j < n; ++j) {
-            if (powers[j] > 0) {
-                out.contributions.push_back({samples[j].hit.range_m, powers[j], 0.0});
-            }
-        }
+    if (!medium_) {  // no shadows to take off: the widths in a loop of their own, then the echoes
         std::vector<double>& sigmas = out.sigma_ns;
         echo_sigmas(samples, sigmas);
-        EchoContribution* c = out.contributions.data();
+        // Every sample written at the next place, which moves on for the lit ones (no branch).
+        std::vector<EchoContribution>& c = out.contributions;
+        std::size_t m = c.size();
+        c.resize(m + n);
         for (std::size_t j = 0; j < n; ++j) {
-            if (powers[j] > 0) {
-                (c++)->sigma_ns = sigmas[j];
-            }
+            c[m] = {samples[j].hit.range_m, powers[j], sigmas[j]};
+            m += powers[j] > 0 ? 1 : 0;
         }
+        c.resize(m);
         return;
     }
     add_medium(seed, pulse_index, samples, out);

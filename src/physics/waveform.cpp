@@ -69,9 +69,10 @@ constexpr std::size_t kRunsOneByOne = 2;
 #define BEAMTRACE_WAVEFORM_CLONES
 #endif
 
-/// Contributions whose runs are made together (their exps in one pass), then added kRows at a
-/// time.
-constexpr std::size_t kBatch = 4 * kRows;
+/// Contributions whose runs are made together (their exps in one pass), then added together
+/// (kRows at a time before AVX2).
+constexpr std::size_t kBatch = detail::kRunsPerCall;
+static_assert(kBatch % kRows == 0);
 
 /// The divisions of up to kBatch runs, each rounded as alone (the AVX2 clone: four at a time):
 /// of the run at round-trip time t[i] of width sigma[i], its reach's ends in bins (lo, hi,
@@ -100,7 +101,9 @@ BEAMTRACE_WAVEFORM_CLONES void run_quotients(RunQuotients& q, std::size_t n, dou
 /// and sum rounded alone, run_exponents' order), for the fours whose reach ends lie within
 /// 2^52 bins: there floor and ceil are exact in doubles and equal floor_to_int's and
 /// ceil_to_int's integers (+0 for 0, as the integer's conversion gives). Each run's b0 and n
-/// into runs[i], its exponents into e[i], e[count + i], e[2 count + i]. Returns how many it did.
+/// into runs[i], its exponents into e[i], e[count + i], e[2 count + i]. The last four end at
+/// count (they overlap the four before them: each lane's result alone, the same again). Returns
+/// how many it did: the runs before the first four it leaves, or count (0 where count < 4).
 __attribute__((target("avx2"))) std::size_t run_bins_avx2(const RunQuotients& q, std::size_t count,
                                                           double h, std::int64_t first,
                                                           std::int64_t last, GaussianRun* runs,
@@ -115,14 +118,14 @@ __attribute__((target("avx2"))) std::size_t run_bins_avx2(const RunQuotients& q,
         !(std::abs(static_cast<double>(last)) < 0x1p52)) {
         return 0;
     }
-    std::size_t i = 0;
-    for (; i + 4 <= count; i += 4) {
+    for (std::size_t next = 0; next < count && count >= 4; next += 4) {
+        const std::size_t i = std::min(next, count - 4);
         const __m256d lo = _mm256_loadu_pd(q.lo + i), hi = _mm256_loadu_pd(q.hi + i);
         const __m256d near =
             _mm256_and_pd(_mm256_cmp_pd(_mm256_andnot_pd(sign, lo), big, _CMP_LT_OQ),
                           _mm256_cmp_pd(_mm256_andnot_pd(sign, hi), big, _CMP_LT_OQ));
         if (_mm256_movemask_pd(near) != 0xf) {
-            break;
+            return i;
         }
         const __m256d b0 = _mm256_add_pd(_mm256_max_pd(_mm256_floor_pd(lo), first_d), zero);
         const __m256d b1 = _mm256_min_pd(_mm256_ceil_pd(hi), last_d);
@@ -149,7 +152,7 @@ __attribute__((target("avx2"))) std::size_t run_bins_avx2(const RunQuotients& q,
             }
         }
     }
-    return i;
+    return count >= 4 ? count : 0;
 }
 #endif
 
@@ -291,10 +294,10 @@ void add_rows(double* y, const double* rows, std::size_t count, std::size_t widt
     }
 }
 
-/// Adds runs[0, count) (count <= kRows) to `out`, in order: every bin receives their samples in
-/// the order of the runs, as one run after the other would add them. A run adds +0 to the bins
-/// it does not reach, which leaves them as they are: a bin is never -0 (it starts at +0, and
-/// a sum is -0 only when both terms are).
+/// Adds runs[0, count) (count <= kBatch) to `out`, in order: every bin receives their samples
+/// in the order of the runs, as one run after the other would add them. A run adds +0 to the
+/// bins it does not reach, which leaves them as they are: a bin is never -0 (it starts at +0,
+/// and a sum is -0 only when both terms are).
 void add_runs(Waveform& out, const GaussianRun* runs, std::size_t count) {
     thread_local std::vector<double> rows;  // grows once per thread: no allocation per pulse
     if (count == 0) {
@@ -320,8 +323,11 @@ void add_runs(Waveform& out, const GaussianRun* runs, std::size_t count) {
     if (rows.size() < kRows * width) {
         rows.resize(kRows * width);
     }
-    sample_runs(runs, count, out.first_bin, rows.data(), width);
-    add_rows(out.samples_w.data(), rows.data(), count, width);
+    for (std::size_t c0 = 0; c0 < count; c0 += kRows) {
+        const std::size_t rows_used = std::min(kRows, count - c0);
+        sample_runs(runs + c0, rows_used, out.first_bin, rows.data(), width);
+        add_rows(out.samples_w.data(), rows.data(), rows_used, width);
+    }
 }
 
 /// A fitted Gaussian: centre (absolute round-trip time) [ns], amplitude [W], sigma [ns].
@@ -687,10 +693,25 @@ void build_waveform(const WaveformConfig& config, std::span<const EchoContributi
         t_hi = std::max(t_hi, binned.last_range_m);
         sigma_max = sigma_p;
     }
+    // One batch (a pulse's sub-rays): its quotients' inputs taken in the same loop.
+    RunQuotients q;
+    const bool one_batch = contributions.size() <= kBatch;
+    std::size_t count = 0;
+    const auto take = [&](const EchoContribution& c, double sigma) {
+        q.t[count] = c.range_m * round_trip_ns_per_m();
+        q.sigma[count] = sigma;
+        q.amplitude[count] = c.power_w;
+        q.stretched[count] = c.sigma_ns > 0;
+        ++count;
+    };
     for (const auto& c : contributions) {
         t_lo = std::min(t_lo, c.range_m);
         t_hi = std::max(t_hi, c.range_m);
-        sigma_max = std::max(sigma_max, sigma_of(c));
+        const double sigma = sigma_of(c);
+        sigma_max = std::max(sigma_max, sigma);
+        if (one_batch) {
+            take(c, sigma);
+        }
     }
     t_lo = t_lo * round_trip_ns_per_m() - 5.0 * sigma_max;
     t_hi = t_hi * round_trip_ns_per_m() + 5.0 * sigma_max;
@@ -698,22 +719,15 @@ void build_waveform(const WaveformConfig& config, std::span<const EchoContributi
     const std::int64_t last = ceil_to_int(t_hi / config.bin_ns);
     out.first_bin = first;
     out.samples_w.assign(static_cast<std::size_t>(last - first + 1), 0.0);
-    RunQuotients q;
-    std::size_t count = 0;
-    const auto add = [&] {  // the runs of q's count contributions, kRows at a time
+    const auto add = [&] {  // the runs of q's count contributions
         GaussianRun runs[kBatch];
         make_runs(q, count, out.bin_ns, sigma_p, first, last, runs);
-        for (std::size_t c0 = 0; c0 < count; c0 += kRows) {
-            add_runs(out, runs + c0, std::min(kRows, count - c0));
-        }
+        add_runs(out, runs, count);
         count = 0;
     };
-    for (const auto& c : contributions) {
-        q.t[count] = c.range_m * round_trip_ns_per_m();
-        q.sigma[count] = sigma_of(c);
-        q.amplitude[count] = c.power_w;
-        q.stretched[count] = c.sigma_ns > 0;
-        if (++count == kBatch) {
+    for (std::size_t i = 0; !one_batch && i < contributions.size(); ++i) {
+        take(contributions[i], sigma_of(contributions[i]));
+        if (count == kBatch) {
             add();
         }
     }

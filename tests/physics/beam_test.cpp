@@ -1,7 +1,10 @@
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <numbers>
+#include <span>
 #include <vector>
 
 #include "beamtrace/physics/beam_divergence.hpp"
@@ -89,6 +92,36 @@ TEST(PhysicsBeam, DirectionsLieOnTheConeAroundAnyAxis) {
         std::vector<Vec3d> again(p.size());
         sub_ray_directions(axis, p, again);
         EXPECT_EQ(dirs, again);
+    }
+}
+
+// The beam-frame directions (AVX2: one direction to a register, each store but the last four
+// doubles wide) are e1 b.x + e2 b.y + axis b.z, bit for bit, and write nothing past the end.
+TEST(PhysicsBeam, BeamFrameDirectionsAreTheBasisSumsBitForBit) {
+    std::uint64_t s = 3;
+    const auto next = [&s] {
+        s = s * 6364136223846793005ULL + 1442695040888963407ULL;
+        return static_cast<double>(s >> 11) * 0x1p-53 - 0.5;
+    };
+    for (int trial = 0; trial < 500; ++trial) {
+        const Vec3d axis = normalize(Vec3d{next(), next(), next()});
+        std::vector<Vec3d> frame(1 + static_cast<std::size_t>(trial) % 40);
+        for (Vec3d& b : frame) {
+            b = {1e-3 * next(), 1e-3 * next(), 1.0 + 1e-6 * next()};
+        }
+        std::vector<Vec3d> got(frame.size() + 1, Vec3d{-0.0, -0.0, -0.0});
+        sub_ray_directions(axis, frame, std::span<Vec3d>(got.data(), frame.size()));
+        Vec3d e1, e2;
+        orthonormal_basis(axis, e1, e2);
+        for (std::size_t i = 0; i < frame.size(); ++i) {
+            const Vec3d want = e1 * frame[i].x + e2 * frame[i].y + axis * frame[i].z;
+            for (int c = 0; c < 3; ++c) {
+                ASSERT_EQ(std::bit_cast<std::uint64_t>((&got[i].x)[c]),
+                          std::bit_cast<std::uint64_t>((&want.x)[c]))
+                    << "trial " << trial << " direction " << i << " component " << c;
+            }
+        }
+        EXPECT_EQ(std::bit_cast<std::uint64_t>(got.back().x), std::bit_cast<std::uint64_t>(-0.0));
     }
 }
 

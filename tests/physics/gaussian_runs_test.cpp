@@ -68,6 +68,45 @@ TEST_P(GaussianRunLanes, BitForBitOneRunAfterTheOther) {
     }
 }
 
+// Up to kRunsPerCall runs in one call (AVX2: up to twenty a pass over the bins, in fours), as a
+// many-ray pulse's waveform receives them: most sharing most of their bins (the blocks every run
+// reaches go without masks), some without bins but with samples that would show, some apart.
+TEST_P(GaussianRunLanes, ManyRunsInOneCallBitForBit) {
+    std::uint64_t s = 7;
+    const auto next = [&s] {
+        s = s * 6364136223846793005ULL + 1442695040888963407ULL;
+        return static_cast<double>(s >> 11) * 0x1p-53;
+    };
+    for (int trial = 0; trial < 3000; ++trial) {
+        const std::int64_t first = 500 + trial % 13;
+        const std::size_t width = 8 + static_cast<std::size_t>(next() * 90.0);
+        const std::size_t count = 1 + static_cast<std::size_t>(trial) % detail::kRunsPerCall;
+        const bool apart = trial % 5 == 0;
+        std::vector<GaussianRun> runs(count);
+        for (GaussianRun& r : runs) {
+            const auto at = static_cast<std::size_t>(next() * (apart ? double(width) : 6.0));
+            const std::size_t room = width - at;
+            r.b0 = first + static_cast<std::int64_t>(at);
+            r.n = apart ? static_cast<std::size_t>(next() * double(room + 1))
+                        : room - std::min(room, static_cast<std::size_t>(next() * 6.0));
+            r.n = next() < 0.05 ? 0 : r.n;
+            r.g = 1e-7 * (0.5 + next());
+            r.ratio = 1.0 + 0.5 * next();
+            r.step = 0.9 + 0.09 * next();
+        }
+        std::vector<double> want(width), got(width);
+        for (std::size_t b = 0; b < width; ++b) {
+            want[b] = got[b] = 1e-8 * next();
+        }
+        add_one_by_one(want, first, runs);
+        detail::add_runs_lanes(GetParam(), got.data(), width, first, runs.data(), runs.size());
+        for (std::size_t b = 0; b < width; ++b) {
+            ASSERT_EQ(std::bit_cast<std::uint64_t>(got[b]), std::bit_cast<std::uint64_t>(want[b]))
+                << "trial " << trial << " count " << count << " bin " << b;
+        }
+    }
+}
+
 TEST_P(GaussianRunLanes, LeavesBinsOutsideTheRunsAsTheyAre) {
     std::vector<double> y(40, 0.25);
     const GaussianRun run{2.0, 0.5, 1.0, 110, 3};  // bins 110, 111, 112: 2, 1, 0.5

@@ -17,10 +17,15 @@ struct GaussianRun {
     std::size_t n;
 };
 
-/// Runs added together by one call of add_runs_lanes, at most.
+/// Runs in the lanes of one AVX-512 register (of two AVX2 ones): one call of
+/// add_runs_lanes_avx512 adds this many at most.
 inline constexpr std::size_t kRunLanes = 8;
 
-/// The paths of add_runs_lanes: eight runs in one AVX-512 register, or in two AVX2 ones.
+/// Runs added together by one call of add_runs_lanes, at most: AVX-512 adds them kRunLanes a
+/// pass over the bins, AVX2 up to twenty a pass (in five registers).
+inline constexpr std::size_t kRunsPerCall = 4 * kRunLanes;
+
+/// The paths of add_runs_lanes: eight runs to an AVX-512 register, or four to an AVX2 one.
 enum class RunLanes { avx2, avx512 };
 
 /// True when the CPU runs add_runs_lanes by `path` (AVX2 or AVX-512F; neither under
@@ -28,7 +33,7 @@ enum class RunLanes { avx2, avx512 };
 [[nodiscard]] bool run_lanes_available(RunLanes path);
 [[nodiscard]] bool run_lanes_available();
 
-/// Adds runs[0, count) (count <= kRunLanes, each inside the bins [first, first + width)) to
+/// Adds runs[0, count) (count <= kRunsPerCall, each inside the bins [first, first + width)) to
 /// y[0, width), bin b at y[b - first]: every bin receives the runs' samples in the order of
 /// the runs, each sample the product of its run's recurrence alone, so every bin ends as one
 /// run after the other added by recurrence would leave it, bit for bit, on either path (a run
@@ -43,6 +48,7 @@ void add_runs_lanes(RunLanes path, double* y, std::size_t width, std::int64_t fi
 /// The paths' kernels (gaussian_runs_avx2.cpp, gaussian_runs_avx512.cpp) and whether they run.
 [[nodiscard]] bool run_lanes_avx2_available();
 [[nodiscard]] bool run_lanes_avx512_available();
+/// add_runs_lanes_avx2 takes count <= kRunsPerCall; add_runs_lanes_avx512 count <= kRunLanes.
 void add_runs_lanes_avx2(double* y, std::size_t width, std::int64_t first, const GaussianRun* runs,
                          std::size_t count);
 void add_runs_lanes_avx512(double* y, std::size_t width, std::int64_t first,
