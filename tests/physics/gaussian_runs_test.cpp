@@ -27,6 +27,25 @@ void add_one_by_one(std::vector<double>& y, std::int64_t first, const std::vecto
     }
 }
 
+/// Uniform draws in [0, 1) from a 64-bit LCG: the same sequence for a seed on every machine.
+struct Draws {
+    std::uint64_t s;
+    double operator()() {
+        s = s * 6364136223846793005ULL + 1442695040888963407ULL;
+        return static_cast<double>(s >> 11) * 0x1p-53;
+    }
+};
+
+/// Every bin of `got` has the bits of `want`'s.
+void expect_same_bits(const std::vector<double>& got, const std::vector<double>& want,
+                      const std::string& where) {
+    ASSERT_EQ(got.size(), want.size());
+    for (std::size_t b = 0; b < got.size(); ++b) {
+        ASSERT_EQ(std::bit_cast<std::uint64_t>(got[b]), std::bit_cast<std::uint64_t>(want[b]))
+            << where << " bin " << b;
+    }
+}
+
 /// The paths of add_runs_lanes, AVX2 and AVX-512.
 class GaussianRunLanes : public ::testing::TestWithParam<detail::RunLanes> {
   protected:
@@ -38,11 +57,7 @@ class GaussianRunLanes : public ::testing::TestWithParam<detail::RunLanes> {
 };
 
 TEST_P(GaussianRunLanes, BitForBitOneRunAfterTheOther) {
-    std::uint64_t s = 99;
-    const auto next = [&s] {
-        s = s * 6364136223846793005ULL + 1442695040888963407ULL;
-        return static_cast<double>(s >> 11) * 0x1p-53;
-    };
+    Draws next{99};
     for (int trial = 0; trial < 2000; ++trial) {
         const std::int64_t first = 2000 + trial % 37;
         const std::size_t width = 1 + static_cast<std::size_t>(next() * 70.0);
@@ -61,10 +76,7 @@ TEST_P(GaussianRunLanes, BitForBitOneRunAfterTheOther) {
             add_one_by_one(want, first, runs);
             detail::add_runs_lanes(GetParam(), got.data(), width, first, runs.data(), runs.size());
         }
-        for (std::size_t b = 0; b < width; ++b) {
-            ASSERT_EQ(std::bit_cast<std::uint64_t>(got[b]), std::bit_cast<std::uint64_t>(want[b]))
-                << "trial " << trial << " bin " << b;
-        }
+        ASSERT_NO_FATAL_FAILURE(expect_same_bits(got, want, "trial " + std::to_string(trial)));
     }
 }
 
@@ -72,11 +84,7 @@ TEST_P(GaussianRunLanes, BitForBitOneRunAfterTheOther) {
 // many-ray pulse's waveform receives them: most sharing most of their bins (the blocks every run
 // reaches go without masks), some without bins but with samples that would show, some apart.
 TEST_P(GaussianRunLanes, ManyRunsInOneCallBitForBit) {
-    std::uint64_t s = 7;
-    const auto next = [&s] {
-        s = s * 6364136223846793005ULL + 1442695040888963407ULL;
-        return static_cast<double>(s >> 11) * 0x1p-53;
-    };
+    Draws next{7};
     for (int trial = 0; trial < 3000; ++trial) {
         const std::int64_t first = 500 + trial % 13;
         const std::size_t width = 8 + static_cast<std::size_t>(next() * 90.0);
@@ -100,10 +108,8 @@ TEST_P(GaussianRunLanes, ManyRunsInOneCallBitForBit) {
         }
         add_one_by_one(want, first, runs);
         detail::add_runs_lanes(GetParam(), got.data(), width, first, runs.data(), runs.size());
-        for (std::size_t b = 0; b < width; ++b) {
-            ASSERT_EQ(std::bit_cast<std::uint64_t>(got[b]), std::bit_cast<std::uint64_t>(want[b]))
-                << "trial " << trial << " count " << count << " bin " << b;
-        }
+        ASSERT_NO_FATAL_FAILURE(expect_same_bits(
+            got, want, "trial " + std::to_string(trial) + " count " + std::to_string(count)));
     }
 }
 
