@@ -624,19 +624,18 @@ BT_PK bool test_leaf(Packet& p, const BvhNode& node, const Bvh& bvh, const Trian
     return changed;
 }
 
-/// The box of a face (its corners fc), as a BvhNode's bounds (its index and count 0), grown on each
-/// axis by 2^-20 of the axis' greatest magnitude: a face no lane can hit is then still tested by
-/// some.
+/// The box of a face (its corners fc) as a BvhNode's bounds (index and count 0): the box its
+/// leaf was built from (Aabb, as TriangleMesh::triangle_bounds makes it), grown on each axis by
+/// 2^-20 of the axis' greatest magnitude, a margin beyond the one the leaf boxes need.
 BT_PK void face_box(const FaceCorners& fc, BvhNode& box) {
-    const Vec3f& a = *fc.a;
-    const Vec3f& b = *fc.b;
-    const Vec3f& c = *fc.c;
+    Aabb b;
+    b.extend(*fc.a);
+    b.extend(*fc.b);
+    b.extend(*fc.c);
     for (int k = 0; k < 3; ++k) {
-        const float lo = std::min(std::min(a[k], b[k]), c[k]);
-        const float hi = std::max(std::max(a[k], b[k]), c[k]);
-        const float grow = std::max(std::fabs(lo), std::fabs(hi)) * 0x1p-20f;
-        box.lo[k] = lo - grow;
-        box.hi[k] = hi + grow;
+        const float grow = std::max(std::fabs(b.lo[k]), std::fabs(b.hi[k])) * 0x1p-20f;
+        box.lo[k] = b.lo[k] - grow;
+        box.hi[k] = b.hi[k] + grow;
     }
     box.index = 0;
     box.count = 0;
