@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <cstddef>
 #include <cstdio>
 #include <cstring>
 #include <ctime>
@@ -14,9 +15,14 @@
 #include "beamtrace/core/error.hpp"
 #include "beamtrace/io/las_crs.hpp"
 #include "beamtrace/io/point_sink.hpp"
+#include "core/simd_level.hpp"
 #include "io/detail/direct_sink.hpp"
 #include "io/detail/laz_chunk_writer.hpp"
 #include "io/detail/round_int32.hpp"
+
+#if defined(__x86_64__) && defined(__GNUC__)
+#include <immintrin.h>
+#endif
 
 namespace beamtrace {
 
@@ -414,6 +420,98 @@ LasWriter::RecordConstants LasWriter::record_constants() const {
             header_.point_format};
 }
 
+namespace {
+
+/// Bytes 12-29 of a record (intensity to GPS time; flags: byte 15); false, with the bytes
+/// meaningless, for a point whose returns or scan angle the record cannot hold.
+[[gnu::always_inline]] inline bool encode_fields(const LasSimplePoint& p, std::uint8_t flags,
+                                                 std::uint8_t* r) {
+    if (p.return_number > 15 || p.number_of_returns > 15) [[unlikely]] {
+        return false;
+    }
+    const double angle = static_cast<double>(p.scan_angle_deg) * (1.0 / kScanAngleStepDeg);
+    const std::int32_t angle_steps = rounds_into_int32(angle) ? round_to_int32(angle) : 1 << 30;
+    if (!(angle_steps >= -30000 && angle_steps <= 30000)) [[unlikely]] {
+        return false;
+    }
+    store<std::uint16_t>(r + 12, p.intensity);
+    r[14] = static_cast<std::uint8_t>(p.return_number | (p.number_of_returns << 4));
+    r[15] = flags;
+    r[16] = p.classification;
+    r[17] = p.user_data;
+    store<std::int16_t>(r + 18, static_cast<std::int16_t>(angle_steps));
+    store<std::uint16_t>(r + 20, p.point_source_id);
+    store<double>(r + 22, p.gps_time);
+    return true;
+}
+
+/// Why encode_fields() refused `p`.
+[[noreturn, gnu::cold, gnu::noinline]] void reject_fields(const std::filesystem::path& path,
+                                                          std::uint64_t index,
+                                                          const LasSimplePoint& p) {
+    if (p.return_number > 15 || p.number_of_returns > 15) {
+        reject_returns(path, index, p);
+    }
+    reject_angle(path, index, p.scan_angle_deg);
+}
+
+#if defined(__x86_64__) && defined(__GNUC__)
+/// What encode_bare_avx2() keeps across a block's points: the integer bounds (lanes 0-2: x, y,
+/// z) and the counts by return.
+struct BareTotals {
+    __m128i lo = _mm_set1_epi32(std::numeric_limits<std::int32_t>::max());
+    __m128i hi = _mm_set1_epi32(std::numeric_limits<std::int32_t>::min());
+    std::array<std::uint64_t, 15> by_return{};
+};
+
+/// The 30-byte records of format 6 from the front of `points` into `r`, as encode_base() writes
+/// them, with x, y and z in the lanes of one vector: (x - offset) * steps, range-checked and
+/// rounded (halves away from zero) as round_to_int32() does, lane by lane. Returns how many
+/// points it encoded: it stops before the first point encode_base() would reject (whose
+/// rejection the scalar path then gives). Lane 3 holds the GPS time times 0: its integer lands
+/// in bytes 12-15, which encode_fields() writes over.
+template <class Point>
+__attribute__((target("avx2"))) std::size_t encode_bare_avx2(std::span<const Point> points,
+                                                             const double offset[3],
+                                                             const double steps_per_unit[3],
+                                                             std::uint8_t* r, BareTotals& t) {
+    static_assert(offsetof(LasSimplePoint, y) == 8 && offsetof(LasSimplePoint, z) == 16 &&
+                  offsetof(LasSimplePoint, gps_time) == 24);
+    const __m256d off = _mm256_setr_pd(offset[0], offset[1], offset[2], 0.0);
+    const __m256d steps =
+        _mm256_setr_pd(steps_per_unit[0], steps_per_unit[1], steps_per_unit[2], 0.0);
+    const __m256d low = _mm256_set1_pd(-2147483648.5), high = _mm256_set1_pd(2147483647.5);
+    const __m256d half = _mm256_set1_pd(0.5), minus_half = _mm256_set1_pd(-0.5);
+    const __m256d one = _mm256_set1_pd(1.0);
+    for (std::size_t i = 0; i < points.size(); ++i, r += kBaseRecordBytes) {
+        const LasSimplePoint& p = points[i];
+        const __m256d x = _mm256_mul_pd(_mm256_sub_pd(_mm256_loadu_pd(&p.x), off), steps);
+        const __m256d fits =
+            _mm256_and_pd(_mm256_cmp_pd(x, low, _CMP_GT_OQ), _mm256_cmp_pd(x, high, _CMP_LT_OQ));
+        if ((_mm256_movemask_pd(fits) & 7) != 7 || p.scanner_channel > 3) [[unlikely]] {
+            return i;
+        }
+        const __m256d whole = _mm256_round_pd(x, _MM_FROUND_TO_ZERO | _MM_FROUND_NO_EXC);
+        const __m256d f = _mm256_sub_pd(x, whole);
+        const __m256d up = _mm256_and_pd(_mm256_cmp_pd(f, half, _CMP_GE_OQ), one);
+        const __m256d down = _mm256_and_pd(_mm256_cmp_pd(f, minus_half, _CMP_LE_OQ), one);
+        const __m128i q = _mm256_cvttpd_epi32(_mm256_add_pd(whole, _mm256_sub_pd(up, down)));
+        _mm_storeu_si128(reinterpret_cast<__m128i*>(r), q);  // before bytes 12-29
+        if (!encode_fields(p, static_cast<std::uint8_t>(p.scanner_channel << 4), r)) [[unlikely]] {
+            return i;
+        }
+        t.lo = _mm_min_epi32(t.lo, q);
+        t.hi = _mm_max_epi32(t.hi, q);
+        if (p.return_number >= 1) {
+            ++t.by_return[p.return_number - 1u];
+        }
+    }
+    return points.size();
+}
+#endif
+
+}  // namespace
+
 void LasWriter::encode_base(const LasSimplePoint& p, std::uint8_t flags, std::uint64_t index,
                             std::uint8_t* r, std::int32_t q[3], const RecordConstants& c) const {
     const double xyz[3] = {p.x, p.y, p.z};
@@ -426,27 +524,14 @@ void LasWriter::encode_base(const LasSimplePoint& p, std::uint8_t flags, std::ui
         }
         q[k] = round_to_int32(steps);
     }
-    if (p.return_number > 15 || p.number_of_returns > 15) [[unlikely]] {
-        reject_returns(path_, index, p);
-    }
-    const double angle = static_cast<double>(p.scan_angle_deg) * (1.0 / kScanAngleStepDeg);
-    const std::int32_t angle_steps = rounds_into_int32(angle) ? round_to_int32(angle) : 1 << 30;
-    if (!(angle_steps >= -30000 && angle_steps <= 30000)) [[unlikely]] {
-        reject_angle(path_, index, p.scan_angle_deg);
+    if (!encode_fields(p, flags, r)) [[unlikely]] {
+        reject_fields(path_, index, p);
     }
     // Each value from its register (a 12-byte copy of q read back just-stored 4-byte values
     // as 8 bytes, which stalls store forwarding).
     store<std::int32_t>(r, q[0]);
     store<std::int32_t>(r + 4, q[1]);
     store<std::int32_t>(r + 8, q[2]);
-    store<std::uint16_t>(r + 12, p.intensity);
-    r[14] = static_cast<std::uint8_t>(p.return_number | (p.number_of_returns << 4));
-    r[15] = flags;
-    r[16] = p.classification;
-    r[17] = p.user_data;
-    store<std::int16_t>(r + 18, static_cast<std::int16_t>(angle_steps));
-    store<std::uint16_t>(r + 20, p.point_source_id);
-    store<double>(r + 22, p.gps_time);
 }
 
 void LasWriter::encode_record(const LasPoint& p, std::uint64_t index, std::uint8_t* r,
@@ -586,8 +671,8 @@ template <class Point>
     std::array<std::uint64_t, 15> by_return = block.by_return;
     // Bare: the 30 bytes every record has and nothing after them (format 6, no extra bytes),
     // chosen once for the block rather than for each point after its first 30 bytes.
-    const auto encode_all = [&]<bool Bare>() {
-        for (const LasSimplePoint& p : points) {
+    const auto encode_all = [&]<bool Bare>(std::span<const Point> rest) {
+        for (const LasSimplePoint& p : rest) {
             std::int32_t q[3];
             if constexpr (Bare) {
                 if (p.scanner_channel > 3) [[unlikely]] {
@@ -609,9 +694,28 @@ template <class Point>
         }
     };
     if (c.point_format == 6 && c.record_length == kBaseRecordBytes) {
-        encode_all.template operator()<true>();
+        std::size_t done = 0;
+#if defined(__x86_64__) && defined(__GNUC__)
+        if (detail::cpu_simd_level() != detail::SimdLevel::scalar) {
+            BareTotals t;
+            done = encode_bare_avx2(points, c.offset, c.steps_per_unit, r, t);
+            alignas(16) std::int32_t tlo[4], thi[4];
+            _mm_store_si128(reinterpret_cast<__m128i*>(tlo), t.lo);
+            _mm_store_si128(reinterpret_cast<__m128i*>(thi), t.hi);
+            for (std::size_t k = 0; k < 3; ++k) {
+                lo[k] = tlo[k];
+                hi[k] = thi[k];
+            }
+            for (std::size_t i = 0; i < by_return.size(); ++i) {
+                by_return[i] += t.by_return[i];
+            }
+            count += done;
+            r += done * size;
+        }
+#endif
+        encode_all.template operator()<true>(points.subspan(done));
     } else {
-        encode_all.template operator()<false>();
+        encode_all.template operator()<false>(points);
     }
     block.count = count;
     block.by_return = by_return;

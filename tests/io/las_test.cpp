@@ -434,6 +434,88 @@ TEST_F(LasWriterTest, EncodePointsBareOrNotGivesWhatEncodingOneByOneGives) {
     }
 }
 
+/// What encoding `points` one by one into an empty block gives, or the message of the first
+/// point it rejects.
+std::string encode_one_by_one(const LasWriter& writer, std::span<const LasSimplePoint> points,
+                              LasRecordBlock& block) {
+    try {
+        for (const LasSimplePoint& p : points) {
+            writer.encode(p, block);
+        }
+    } catch (const OutputError& e) {
+        return e.what();
+    }
+    return {};
+}
+
+// The bare loop (format 6, which runs x, y and z in the lanes of one vector where the CPU has
+// AVX2) rounds halves away from zero in every lane, keeps -0.5 < f < 0.5 truncated, takes
+// coordinates up to the int32 limits, and names the same point and problem as the one-by-one
+// encoding when a point in the middle of a block does not fit.
+TEST_F(LasWriterTest, EncodePointsBareRoundsAndRejectsAsOneByOne) {
+    LasWriterConfig config;
+    config.scale = {0.25, 0.25, 0.25};  // steps = 4 x, exactly
+    const LasWriter writer(config);
+    const double steps[] = {0.5,
+                            -0.5,
+                            1.5,
+                            -1.5,
+                            2.5,
+                            -2.5,
+                            0.0,
+                            -0.0,
+                            0.49999999999999994,
+                            -0.49999999999999994,
+                            3.49,
+                            -3.51,
+                            2147483647.4,
+                            -2147483648.4,
+                            1e6 + 0.5,
+                            -7.0};
+    constexpr std::size_t n = std::size(steps);
+    std::vector<LasSimplePoint> points = random_points(3 * n, 13);
+    for (std::size_t i = 0; i < points.size(); ++i) {
+        points[i].x = steps[i % n] / 4;
+        points[i].y = steps[(i + 1) % n] / 4;
+        points[i].z = steps[(i + 5) % n] / 4;
+        points[i].return_number = static_cast<std::uint8_t>(i % 3);
+        points[i].number_of_returns = 2;
+    }
+    LasRecordBlock one, batch;
+    ASSERT_EQ(encode_one_by_one(writer, points, one), "");
+    writer.encode_points(std::span<const LasSimplePoint>(points), batch);
+    ASSERT_EQ(batch.count, one.count);
+    EXPECT_TRUE(std::equal(one.bytes.begin(), one.bytes.begin() + 30 * 3 * n, batch.bytes.begin()));
+    EXPECT_EQ(batch.by_return, one.by_return);
+    for (std::size_t k = 0; k < 3; ++k) {
+        EXPECT_EQ(batch.lo[k], one.lo[k]) << k;
+        EXPECT_EQ(batch.hi[k], one.hi[k]) << k;
+    }
+    EXPECT_EQ(one.lo[0], -2147483648);
+    EXPECT_EQ(one.hi[0], 2147483647);
+    const auto spoil =
+        std::vector<void (*)(LasSimplePoint&)>{[](LasSimplePoint& p) { p.x = 2147483647.5 / 4; },
+                                               [](LasSimplePoint& p) { p.y = -2147483648.5 / 4; },
+                                               [](LasSimplePoint& p) { p.z = std::nan(""); },
+                                               [](LasSimplePoint& p) { p.number_of_returns = 16; },
+                                               [](LasSimplePoint& p) { p.scan_angle_deg = 180.5f; },
+                                               [](LasSimplePoint& p) { p.scanner_channel = 4; }};
+    for (std::size_t s = 0; s < spoil.size(); ++s) {
+        std::vector<LasSimplePoint> bad(points.begin(), points.begin() + 9);
+        spoil[s](bad[5]);
+        LasRecordBlock expected;
+        const std::string why = encode_one_by_one(writer, bad, expected);
+        ASSERT_NE(why.find("point 5: "), std::string::npos) << s << ": " << why;
+        LasRecordBlock rejected;
+        try {
+            writer.encode_points(std::span<const LasSimplePoint>(bad), rejected);
+            ADD_FAILURE() << s << ": expected OutputError";
+        } catch (const OutputError& e) {
+            EXPECT_EQ(std::string(e.what()), why);
+        }
+    }
+}
+
 TEST_F(LasWriterTest, BlockEncodingRejectsBadPointsWithoutHarmingTheWriter) {
     LasWriter writer(dir_ / "x.las", {});
     LasRecordBlock block;
