@@ -11,6 +11,7 @@
 #include "beamtrace/core/error.hpp"
 #include "beamtrace/sensor/beam_table.hpp"
 #include "beamtrace/sensor/rotating_presets.hpp"
+#include "sensor/detail/rotating_lanes.hpp"
 #include "sensor/detail/scan_pattern_types.hpp"
 #include "sensor/detail/scanner_yaml.hpp"
 
@@ -36,22 +37,6 @@ RotatingScannerConfig preset(std::vector<double> elevations_deg, double resoluti
     c.azimuth_resolution_deg = resolution_deg;
     c.duration_s = 0.1;  // one revolution
     return c;
-}
-
-/// `deg` wrapped into [-180, 180).
-double wrap_deg(double deg) {
-    double w = deg + 180.0;
-    if (w >= 360.0 && w < 720.0) {
-        // fmod(w, 360) is w - 360 here, and that difference is exact (Sterbenz: w <= 2 x 360):
-        // a spinning head's azimuths past 180 degrees take this path, not fmod.
-        w -= 360.0;
-    } else if (!(w >= 0.0 && w < 360.0)) {  // fmod only when needed (the same value otherwise)
-        w = std::fmod(w, 360.0);
-        if (w < 0.0) {
-            w += 360.0;
-        }
-    }
-    return w - 180.0;
 }
 
 /// The problems of the per-beam tables besides the elevations: lengths, timing, channels.
@@ -234,46 +219,42 @@ void RotatingScanner::generate_pulses(std::uint64_t first, std::size_t count,
                                       PulseBatch& out) const {
     const std::uint64_t beams = beam_count();
     const double res = step_deg_;
-    const double sign = config_.spin_clockwise ? -1.0 : 1.0;
     // Uniform times (no timing table): ScanPattern::pulse_time_s's, without its two virtual
-    // calls a pulse.
+    // calls a pulse; the firing's beams then four at a time in lanes where the CPU has them.
     const bool uniform_times = config_.beam_time_offsets_s.empty();
-    const double start_s = config_.start_time_s;
-    const double* within = within_deg_.data();
-    const double* offset = config_.beam_azimuth_offsets_deg.data();
-    // The firing's heading, as cos/sin, computed once per firing: a beam's direction is the
-    // heading rotated by the beam's own azimuth (angle addition, within 1e-15 of a direct sincos).
-    std::uint64_t firing = std::numeric_limits<std::uint64_t>::max();
-    double cos_head = 1.0, sin_head = 0.0, head_deg = 0.0;
-    // Firing k and beam b of pulse i = k * beams + b, counted up rather than divided.
+    detail::FiringParams f;
+    f.start_azimuth_deg = config_.start_azimuth_deg;
+    f.sign = config_.spin_clockwise ? -1.0 : 1.0;
+    f.start_s = config_.start_time_s;
+    f.pulse_rate_hz = pulse_rate_hz_;
+    f.within_deg = within_deg_.data();
+    f.offset_deg = config_.beam_azimuth_offsets_deg.data();
+    f.cos_beam = cos_beam_azimuth_.data();
+    f.sin_beam = sin_beam_azimuth_.data();
+    f.cos_elevation = cos_elevation_.data();
+    f.sin_elevation = sin_elevation_.data();
+    f.channels = config_.beam_channels.empty() ? nullptr : config_.beam_channels.data();
+    // Firing k and beam b of pulse first + j, counted up rather than divided. The firing's
+    // heading, as cos/sin, is computed once per firing: a beam's direction is the heading
+    // rotated by the beam's own azimuth (angle addition, within 1e-15 of a direct sincos).
     std::uint64_t k = first / beams;
     auto b = static_cast<std::size_t>(first % beams);
-    for (std::size_t j = 0; j < count; ++j, ++b) {
-        const std::uint64_t i = first + j;
-        if (b == beams) {
-            b = 0;
-            ++k;
+    for (std::size_t j = 0; j < count; k += 1, b = 0) {
+        f.head_deg = firings_per_revolution_ > 0
+                         ? static_cast<double>(k % firings_per_revolution_) * res
+                         : std::fmod(static_cast<double>(k) * res, 360.0);
+        const double head = (f.start_azimuth_deg + f.sign * f.head_deg) * kDegToRad;
+        f.cos_head = std::cos(head);
+        f.sin_head = std::sin(head);
+        const std::size_t n = std::min<std::size_t>(static_cast<std::size_t>(beams) - b, count - j);
+        std::size_t done = uniform_times ? detail::firing_lanes(f, first + j, b, n, out, j) : 0;
+        for (; done < n; ++done) {
+            detail::firing_pulse(f, first + j + done, b + done, out, j + done);
+            if (!uniform_times) {
+                out.time_s[j + done] = beam_time_s(first + j + done, k, b + done);
+            }
         }
-        if (k != firing) {
-            firing = k;
-            head_deg = firings_per_revolution_ > 0
-                           ? static_cast<double>(k % firings_per_revolution_) * res
-                           : std::fmod(static_cast<double>(k) * res, 360.0);
-            const double head = (config_.start_azimuth_deg + sign * head_deg) * kDegToRad;
-            cos_head = std::cos(head);
-            sin_head = std::sin(head);
-        }
-        const double az_deg =
-            wrap_deg(config_.start_azimuth_deg + sign * (head_deg + within[b]) + offset[b]);
-        const double cos_az = cos_head * cos_beam_azimuth_[b] - sin_head * sin_beam_azimuth_[b];
-        const double sin_az = sin_head * cos_beam_azimuth_[b] + cos_head * sin_beam_azimuth_[b];
-        out.time_s[j] =
-            uniform_times ? uniform_time_s(start_s, pulse_rate_hz_, i) : beam_time_s(i, k, b);
-        out.direction[j] = {cos_elevation_[b] * cos_az, cos_elevation_[b] * sin_az,
-                            sin_elevation_[b]};
-        out.channel[j] = config_.beam_channels.empty() ? static_cast<std::uint16_t>(b)
-                                                       : config_.beam_channels[b];
-        out.scan_angle_deg[j] = static_cast<float>(az_deg);
+        j += n;
     }
 }
 
