@@ -4,15 +4,21 @@
 #include <array>
 #include <charconv>
 #include <cmath>
+#include <cstddef>
 #include <string_view>
 #include <utility>
 
 #include "beamtrace/core/error.hpp"
 #include "beamtrace/sensor/scan_pattern.hpp"
+#include "core/simd_level.hpp"
 #include "text/file_bytes.hpp"
 #include "text/quote.hpp"
 #include "text/row_writer.hpp"
 #include "text/text_scan.hpp"
+
+#if defined(__x86_64__) && defined(__GNUC__)
+#include <immintrin.h>
+#endif
 
 namespace beamtrace {
 namespace {
@@ -72,6 +78,60 @@ constexpr std::size_t kMaxFileBytes = std::size_t{512} << 20;
 [[gnu::always_inline]] inline Vec3d point_on_leg(double f, const Vec3d& w0, const Vec3d& w1) {
     return f >= 1.0 ? w1 : lerp(w0, w1, f);
 }
+
+#if defined(__x86_64__) && defined(__GNUC__)
+/// A leg's ends and attitude as vectors: x, y, z (and 0) of its start, of its end and of end
+/// less start (point_on_leg's b - a); w, x, y, z of the attitude.
+struct LegLanes {
+    __m256d a, b, d, q;
+};
+
+__attribute__((target("avx2"))) inline LegLanes leg_lanes(const Vec3d& w0, const Vec3d& w1,
+                                                          const Quat& q) {
+    LegLanes l;
+    l.a = _mm256_setr_pd(w0.x, w0.y, w0.z, 0.0);
+    l.b = _mm256_setr_pd(w1.x, w1.y, w1.z, 0.0);
+    l.d = _mm256_sub_pd(l.b, l.a);
+    l.q = _mm256_setr_pd(q.w, q.x, q.y, q.z);
+    return l;
+}
+
+/// LinearLegs::poses_at() without attitudes along the legs (each leg's own attitude), where the
+/// CPU has AVX2: point_on_leg() with x, y and z in the lanes of one vector (the same operations,
+/// so the same bits), each pose stored as two vectors (the position's, whose last lane the
+/// attitude's then overwrites).
+__attribute__((target("avx2"))) void straight_poses_avx2(const std::vector<double>& times,
+                                                         const std::vector<Vec3d>& waypoints,
+                                                         const std::vector<Quat>& attitudes,
+                                                         std::span<const double> times_s,
+                                                         std::span<Pose> out) {
+    static_assert(offsetof(Pose, position_m) == 0 && offsetof(Pose, attitude) == 24 &&
+                  offsetof(Vec3d, z) == 16 && offsetof(Quat, z) == 24);
+    const double start = times.front(), end = times.back();
+    bool have_leg = false, last_leg = false;
+    double t0 = 0.0, t1 = 0.0;
+    LegLanes leg{};
+    for (std::size_t i = 0; i < times_s.size(); ++i) {
+        const double t = times_s[i] >= start && times_s[i] <= end
+                             ? times_s[i]
+                             : checked_time("linear legs", times_s[i], start, end);
+        if (!have_leg || !(t0 <= t && (t < t1 || last_leg))) {
+            const std::size_t k = segment_of(times, t);
+            have_leg = true;
+            last_leg = k + 2 == times.size();
+            t0 = times[k];
+            t1 = times[k + 1];
+            leg = leg_lanes(waypoints[k], waypoints[k + 1], attitudes[k]);
+        }
+        const double f = leg_fraction(t, t0, t1);
+        const __m256d p =
+            f >= 1.0 ? leg.b : _mm256_add_pd(leg.a, _mm256_mul_pd(leg.d, _mm256_set1_pd(f)));
+        auto* pose = reinterpret_cast<double*>(&out[i]);
+        _mm256_storeu_pd(pose, p);
+        _mm256_storeu_pd(pose + 3, leg.q);
+    }
+}
+#endif
 
 }  // namespace
 
@@ -419,8 +479,14 @@ void LinearLegs::poses_at(std::span<const double> times_s, std::span<Pose> out) 
     // segment_of would find), search again otherwise. The leg's times, ends and attitude in
     // locals: the stores of each pose's doubles may alias them, which were loaded again for
     // every pulse.
-    const double start = start_time_s(), end = end_time_s();
     const bool turning = !config_.attitudes.empty();  // attitudes slerped along each leg
+#if defined(__x86_64__) && defined(__GNUC__)
+    if (!turning && detail::cpu_simd_level() != detail::SimdLevel::scalar) {
+        straight_poses_avx2(times_s_, config_.waypoints_m, attitude_, times_s, out);
+        return;
+    }
+#endif
+    const double start = start_time_s(), end = end_time_s();
     bool have_leg = false, last_leg = false;
     std::size_t k = 0;
     double t0 = 0.0, t1 = 0.0;

@@ -117,10 +117,16 @@ TEST(Trajectory, BatchedPosesEqualPoseAtBitForBit) {
          {RollPitchYaw{0, 0, 0}, RollPitchYaw{0, 0, kPi / 2}, RollPitchYaw{0.1, 0, kPi}},
          10.0,
          0.0});
+    // Waypoints where a + (b - a) is not b: a leg's end is its end point, not the sum.
+    const LinearLegs uneven(
+        {{{1000.1, 4849000.123, -3.3}, {0.7, 123.456, 1.9}, {500000.37, -17.77, 0.7}},
+         {},
+         70.0,
+         3.0});
     const SampledTrajectory sampled({{0.0, {0, 0, 0}, {}}, {2.0, {10, 0, 0}, {0, 0, 1}}});
     const StaticPlatform fixed({{1, 2, 3}, Quat::from_rpy({0.1, 0.2, 0.3})});
     for (const Trajectory* tr :
-         std::initializer_list<const Trajectory*>{&legs, &given, &sampled, &fixed}) {
+         std::initializer_list<const Trajectory*>{&legs, &given, &uneven, &sampled, &fixed}) {
         const double a = std::isfinite(tr->start_time_s()) ? tr->start_time_s() : 0.0;
         const double b = std::isfinite(tr->end_time_s()) ? tr->end_time_s() : 10.0;
         // Every waypoint time, times in between, out of order, and the ends.
