@@ -137,8 +137,9 @@ namespace {
 /// byte-sized store into a point (a char store may alias anything), a third of the stage's
 /// instructions.
 struct PulseArrays {
-    const Vec3d* origin;
+    const Vec3d* origin;  ///< physics: the beams as measured
     const Vec3d* axis;
+    const double *ox, *oy, *oz, *dx, *dy, *dz;  ///< without physics: the rays (the beams)
     const double* time_s;
     const float* scan_angle;
     const std::uint16_t* channel;
@@ -160,6 +161,9 @@ const BlockPoint kBlankPoint{};
 template <bool Physics>
 void SurveyPoints::run_pulses(BlockWork& w) const {
     const PulseArrays a{w.origin.data(),         w.axis.data(),
+                        w.rays.ox.data(),        w.rays.oy.data(),
+                        w.rays.oz.data(),        w.rays.dx.data(),
+                        w.rays.dy.data(),        w.rays.dz.data(),
                         w.pulses.time_s.data(),  w.scan_angle.data(),
                         w.pulses.channel.data(), w.pulses.scanner.data(),
                         w.hits.t.data(),         w.hits.face.data(),
@@ -171,13 +175,15 @@ void SurveyPoints::run_pulses(BlockWork& w) const {
     const bool any_channel = !scanner_channels.empty();
     for (std::size_t k = 0; k < w.pulse_count; ++k) {
         const std::size_t n = Physics ? w.return_count[k] : (a.hit_face[k] != kNoFace ? 1 : 0);
+        // Without physics the pulse's beam is its ray (SurveyRaySource::generate).
+        const Vec3d origin = Physics ? a.origin[k] : Vec3d{a.ox[k], a.oy[k], a.oz[k]};
+        const Vec3d axis = Physics ? a.axis[k] : Vec3d{a.dx[k], a.dy[k], a.dz[k]};
         if (no_echo && n == 0) {
             w.points.no_echo.push_back(
-                {a.first + k, a.time_s[k], a.origin[k] + a.origin_m, a.axis[k], a.scanner[k]});
+                {a.first + k, a.time_s[k], origin + a.origin_m, axis, a.scanner[k]});
         }
         const std::uint16_t source = by_pulse ? pulse_source_id(w, k) : 0;
         const std::uint8_t scanner_channel = any_channel ? scanner_channels[a.scanner[k]] : 0;
-        const Vec3d origin = a.origin[k], axis = a.axis[k];
         const double time_s = a.time_s[k];
         const float scan_angle = a.scan_angle[k];
         const std::uint16_t channel = a.channel[k];

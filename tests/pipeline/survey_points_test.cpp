@@ -38,8 +38,8 @@ void fill_block(BlockWork& w, std::size_t pulses) {
     for (std::size_t k = 0; k < pulses; ++k) {
         w.pulses.time_s[k] = 100.0 + 0.5 * static_cast<double>(k);
         w.pulses.channel[k] = static_cast<std::uint16_t>(300 + k);
-        w.origin[k] = {static_cast<double>(k), -1.0, 2.0};
-        w.axis[k] = {0.0, 0.6, -0.8};
+        // Without physics the beam is the pulse's ray.
+        w.rays.set(k, {static_cast<double>(k), -1.0, 2.0}, {0.0, 0.6, -0.8}, 0.0, 1e9);
         w.scan_angle[k] = static_cast<float>(k) - 3.0f;
         if (k % 2 == 0) {
             w.hits.t[k] = 2.0f + static_cast<float>(k);
