@@ -125,6 +125,10 @@ std::uint16_t SurveyPoints::pulse_source_id(const BlockWork& w, std::size_t k) c
 void SurveyPoints::run(BlockWork& w) const {
     if (physics) {
         run_pulses<true>(w);
+    } else if (!no_echo && !incidence && !instance && !velocity && colours.empty() &&
+               leg_first_pulse.empty() && leg_start_s.empty() && !by_scanner &&
+               scanner_channels.empty() && !scene->parts.empty()) {
+        run_hits(w);
     } else {
         run_pulses<false>(w);
     }
@@ -156,7 +160,69 @@ struct PulseArrays {
 /// (stalled store forwarding, two thirds of the stage's time at 2 threads).
 const BlockPoint kBlankPoint{};
 
+/// A hit point's blank: a point's defaults, one return of one.
+constexpr BlockPoint kBlankHit = [] {
+    BlockPoint p;
+    p.return_number = 1;
+    p.number_of_returns = 1;
+    return p;
+}();
+
+/// The fields a point takes from its part, of the part that was hit last (part_fields() without
+/// the optional ones), in locals: faces [first_face, first_face + face_count).
+struct PartCache {
+    std::uint32_t first_face, face_count;
+    std::uint8_t label;
+    std::uint16_t part_id;
+
+    explicit PartCache(const ScenePart& part)
+        : first_face(part.first_face),
+          face_count(part.face_count),
+          label(part.label),
+          part_id(part.part_id) {}
+};
+
 }  // namespace
+
+void SurveyPoints::run_hits(BlockWork& w) const {
+    const double *ox = w.rays.ox.data(), *oy = w.rays.oy.data(), *oz = w.rays.oz.data();
+    const double *dx = w.rays.dx.data(), *dy = w.rays.dy.data(), *dz = w.rays.dz.data();
+    const double* time_s = w.pulses.time_s.data();
+    const float* scan_angle = w.scan_angle.data();
+    const std::uint16_t* channel = w.pulses.channel.data();
+    const float* hit_t = w.hits.t.data();
+    const std::uint32_t* hit_face = w.hits.face.data();
+    const Vec3d origin_m = scene->origin_m;
+    const std::uint64_t first = w.first;
+    const std::size_t pulse_count = w.pulse_count;
+    std::vector<BlockPoint>& out = w.points.points;
+    out.reserve(out.size() + pulse_count);
+    PartCache part(scene->parts[0]);  // the part of the last hit, as part_fields() tries first
+    for (std::size_t k = 0; k < pulse_count; ++k) {
+        const std::uint32_t face = hit_face[k];
+        if (face == kNoFace) {
+            continue;
+        }
+        const double t = double{hit_t[k]};
+        const Vec3d xyz = Vec3d{ox[k], oy[k], oz[k]} + Vec3d{dx[k], dy[k], dz[k]} * t + origin_m;
+        if (face - part.first_face >= part.face_count) {
+            part = PartCache(scene->parts[scene->part_of_face(face)]);
+        }
+        BlockPoint* const p = &out.emplace_back(kBlankHit);
+        p->x = xyz.x;
+        p->y = xyz.y;
+        p->z = xyz.z;
+        p->gps_time = time_s[k];
+        p->range_m = static_cast<float>(t);
+        p->scan_angle_deg = scan_angle[k];
+        p->channel = channel[k];
+        p->user_data = static_cast<std::uint8_t>(channel[k] & 0xFFu);  // beam / row
+        p->pulse = first + k;
+        p->face = face;
+        p->classification = part.label;
+        p->point_source_id = part.part_id;
+    }
+}
 
 template <bool Physics>
 void SurveyPoints::run_pulses(BlockWork& w) const {

@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <vector>
 
 #include "beamtrace/core/hit_batch.hpp"
@@ -92,6 +93,31 @@ TEST(SurveyPoints, OnePointPerHitInPulseOrderAfterThoseInTheBlock) {
         EXPECT_EQ(p.weather, 0);
         EXPECT_EQ(p.instance_id, 0u);
         EXPECT_EQ(p.velocity_mps.x, blank.velocity_mps.x);
+    }
+}
+
+TEST(SurveyPoints, HitsAloneGiveThePointsOfTheGeneralPathByteForByte) {
+    const Scene scene = two_parts();
+    SurveyPoints lean;  // nothing but the ray, hit and part: SurveyPoints::run_hits
+    lean.scene = &scene;
+    SurveyPoints general = lean;
+    general.no_echo = true;  // the general path (run_pulses), which also lists the misses
+    BlockWork a, b;
+    fill_block(a, 203);
+    for (std::size_t k = 0; k < 203; k += 3) {  // hits in both parts, in runs and alone
+        a.hits.t[k] = 0.25f * static_cast<float>(k);
+        a.hits.face[k] = k % 7 < 4 ? 19u : 0u;
+    }
+    fill_block(b, 203);
+    b.hits = a.hits;
+    lean.run(a);
+    general.run(b);
+    ASSERT_EQ(a.points.points.size(), b.points.points.size());
+    EXPECT_TRUE(a.points.no_echo.empty());
+    EXPECT_FALSE(b.points.no_echo.empty());
+    for (std::size_t i = 0; i < a.points.points.size(); ++i) {
+        SCOPED_TRACE("point " + std::to_string(i));
+        EXPECT_EQ(std::memcmp(&a.points.points[i], &b.points.points[i], sizeof(BlockPoint)), 0);
     }
 }
 
