@@ -366,7 +366,7 @@ void generate_beams(const BeamArrays& a, const Pose& mount, std::size_t n, bool 
 #if BEAMTRACE_SCAN_ANGLE_AVX2
     lanes = lanes && __builtin_cpu_supports("avx2");
 #else
-    lanes = false;
+    (void)lanes;  // one pulse at a time
 #endif
     for (std::size_t i = 0; i < n; ++i) {
 #if BEAMTRACE_SCAN_ANGLE_AVX2
