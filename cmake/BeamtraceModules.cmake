@@ -81,11 +81,12 @@ set_source_files_properties("${PROJECT_SOURCE_DIR}/src/physics/fast_exp.cpp" PRO
   COMPILE_OPTIONS "-ffp-contract=off" COMPILE_DEFINITIONS BEAMTRACE_FP_CONTRACT_OFF)
 
 # AVX2 lanes that must give the scalar path's bits (the preview's pixels, the line scanner's
-# angles, the spinning scanner's beams, the legs' positions, the sub-rays' directions): each
-# product and sum rounded alone, also where a build enables FMA everywhere.
+# angles, the spinning scanner's beams, the legs' positions, the sub-rays' directions, the
+# survey's rays): each product and sum rounded alone, also where a build enables FMA everywhere.
 set_source_files_properties("${PROJECT_SOURCE_DIR}/src/io/sinks/preview_shading.cpp"
   "${PROJECT_SOURCE_DIR}/src/io/sinks/preview_cells.cpp"
   "${PROJECT_SOURCE_DIR}/src/physics/beam_divergence.cpp"
+  "${PROJECT_SOURCE_DIR}/src/pipeline/survey_rays.cpp"
   "${PROJECT_SOURCE_DIR}/src/sensor/line_angles.cpp"
   "${PROJECT_SOURCE_DIR}/src/sensor/rotating_lanes.cpp"
   "${PROJECT_SOURCE_DIR}/src/sensor/rotating_scanner.cpp"

@@ -125,6 +125,10 @@ std::uint16_t SurveyPoints::pulse_source_id(const BlockWork& w, std::size_t k) c
 void SurveyPoints::run(BlockWork& w) const {
     if (physics) {
         run_pulses<true>(w);
+    } else if (!no_echo && !incidence && !instance && !velocity && colours.empty() &&
+               leg_first_pulse.empty() && leg_start_s.empty() && !by_scanner &&
+               scanner_channels.empty() && !scene->parts.empty()) {
+        run_hits(w);
     } else {
         run_pulses<false>(w);
     }
@@ -137,8 +141,9 @@ namespace {
 /// byte-sized store into a point (a char store may alias anything), a third of the stage's
 /// instructions.
 struct PulseArrays {
-    const Vec3d* origin;
+    const Vec3d* origin;  ///< physics: the beams as measured
     const Vec3d* axis;
+    const double *ox, *oy, *oz, *dx, *dy, *dz;  ///< without physics: the rays (the beams)
     const double* time_s;
     const float* scan_angle;
     const std::uint16_t* channel;
@@ -155,11 +160,76 @@ struct PulseArrays {
 /// (stalled store forwarding, two thirds of the stage's time at 2 threads).
 const BlockPoint kBlankPoint{};
 
+/// A hit point's blank: a point's defaults, one return of one.
+constexpr BlockPoint kBlankHit = [] {
+    BlockPoint p;
+    p.return_number = 1;
+    p.number_of_returns = 1;
+    return p;
+}();
+
+/// The fields a point takes from its part, of the part that was hit last (part_fields() without
+/// the optional ones), in locals: faces [first_face, first_face + face_count).
+struct PartCache {
+    std::uint32_t first_face, face_count;
+    std::uint8_t label;
+    std::uint16_t part_id;
+
+    explicit PartCache(const ScenePart& part)
+        : first_face(part.first_face),
+          face_count(part.face_count),
+          label(part.label),
+          part_id(part.part_id) {}
+};
+
 }  // namespace
+
+void SurveyPoints::run_hits(BlockWork& w) const {
+    const double *ox = w.rays.ox.data(), *oy = w.rays.oy.data(), *oz = w.rays.oz.data();
+    const double *dx = w.rays.dx.data(), *dy = w.rays.dy.data(), *dz = w.rays.dz.data();
+    const double* time_s = w.pulses.time_s.data();
+    const float* scan_angle = w.scan_angle.data();
+    const std::uint16_t* channel = w.pulses.channel.data();
+    const float* hit_t = w.hits.t.data();
+    const std::uint32_t* hit_face = w.hits.face.data();
+    const Vec3d origin_m = scene->origin_m;
+    const std::uint64_t first = w.first;
+    const std::size_t pulse_count = w.pulse_count;
+    std::vector<BlockPoint>& out = w.points.points;
+    out.reserve(out.size() + pulse_count);
+    PartCache part(scene->parts[0]);  // the part of the last hit, as part_fields() tries first
+    for (std::size_t k = 0; k < pulse_count; ++k) {
+        const std::uint32_t face = hit_face[k];
+        if (face == kNoFace) {
+            continue;
+        }
+        const double t = double{hit_t[k]};
+        const Vec3d xyz = Vec3d{ox[k], oy[k], oz[k]} + Vec3d{dx[k], dy[k], dz[k]} * t + origin_m;
+        if (face - part.first_face >= part.face_count) {
+            part = PartCache(scene->parts[scene->part_of_face(face)]);
+        }
+        BlockPoint* const p = &out.emplace_back(kBlankHit);
+        p->x = xyz.x;
+        p->y = xyz.y;
+        p->z = xyz.z;
+        p->gps_time = time_s[k];
+        p->range_m = static_cast<float>(t);
+        p->scan_angle_deg = scan_angle[k];
+        p->channel = channel[k];
+        p->user_data = static_cast<std::uint8_t>(channel[k] & 0xFFu);  // beam / row
+        p->pulse = first + k;
+        p->face = face;
+        p->classification = part.label;
+        p->point_source_id = part.part_id;
+    }
+}
 
 template <bool Physics>
 void SurveyPoints::run_pulses(BlockWork& w) const {
     const PulseArrays a{w.origin.data(),         w.axis.data(),
+                        w.rays.ox.data(),        w.rays.oy.data(),
+                        w.rays.oz.data(),        w.rays.dx.data(),
+                        w.rays.dy.data(),        w.rays.dz.data(),
                         w.pulses.time_s.data(),  w.scan_angle.data(),
                         w.pulses.channel.data(), w.pulses.scanner.data(),
                         w.hits.t.data(),         w.hits.face.data(),
@@ -171,13 +241,15 @@ void SurveyPoints::run_pulses(BlockWork& w) const {
     const bool any_channel = !scanner_channels.empty();
     for (std::size_t k = 0; k < w.pulse_count; ++k) {
         const std::size_t n = Physics ? w.return_count[k] : (a.hit_face[k] != kNoFace ? 1 : 0);
+        // Without physics the pulse's beam is its ray (SurveyRaySource::generate).
+        const Vec3d origin = Physics ? a.origin[k] : Vec3d{a.ox[k], a.oy[k], a.oz[k]};
+        const Vec3d axis = Physics ? a.axis[k] : Vec3d{a.dx[k], a.dy[k], a.dz[k]};
         if (no_echo && n == 0) {
             w.points.no_echo.push_back(
-                {a.first + k, a.time_s[k], a.origin[k] + a.origin_m, a.axis[k], a.scanner[k]});
+                {a.first + k, a.time_s[k], origin + a.origin_m, axis, a.scanner[k]});
         }
         const std::uint16_t source = by_pulse ? pulse_source_id(w, k) : 0;
         const std::uint8_t scanner_channel = any_channel ? scanner_channels[a.scanner[k]] : 0;
-        const Vec3d origin = a.origin[k], axis = a.axis[k];
         const double time_s = a.time_s[k];
         const float scan_angle = a.scan_angle[k];
         const std::uint16_t channel = a.channel[k];

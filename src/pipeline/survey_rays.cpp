@@ -1,5 +1,6 @@
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <numbers>
 #include <vector>
 
@@ -250,6 +251,139 @@ void store_beam(const Vec3d& o, const Vec3d& d, const Vec3d& right, Vec3d& origi
     scan_angle = scan_angle_about({dx, dy, dz}, right);
 }
 
+/// The batch's arrays and range gate, and the pulses' platform poses and sensor directions: what
+/// generate() reads and writes for each pulse without physics, in locals (the stores of doubles
+/// may alias any double in memory, which was loaded again for every pulse).
+struct BeamArrays {
+    double *ox, *oy, *oz, *dx, *dy, *dz, *tmin, *tmax;
+    const Pose* platforms;
+    const Vec3d* directions;
+    double range_min_m, range_max_m;
+};
+
+/// Ray i of `a`: the platform's pose times the mount (`frame`), term by term.
+void beam_at(const BeamArrays& a, const AttitudeFrame& frame, std::size_t i) {
+    const Vec3d o = a.platforms[i].position_m + frame.lever_world;
+    const Vec3d dir = frame.sensor_rotation * a.directions[i];
+    a.ox[i] = o.x;
+    a.oy[i] = o.y;
+    a.oz[i] = o.z;
+    a.dx[i] = dir.x;
+    a.dy[i] = dir.y;
+    a.dz[i] = dir.z;
+    a.tmin[i] = a.range_min_m;
+    a.tmax[i] = a.range_max_m;
+}
+
+#if BEAMTRACE_SCAN_ANGLE_AVX2
+static_assert(sizeof(Vec3d) == 24 && sizeof(Pose) == 56 && offsetof(Pose, attitude) == 24 &&
+              offsetof(Quat, w) == 0 && offsetof(Quat, z) == 24);
+
+/// The four lanes of `q` equal those of p->attitude (==: NaN never equal), as a mask.
+__attribute__((target("avx2"), always_inline)) inline __m256d same_attitude(const Pose* p,
+                                                                            __m256d q) {
+    return _mm256_cmp_pd(_mm256_loadu_pd(&p->attitude.w), q, _CMP_EQ_OQ);
+}
+
+/// True when the attitudes of the four poses from p all equal q, as AttitudeFrame::update
+/// compares them.
+__attribute__((target("avx2"), always_inline)) inline bool same_attitudes(const Pose* p,
+                                                                          __m256d q) {
+    const __m256d m01 = _mm256_and_pd(same_attitude(p, q), same_attitude(p + 1, q));
+    const __m256d m23 = _mm256_and_pd(same_attitude(p + 2, q), same_attitude(p + 3, q));
+    return _mm256_movemask_pd(_mm256_and_pd(m01, m23)) == 0xF;
+}
+
+/// A row of a matrix, each element in every lane.
+struct RowQuad {
+    __m256d c0, c1, c2;
+};
+
+/// The row times (x, y, z), lane by lane: Mat3 * Vec3d's sums in its order.
+__attribute__((target("avx2"), always_inline)) inline __m256d row_times(const RowQuad& r, __m256d x,
+                                                                        __m256d y, __m256d z) {
+    return _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(r.c0, x), _mm256_mul_pd(r.c1, y)),
+                         _mm256_mul_pd(r.c2, z));
+}
+
+/// Row r of m in lanes.
+__attribute__((target("avx2"), always_inline)) inline RowQuad row_quad(const Mat3& m, int r) {
+    return {_mm256_set1_pd(m.m[r][0]), _mm256_set1_pd(m.m[r][1]), _mm256_set1_pd(m.m[r][2])};
+}
+
+/// beam_at() of rays [b, e) four at a time while four are left whose platform attitude is the
+/// frame's (AVX2, no FMA: the same operations lane by lane, so the same doubles); returns the
+/// first ray not done. Everything the loop reads besides the pulses is in locals (a store of
+/// doubles may alias `a` and `frame`, whose members were loaded again for every four rays).
+__attribute__((target("avx2"))) std::size_t beam_quads(const BeamArrays& arrays,
+                                                       const AttitudeFrame& frame, std::size_t b,
+                                                       std::size_t e) {
+    const BeamArrays a = arrays;
+    const Quat& q = frame.platform_attitude;
+    const __m256d att = _mm256_setr_pd(q.w, q.x, q.y, q.z);
+    const RowQuad m0 = row_quad(frame.sensor_rotation, 0), m1 = row_quad(frame.sensor_rotation, 1),
+                  m2 = row_quad(frame.sensor_rotation, 2);
+    const __m256d lx = _mm256_set1_pd(frame.lever_world.x),
+                  ly = _mm256_set1_pd(frame.lever_world.y),
+                  lz = _mm256_set1_pd(frame.lever_world.z);
+    const __m256d tmin = _mm256_set1_pd(a.range_min_m), tmax = _mm256_set1_pd(a.range_max_m);
+    std::size_t i = b;
+    for (; i + 4 <= e && same_attitudes(a.platforms + i, att); i += 4) {
+        // The four positions: rows (x, y, z, attitude w) transposed.
+        const double* p = &a.platforms[i].position_m.x;
+        const __m256d r0 = _mm256_loadu_pd(p), r1 = _mm256_loadu_pd(p + 7);
+        const __m256d r2 = _mm256_loadu_pd(p + 14), r3 = _mm256_loadu_pd(p + 21);
+        const __m256d xz01 = _mm256_unpacklo_pd(r0, r1), y01 = _mm256_unpackhi_pd(r0, r1);
+        const __m256d xz23 = _mm256_unpacklo_pd(r2, r3), y23 = _mm256_unpackhi_pd(r2, r3);
+        _mm256_storeu_pd(a.ox + i, _mm256_add_pd(_mm256_permute2f128_pd(xz01, xz23, 0x20), lx));
+        _mm256_storeu_pd(a.oy + i, _mm256_add_pd(_mm256_permute2f128_pd(y01, y23, 0x20), ly));
+        _mm256_storeu_pd(a.oz + i, _mm256_add_pd(_mm256_permute2f128_pd(xz01, xz23, 0x31), lz));
+        // The four directions: (x, y) pairs unpacked, z one by one.
+        const double* d = &a.directions[i].x;
+        const __m256d xy02 = _mm256_loadu2_m128d(d + 6, d),
+                      xy13 = _mm256_loadu2_m128d(d + 9, d + 3);
+        const __m256d dx = _mm256_unpacklo_pd(xy02, xy13), dy = _mm256_unpackhi_pd(xy02, xy13);
+        const __m256d dz = _mm256_setr_pd(d[2], d[5], d[8], d[11]);
+        _mm256_storeu_pd(a.dx + i, row_times(m0, dx, dy, dz));
+        _mm256_storeu_pd(a.dy + i, row_times(m1, dx, dy, dz));
+        _mm256_storeu_pd(a.dz + i, row_times(m2, dx, dy, dz));
+        _mm256_storeu_pd(a.tmin + i, tmin);
+        _mm256_storeu_pd(a.tmax + i, tmax);
+    }
+    return i;
+}
+#endif
+
+/// The rays of n pulses from the survey's one mount (beam_at), four at a time where `lanes` and
+/// the CPU allow; then scan_angles(b, e, right) of each run [b, e) of pulses with the same scan
+/// angle axis.
+template <class ScanAngles>
+void generate_beams(const BeamArrays& a, const Pose& mount, std::size_t n, bool lanes,
+                    ScanAngles&& scan_angles) {
+    AttitudeFrame frame;
+    std::size_t run = 0;
+    Vec3d run_right;
+#if BEAMTRACE_SCAN_ANGLE_AVX2
+    lanes = lanes && __builtin_cpu_supports("avx2");
+#else
+    (void)lanes;  // one pulse at a time
+#endif
+    for (std::size_t i = 0; i < n; ++i) {
+#if BEAMTRACE_SCAN_ANGLE_AVX2
+        if (lanes && frame.valid && (i = beam_quads(a, frame, i, n)) == n) {
+            break;
+        }
+#endif
+        if (frame.update(a.platforms[i].attitude, mount)) {
+            scan_angles(run, i, run_right);
+            run = i;
+            run_right = frame.right;
+        }
+        beam_at(a, frame, i);
+    }
+    scan_angles(run, n, run_right);
+}
+
 }  // namespace
 
 void SurveyRaySource::generate(const PulseBatch& pulses, std::uint64_t first, RayBatch& rays,
@@ -265,53 +399,29 @@ void SurveyRaySource::generate(const PulseBatch& pulses, std::uint64_t first, Ra
         generate_scanners(pulses, rays, ray_offset, origin, axis, scan_angle, scratch);
         return;
     }
-    const Pose& mount = spec->mount.sensor_to_platform;
-    AttitudeFrame frame;
-    // The scan angles after the rays, a run of pulses at a time with the same `right`.
-    std::size_t run = 0;
-    Vec3d run_right;
-    // The arrays and the range gate in locals: the stores of doubles below may alias any double
-    // in memory (the gate, the batch's members), which were loaded again for every pulse.
-    double* const rox = rays.ox.data() + ray_offset;
-    double* const roy = rays.oy.data() + ray_offset;
-    double* const roz = rays.oz.data() + ray_offset;
-    double* const rdx = rays.dx.data() + ray_offset;
-    double* const rdy = rays.dy.data() + ray_offset;
-    double* const rdz = rays.dz.data() + ray_offset;
-    double* const rtmin = rays.tmin.data() + ray_offset;
-    double* const rtmax = rays.tmax.data() + ray_offset;
-    const Pose* const platforms = scratch.platform.data();
-    const Vec3d* const directions = pulses.direction.data();
-    const double range_min_m = spec->range_min_m, range_max_m = spec->range_max_m;
-    for (std::size_t i = 0; i < pulses.time_s.size(); ++i) {
-        const Pose& platform = platforms[i];
-        if (frame.update(platform.attitude, mount)) {
-            scan_angles_about(rays, run, i, ray_offset, run_right, scan_angle);
-            run = i;
-            run_right = frame.right;
+    const BeamArrays a{rays.ox.data() + ray_offset,
+                       rays.oy.data() + ray_offset,
+                       rays.oz.data() + ray_offset,
+                       rays.dx.data() + ray_offset,
+                       rays.dy.data() + ray_offset,
+                       rays.dz.data() + ray_offset,
+                       rays.tmin.data() + ray_offset,
+                       rays.tmax.data() + ray_offset,
+                       scratch.platform.data(),
+                       pulses.direction.data(),
+                       spec->range_min_m,
+                       spec->range_max_m};
+    const std::size_t n = pulses.time_s.size();
+    generate_beams(a, spec->mount.sensor_to_platform, n, lanes,
+                   [&](std::size_t b, std::size_t e, const Vec3d& right) {
+                       scan_angles_about(rays, b, e, ray_offset, right, scan_angle);
+                   });
+    if (origin != nullptr) {  // the beams are the rays: copied for callers that want them apart
+        for (std::size_t i = 0; i < n; ++i) {
+            origin[i] = {a.ox[i], a.oy[i], a.oz[i]};
+            axis[i] = {a.dx[i], a.dy[i], a.dz[i]};
         }
-        // platform * mount, term by term; written out (not store_beam) to keep every value in
-        // a register: this loop is the whole cost of a survey's rays without physics.
-        const Vec3d o = platform.position_m + frame.lever_world;
-        const Vec3d dir = frame.sensor_rotation * directions[i];
-        const double ox = o.x, oy = o.y, oz = o.z;
-        const double dx = dir.x, dy = dir.y, dz = dir.z;
-        origin[i].x = ox;
-        origin[i].y = oy;
-        origin[i].z = oz;
-        axis[i].x = dx;
-        axis[i].y = dy;
-        axis[i].z = dz;
-        rox[i] = ox;
-        roy[i] = oy;
-        roz[i] = oz;
-        rdx[i] = dx;
-        rdy[i] = dy;
-        rdz[i] = dz;
-        rtmin[i] = range_min_m;
-        rtmax[i] = range_max_m;
     }
-    scan_angles_about(rays, run, pulses.time_s.size(), ray_offset, run_right, scan_angle);
 }
 
 void SurveyRaySource::generate_scanners(const PulseBatch& pulses, RayBatch& rays,
@@ -324,7 +434,11 @@ void SurveyRaySource::generate_scanners(const PulseBatch& pulses, RayBatch& rays
         f.frame.update(platform.attitude, f.mount);
         const Vec3d o = platform.position_m + f.frame.lever_world;
         const Vec3d d = f.frame.sensor_rotation * pulses.direction[i];
-        store_beam(o, d, f.frame.right, origin[i], axis[i], scan_angle[i]);
+        if (origin != nullptr) {
+            store_beam(o, d, f.frame.right, origin[i], axis[i], scan_angle[i]);
+        } else {
+            scan_angle[i] = scan_angle_about(d, f.frame.right);
+        }
         rays.set(ray_offset + i, o, d, f.range_min_m, f.range_max_m);
     }
 }

@@ -139,8 +139,9 @@ void SurveySession::run_block(std::size_t k, BlockWork& w) const {
         static_cast<std::size_t>(std::min<std::uint64_t>(kBlockPulses, result_.pulses - first));
     w.size_for(first, n, sub_rays_, max_returns_);
     pattern_->generate(first, n, w.pulses);
-    source_.generate(w.pulses, first, w.rays, 0, w.origin.data(), w.axis.data(),
-                     w.scan_angle.data(), w.scratch);
+    // Without physics the points stage reads each pulse's beam from its ray.
+    source_.generate(w.pulses, first, w.rays, 0, sim_ ? w.origin.data() : nullptr,
+                     sim_ ? w.axis.data() : nullptr, w.scan_angle.data(), w.scratch);
     // A pulse's sub-rays are a beam (one frustum walk with the BVH): the same hits, bit for bit.
     backend_->intersect_beams(w.rays, 0, n * sub_rays_, sub_rays_, w.hits, w.this_thread);
     if (moving_) {

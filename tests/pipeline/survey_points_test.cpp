@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <vector>
 
 #include "beamtrace/core/hit_batch.hpp"
@@ -38,8 +39,8 @@ void fill_block(BlockWork& w, std::size_t pulses) {
     for (std::size_t k = 0; k < pulses; ++k) {
         w.pulses.time_s[k] = 100.0 + 0.5 * static_cast<double>(k);
         w.pulses.channel[k] = static_cast<std::uint16_t>(300 + k);
-        w.origin[k] = {static_cast<double>(k), -1.0, 2.0};
-        w.axis[k] = {0.0, 0.6, -0.8};
+        // Without physics the beam is the pulse's ray.
+        w.rays.set(k, {static_cast<double>(k), -1.0, 2.0}, {0.0, 0.6, -0.8}, 0.0, 1e9);
         w.scan_angle[k] = static_cast<float>(k) - 3.0f;
         if (k % 2 == 0) {
             w.hits.t[k] = 2.0f + static_cast<float>(k);
@@ -92,6 +93,31 @@ TEST(SurveyPoints, OnePointPerHitInPulseOrderAfterThoseInTheBlock) {
         EXPECT_EQ(p.weather, 0);
         EXPECT_EQ(p.instance_id, 0u);
         EXPECT_EQ(p.velocity_mps.x, blank.velocity_mps.x);
+    }
+}
+
+TEST(SurveyPoints, HitsAloneGiveThePointsOfTheGeneralPathByteForByte) {
+    const Scene scene = two_parts();
+    SurveyPoints lean;  // nothing but the ray, hit and part: SurveyPoints::run_hits
+    lean.scene = &scene;
+    SurveyPoints general = lean;
+    general.no_echo = true;  // the general path (run_pulses), which also lists the misses
+    BlockWork a, b;
+    fill_block(a, 203);
+    for (std::size_t k = 0; k < 203; k += 3) {  // hits in both parts, in runs and alone
+        a.hits.t[k] = 0.25f * static_cast<float>(k);
+        a.hits.face[k] = k % 7 < 4 ? 19u : 0u;
+    }
+    fill_block(b, 203);
+    b.hits = a.hits;
+    lean.run(a);
+    general.run(b);
+    ASSERT_EQ(a.points.points.size(), b.points.points.size());
+    EXPECT_TRUE(a.points.no_echo.empty());
+    EXPECT_FALSE(b.points.no_echo.empty());
+    for (std::size_t i = 0; i < a.points.points.size(); ++i) {
+        SCOPED_TRACE("point " + std::to_string(i));
+        EXPECT_EQ(std::memcmp(&a.points.points[i], &b.points.points[i], sizeof(BlockPoint)), 0);
     }
 }
 

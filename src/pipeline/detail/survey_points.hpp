@@ -50,6 +50,9 @@ struct SurveyPoints {
     /// run() with or without physics, the choice made once a block.
     template <bool Physics>
     void run_pulses(BlockWork& w) const;
+    /// run_pulses<false>() when a point needs nothing but its ray, hit and part (no optional
+    /// field, no_echo, point source ID by pulse or scanner channel): one pulse in fewer steps.
+    void run_hits(BlockWork& w) const;
     /// The point source ID of pulse k's points when it is the pulse's (leg or scanner; 0 when
     /// it is the part's).
     [[nodiscard]] std::uint16_t pulse_source_id(const BlockWork& w, std::size_t k) const;

@@ -29,6 +29,9 @@ struct SurveyRaySource {
     const Trajectory* trajectory = nullptr;
     const PulseSimulator* sim = nullptr;  ///< null: one ray per pulse, no pose errors
     std::uint64_t seed = 1;
+    /// Without physics, four pulses at a time with AVX2 where the CPU has it (false: one at a
+    /// time; the same rays, bit for bit).
+    bool lanes = true;
 
     [[nodiscard]] std::size_t sub_rays() const { return sim ? sim->sub_ray_count() : 1; }
 
@@ -45,7 +48,8 @@ struct SurveyRaySource {
     /// ... + sub_rays()), traced from the TRUE sensor pose; each pulse's origin, beam axis and
     /// LAS scan angle as the system MEASURES them (the pose with the georeferencing errors: the
     /// points go at origin + axis * range) into origin[i], axis[i], scan_angle[i]. Without
-    /// errors (or without physics) origin/axis are the ray's. `rays` must be large enough.
+    /// errors (or without physics) origin/axis are the ray's; without physics they may be null (the
+    /// rays are the beams). `rays` must be large enough.
     void generate(const PulseBatch& pulses, std::uint64_t first, RayBatch& rays,
                   std::size_t ray_offset, Vec3d* origin, Vec3d* axis, float* scan_angle,
                   Scratch& scratch) const;
