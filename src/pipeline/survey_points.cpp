@@ -122,12 +122,16 @@ std::uint16_t SurveyPoints::pulse_source_id(const BlockWork& w, std::size_t k) c
     }
 }
 
+bool SurveyPoints::hits_alone() const {
+    return !physics && !no_echo && !incidence && !instance && !velocity && colours.empty() &&
+           leg_first_pulse.empty() && leg_start_s.empty() && !by_scanner &&
+           scanner_channels.empty() && !scene->parts.empty();
+}
+
 void SurveyPoints::run(BlockWork& w) const {
     if (physics) {
         run_pulses<true>(w);
-    } else if (!no_echo && !incidence && !instance && !velocity && colours.empty() &&
-               leg_first_pulse.empty() && leg_start_s.empty() && !by_scanner &&
-               scanner_channels.empty() && !scene->parts.empty()) {
+    } else if (hits_alone()) {
         run_hits(w);
     } else {
         run_pulses<false>(w);

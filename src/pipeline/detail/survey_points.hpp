@@ -53,6 +53,9 @@ struct SurveyPoints {
     /// run_pulses<false>() when a point needs nothing but its ray, hit and part (no optional
     /// field, no_echo, point source ID by pulse or scanner channel): one pulse in fewer steps.
     void run_hits(BlockWork& w) const;
+    /// Whether run_hits() gives run_pulses<false>()'s points: no member above asks for more of
+    /// a point than its ray, hit and part (a new optional field must be named here too).
+    [[nodiscard]] bool hits_alone() const;
     /// The point source ID of pulse k's points when it is the pulse's (leg or scanner; 0 when
     /// it is the part's).
     [[nodiscard]] std::uint16_t pulse_source_id(const BlockWork& w, std::size_t k) const;
