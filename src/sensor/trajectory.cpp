@@ -475,17 +475,22 @@ void Trajectory::poses_at(std::span<const double> times_s, std::span<Pose> out) 
 }
 
 void LinearLegs::poses_at(std::span<const double> times_s, std::span<Pose> out) const {
+#if defined(__x86_64__) && defined(__GNUC__)
+    // Without attitudes along the legs (each leg's own), in lanes where the CPU has AVX2.
+    if (config_.attitudes.empty() && detail::cpu_simd_level() != detail::SimdLevel::scalar) {
+        straight_poses_avx2(times_s_, config_.waypoints_m, attitude_, times_s, out);
+        return;
+    }
+#endif
+    poses_at_scalar(times_s, out);
+}
+
+void LinearLegs::poses_at_scalar(std::span<const double> times_s, std::span<Pose> out) const {
     // Pulse times mostly stay on one leg: keep the leg while the time is on it (the leg
     // segment_of would find), search again otherwise. The leg's times, ends and attitude in
     // locals: the stores of each pose's doubles may alias them, which were loaded again for
     // every pulse.
     const bool turning = !config_.attitudes.empty();  // attitudes slerped along each leg
-#if defined(__x86_64__) && defined(__GNUC__)
-    if (!turning && detail::cpu_simd_level() != detail::SimdLevel::scalar) {
-        straight_poses_avx2(times_s_, config_.waypoints_m, attitude_, times_s, out);
-        return;
-    }
-#endif
     const double start = start_time_s(), end = end_time_s();
     bool have_leg = false, last_leg = false;
     std::size_t k = 0;

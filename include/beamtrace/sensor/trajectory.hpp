@@ -88,6 +88,9 @@ class LinearLegs final : public Trajectory {
     explicit LinearLegs(LinearLegsConfig config);
     [[nodiscard]] Pose pose_at(double time_s) const override;
     void poses_at(std::span<const double> times_s, std::span<Pose> out) const override;
+    /// poses_at() one pose at a time, without SIMD lanes: what a CPU without AVX2 runs (the
+    /// same poses, bit for bit; tests compare the two).
+    void poses_at_scalar(std::span<const double> times_s, std::span<Pose> out) const;
     [[nodiscard]] double start_time_s() const override { return times_s_.front(); }
     [[nodiscard]] double end_time_s() const override { return times_s_.back(); }
     /// Time at each waypoint.
