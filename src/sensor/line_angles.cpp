@@ -2,6 +2,8 @@
 
 #if defined(__x86_64__) && defined(__GNUC__)
 #include <immintrin.h>
+
+#include "sensor/detail/index_quad.hpp"
 #define BEAMTRACE_LINE_ANGLES_AVX2 1
 #endif
 
@@ -19,15 +21,6 @@ void line_angles_scalar(const LineAngleParams& p, std::uint64_t first, std::size
 
 #if BEAMTRACE_LINE_ANGLES_AVX2
 namespace {
-
-/// Four consecutive pulse indices from `i` as doubles, exact below 2^52: the bits of 2^52 + i
-/// read as a double, less 2^52.
-__attribute__((target("avx2"))) inline __m256d index_quad(std::uint64_t i) {
-    const __m256i lanes = _mm256_add_epi64(_mm256_set1_epi64x(static_cast<long long>(i)),
-                                           _mm256_set_epi64x(3, 2, 1, 0));
-    const __m256d two52 = _mm256_set1_pd(4503599627370496.0);
-    return _mm256_sub_pd(_mm256_or_pd(_mm256_castsi256_pd(lanes), two52), two52);
-}
 
 /// sawtooth_deg() or triangle_deg() lane by lane: each product and sum rounded alone (no FMA).
 template <bool Triangle>
@@ -64,8 +57,8 @@ __attribute__((target("avx2"))) void angle_quads(const LineAngleParams& p, std::
 std::size_t line_angles_lanes(const LineAngleParams& p, std::uint64_t first, std::size_t count,
                               double* angle_deg, double* time_s) {
 #if BEAMTRACE_LINE_ANGLES_AVX2
-    constexpr std::uint64_t kExact = std::uint64_t{1} << 52;
-    if (!__builtin_cpu_supports("avx2") || first >= kExact || count >= kExact - first) {
+    if (!__builtin_cpu_supports("avx2") || first >= kExactIndices ||
+        count >= kExactIndices - first) {
         return 0;
     }
     const std::size_t quads = count / 4;

@@ -2,6 +2,8 @@
 
 #if defined(__x86_64__) && defined(__GNUC__)
 #include <immintrin.h>
+
+#include "sensor/detail/index_quad.hpp"
 #define BEAMTRACE_ROTATING_LANES_AVX2 1
 #endif
 
@@ -9,15 +11,6 @@ namespace beamtrace::detail {
 
 #if BEAMTRACE_ROTATING_LANES_AVX2
 namespace {
-
-/// Four consecutive pulse indices from `i` as doubles, exact below 2^52: the bits of 2^52 + i
-/// read as a double, less 2^52.
-__attribute__((target("avx2"))) inline __m256d index_quad(std::uint64_t i) {
-    const __m256i lanes = _mm256_add_epi64(_mm256_set1_epi64x(static_cast<long long>(i)),
-                                           _mm256_set_epi64x(3, 2, 1, 0));
-    const __m256d two52 = _mm256_set1_pd(4503599627370496.0);
-    return _mm256_sub_pd(_mm256_or_pd(_mm256_castsi256_pd(lanes), two52), two52);
-}
 
 /// The azimuths of beams b .. b + 3 wrapped into [-180, 180) as wrap_deg() does where w = deg
 /// + 180 lies in [0, 720); false where a lane needs fmod.
@@ -85,9 +78,8 @@ __attribute__((target("avx2"))) std::size_t firing_quads(const FiringParams& f, 
 std::size_t firing_lanes(const FiringParams& f, std::uint64_t first, std::size_t b,
                          std::size_t count, PulseBatch& out, std::size_t j) {
 #if BEAMTRACE_ROTATING_LANES_AVX2
-    constexpr std::uint64_t kExact = std::uint64_t{1} << 52;
-    if (count < 4 || !__builtin_cpu_supports("avx2") || first >= kExact ||
-        count >= kExact - first) {
+    if (count < 4 || !__builtin_cpu_supports("avx2") || first >= kExactIndices ||
+        count >= kExactIndices - first) {
         return 0;
     }
     return firing_quads(f, first, b, count, out, j);
