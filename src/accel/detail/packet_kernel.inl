@@ -332,18 +332,20 @@ struct AxisBounds {
         // least and greatest inverse direction tell the classes (all up: both in (0, inf));
         // the up and down lanes' bounds and which classes occur are made apart (bound_apart)
         // where a mixed axis needs them.
+        // A packet's inactive lanes hold its lane 0's ray (load_packet), which is active: they
+        // change no bound and no class, so every lane is taken (other values there would only
+        // widen the frustum).
         const vf hi0 = splat(kInf), lo0 = splat(-kInf);
         vf o_lo = hi0, o_hi = lo0, i_lo = hi0, i_hi = lo0;
         vi odd = vi{};
         for (int q = 0; q < np; ++q) {
             const Packet& p = ps[q];
             const vf o = p.o[a], inv = p.inv[a];
-            const vi act = lanes_of(p.active);
-            odd |= act & ~((inv < 0.0f) | (inv > 0.0f));
-            o_lo = (act & (o < o_lo)) ? o : o_lo;
-            o_hi = (act & (o > o_hi)) ? o : o_hi;
-            i_lo = (act & (inv < i_lo)) ? inv : i_lo;
-            i_hi = (act & (inv > i_hi)) ? inv : i_hi;
+            odd |= ~((inv < 0.0f) | (inv > 0.0f));
+            o_lo = (o < o_lo) ? o : o_lo;
+            o_hi = (o > o_hi) ? o : o_hi;
+            i_lo = (inv < i_lo) ? inv : i_lo;
+            i_hi = (inv > i_hi) ? inv : i_hi;
         }
         classified = lane_bits(odd) == 0;
         olo = lanes_min(o_lo);
