@@ -9,6 +9,15 @@ namespace {
 /// The pattern frame of a uniform albedo, which does not read it.
 const PatternFrame kUnread{};
 
+/// Whether faces[0, n) are all faces[0] (without a branch a face: the loop runs in lanes).
+bool one_face(const std::uint32_t* faces, std::size_t n) {
+    std::uint32_t differ = 0;
+    for (std::size_t j = 1; j < n; ++j) {
+        differ |= faces[j] ^ faces[0];
+    }
+    return differ == 0;
+}
+
 }  // namespace
 
 SurveyPhysics::SurveyPhysics(const PulseSimulator& sim, const Scene& scene,
@@ -69,6 +78,11 @@ void SurveyPhysics::find_edges(BlockWork& w) const {
     std::uint32_t last_face = kNoFace;  // and its part: neighbouring sub-rays meet the same faces
     std::int64_t last_part = -1;
     for (std::size_t k = 0; k < w.pulse_count; ++k) {
+        // Sub-rays that all meet one face (or none) meet one part: no edge (edge_cells).
+        if (one_face(w.hits.face.data() + k * sub_rays, sub_rays)) {
+            w.edge_start[k + 1] = static_cast<std::uint32_t>(w.edge_cell.size());
+            continue;
+        }
         for (std::size_t j = 0; j < sub_rays; ++j) {
             const std::size_t h = k * sub_rays + j;
             if (!w.hits.hit(h)) {
@@ -109,13 +123,9 @@ bool SurveyPhysics::one_face_samples(BlockWork& w, std::size_t k, FaceCache& cac
     const std::size_t sub_rays = this->sub_rays();
     const std::size_t h0 = k * sub_rays;
     const std::uint32_t face = w.hits.face[h0];
-    if (face == kNoFace || w.edge_start[k] != w.edge_start[k + 1]) {
+    if (face == kNoFace || w.edge_start[k] != w.edge_start[k + 1] ||
+        !one_face(w.hits.face.data() + h0, sub_rays)) {
         return false;
-    }
-    for (std::size_t h = h0 + 1; h < h0 + sub_rays; ++h) {
-        if (w.hits.face[h] != face) {
-            return false;
-        }
     }
     // The facts as sub_ray_hit finds them for the first sub-ray (the others find them cached).
     const RayBatch& r = w.rays;

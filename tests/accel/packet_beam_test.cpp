@@ -197,5 +197,61 @@ TEST(PacketBeams, RandomBeamsOfEverySizeMatchSingleRays) {
     }
 }
 
+TEST(PacketBeams, BeamsOfInfiniteAndFiniteInverseDirectionsMatchSingleRays) {
+    // Beams over a grid whose sub-rays' x components are tiny of either sign (their inverses
+    // overflow to +inf and -inf: still lanes), of both and finite ones in one beam (the x axis
+    // then neither still nor of one sign: the finite lanes lie between the infinite bounds),
+    // and of both alone (all still). A walk's beams share their origins' x, near a vertex
+    // line: the moving lanes leave its slab, within acos(0.97) of the first sub-ray (one
+    // frustum).
+    const TriangleMesh grid = test::make_grid(64);
+    for (const bool finite : {true, false}) {
+        RayBatch rays;
+        for (int i = 2; i < 62; i += 3) {
+            for (int j = 0; j < 60; ++j) {
+                const Vec3d o{i + 0.95, j + 0.5, 10.0};
+                for (int s = 0; s < 19; ++s) {
+                    const double tiny = (s % 2 == 0 ? 1e-40 : -1e-40) * (1 + s % 4);
+                    const double x = s % 3 != 2 || !finite ? tiny : 0.02 * (s - 9);
+                    rays.push_back(o, Vec3d{x, 0.01 * (s % 5 - 2), -1.0});
+                }
+            }
+        }
+        const HitBatch h =
+            expect_beams_match(grid, rays, 19, finite ? "infinite and finite x" : "infinite x");
+        EXPECT_EQ(hit_count(h), rays.size()) << "rays through a grid below them escaped";
+    }
+}
+
+TEST(PacketBeams, LastSubRaysOfAnotherAxisOrderMatchSingleRays) {
+    // Beams of 19 over the terrain down at just under 45 degrees from z (one frustum), every 13th
+    // (the last of a walk of 13 beams) nearer 45 degrees, its cone so wide that three of its outer
+    // ring's sub-rays (15 to 17: the walk's last rays, past its last whole packet of AVX2 and
+    // AVX-512 alike) move more along x than z: another watertight axis order, so the walk is
+    // traced beam by beam.
+    const auto path = test::shared_data("meshes/terrain/dem_hd_sub_heightfield.obj");
+    BEAMTRACE_REQUIRE_FILE(path);
+    const TriangleMesh terrain = load_mesh(path);
+    const Aabb b = terrain.bounds();
+    const Vec3d lo(b.lo), span(b.extent());
+    RayBatch rays;
+    const double cone = 0.01;
+    for (int k = 0; k < 13 * 60; ++k) {
+        const double theta = 0.25 * 3.141592653589793 - (k % 13 == 12 ? 0.7 : 3.0) * cone;
+        const double f = (k % 60) / 60.0, g = (k / 60) / 13.0;
+        const Vec3d o{lo.x + 0.5 * f * span.x, lo.y + g * span.y, lo.z + 0.3 * span.z};
+        push_beam(rays, o, Vec3d{std::sin(theta), 0.0, -std::cos(theta)}, 19, cone);
+    }
+    const auto x_major = [&](std::size_t i) {
+        return std::fabs(rays.dx[i]) > std::fabs(rays.dz[i]);
+    };
+    for (std::size_t s = 0; s < 19; ++s) {
+        EXPECT_EQ(x_major(12 * 19 + s), s >= 15 && s <= 17) << "sub-ray " << s;
+        EXPECT_FALSE(x_major(s)) << "sub-ray " << s;
+    }
+    const HitBatch h = expect_beams_match(terrain, rays, 19, "axis order in the last rays");
+    EXPECT_GT(hit_count(h), rays.size() / 2);
+}
+
 }  // namespace
 }  // namespace beamtrace

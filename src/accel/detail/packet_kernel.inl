@@ -327,46 +327,50 @@ struct AxisBounds {
 
     BT_PK AxisBounds(const Packet* ps, int np, int a, bool mixed) {
         // Each bound lane by lane over the packets (a NaN lane never taken: +inf or -inf if
-        // none), then one reduction per bound in use: the lanes' classes and the bounds of all
-        // lanes in one pass, those of the up and down lanes apart in a second where needed.
+        // none) and whether an active lane is NaN or zero (moving neither up, down, nor still:
+        // unclassified), then one reduction per bound. With every active lane classified, the
+        // least and greatest inverse direction tell the classes (all up: both in (0, inf));
+        // the up and down lanes' bounds and which classes occur are made apart (bound_apart)
+        // where a mixed axis needs them.
+        // A packet's inactive lanes hold its lane 0's ray (load_packet), which is active: they
+        // change no bound and no class, so every lane is taken (other values there would only
+        // widen the frustum).
         const vf hi0 = splat(kInf), lo0 = splat(-kInf);
         vf o_lo = hi0, o_hi = lo0, i_lo = hi0, i_hi = lo0;
-        Mask not_pos = 0, not_neg = 0, not_still = 0, unclassified = 0;
-        Mask some_pos = 0, some_neg = 0, some_still = 0;
+        vi odd = vi{};
         for (int q = 0; q < np; ++q) {
             const Packet& p = ps[q];
             const vf o = p.o[a], inv = p.inv[a];
-            const vi act = lanes_of(p.active);
-            const Mask pb = lane_bits((inv > 0.0f) & (inv < kInf)) & p.active;
-            const Mask nb = lane_bits((inv < 0.0f) & (inv > -kInf)) & p.active;
-            const Mask sb = lane_bits(vabs(inv) == kInf) & p.active;
-            not_pos |= p.active & ~pb;
-            not_neg |= p.active & ~nb;
-            not_still |= p.active & ~sb;
-            unclassified |= p.active & ~(pb | nb | sb);
-            some_pos |= pb;
-            some_neg |= nb;
-            some_still |= sb;
-            o_lo = (act & (o < o_lo)) ? o : o_lo;
-            o_hi = (act & (o > o_hi)) ? o : o_hi;
-            i_lo = (act & (inv < i_lo)) ? inv : i_lo;
-            i_hi = (act & (inv > i_hi)) ? inv : i_hi;
+            odd |= ~((inv < 0.0f) | (inv > 0.0f));
+            o_lo = (o < o_lo) ? o : o_lo;
+            o_hi = (o > o_hi) ? o : o_hi;
+            i_lo = (inv < i_lo) ? inv : i_lo;
+            i_hi = (inv > i_hi) ? inv : i_hi;
         }
-        all_pos = not_pos == 0;
-        all_neg = not_neg == 0;
-        all_still = not_still == 0;
-        classified = unclassified == 0;
-        any_pos = some_pos != 0;
-        any_neg = some_neg != 0;
-        any_still = some_still != 0;
+        classified = lane_bits(odd) == 0;
         olo = lanes_min(o_lo);
         ohi = lanes_max(o_hi);
+        const float lo = lanes_min(i_lo), hi = lanes_max(i_hi);
+        all_pos = classified && lo > 0.0f && hi < kInf;
+        all_neg = classified && hi < 0.0f && lo > -kInf;
+        // Still: only infinite lanes; with some of either sign, a finite one may lie between.
+        all_still = classified && std::fabs(lo) == kInf && std::fabs(hi) == kInf &&
+                    (lo != -kInf || hi != kInf || !any_finite(ps, np, a));
         if (all_pos || all_neg) {
-            inv_lo = lanes_min(i_lo);
-            inv_hi = lanes_max(i_hi);
+            inv_lo = lo;
+            inv_hi = hi;
         } else if (mixed && classified && !all_still) {
             bound_apart(ps, np, a);
         }
+    }
+
+    /// Whether an active lane of packets ps[0, np) has a finite inverse direction on axis a.
+    BT_PK static bool any_finite(const Packet* ps, int np, int a) {
+        Mask finite = 0;
+        for (int q = 0; q < np; ++q) {
+            finite |= lane_bits(vabs(ps[q].inv[a]) < kInf) & ps[q].active;
+        }
+        return finite != 0;
     }
 
     /// The bounds of the up lanes and of the down lanes of axis a, apart.
@@ -374,12 +378,14 @@ struct AxisBounds {
         const vf hi0 = splat(kInf), lo0 = splat(-kInf);
         vf po_lo = hi0, po_hi = lo0, pi_lo = hi0, pi_hi = lo0;
         vf no_lo = hi0, no_hi = lo0, ni_lo = hi0, ni_hi = lo0;
+        Mask still = 0;
         for (int q = 0; q < np; ++q) {
             const Packet& p = ps[q];
             const vf o = p.o[a], inv = p.inv[a];
             const vi act = lanes_of(p.active);
             const vi pos = (inv > 0.0f) & (inv < kInf) & act;
             const vi neg = (inv < 0.0f) & (inv > -kInf) & act;
+            still |= lane_bits(vabs(inv) == kInf) & p.active;
             po_lo = (pos & (o < po_lo)) ? o : po_lo;
             po_hi = (pos & (o > po_hi)) ? o : po_hi;
             pi_lo = (pos & (inv < pi_lo)) ? inv : pi_lo;
@@ -397,6 +403,9 @@ struct AxisBounds {
         neg_ohi = lanes_max(no_hi);
         neg_lo = lanes_min(ni_lo);
         neg_hi = lanes_max(ni_hi);
+        any_pos = pos_lo < kInf;   // an up lane's inverse is finite
+        any_neg = neg_hi > -kInf;  // and so is a down lane's
+        any_still = still != 0;
     }
 };
 
@@ -1161,6 +1170,25 @@ BT_PK_ENTRY void trace_range(const Bvh& bvh, const TriangleMesh& mesh, const Ray
     }
 }
 
+/// Whether a key of keys[0, n) lies outside [lo, lo + span): one unsigned compare a key, kLanes
+/// at a time (keys past n are not read).
+BT_PK bool keys_outside(const std::uint32_t* keys, std::size_t n, std::uint32_t lo,
+                        std::uint32_t span) {
+    const vu vlo = splat_u(lo), vspan = splat_u(span);
+    vi out = vi{};
+    std::size_t j = 0;
+    for (; j + kLanes <= n; j += kLanes) {
+        vu k;
+        __builtin_memcpy(&k, keys + j, sizeof k);
+        out |= (k - vlo) >= vspan;
+    }
+    bool tail = false;
+    for (; j < n; ++j) {
+        tail |= keys[j] - lo >= span;
+    }
+    return tail || lane_bits(out) != 0;
+}
+
 /// Rays [at, at + n) of an unsorted stage (n at most kWalkRays: whole beams of sub-rays) as
 /// packets of kLanes of them that walk the tree as one frustum (mixed axes allowed: a narrow
 /// beam about a plane of an axis has lanes moving up and down it), each lane testing the faces
@@ -1169,15 +1197,9 @@ BT_PK_ENTRY void trace_range(const Bvh& bvh, const TriangleMesh& mesh, const Ray
 /// a sawtooth's wrap falls between two beams of a walk).
 BT_PK bool trace_walk(const Stage& st, std::size_t at, std::size_t n, bool split, const Bvh& bvh,
                       const TriangleMesh& mesh, HitBatch& hits, bool only_coherent, float min_cos) {
-    // Keys of one watertight group (packet_group / 9) lie in [9 g << 24, (9 g + 9) << 24): one
-    // unsigned compare a ray, without a branch (the loop runs in lanes).
+    // Keys of one watertight group (packet_group / 9) lie in [9 g << 24, (9 g + 9) << 24).
     const std::uint32_t group = packet_group(st.keys[at]) / 9;
-    const std::uint32_t lo = group * 9 << 24, span = 9u << 24;
-    bool apart = false;
-    for (std::size_t j = at + 1; j < at + n; ++j) {
-        apart |= st.keys[j] - lo >= span;
-    }
-    if (apart) {
+    if (keys_outside(st.keys + at, n, group * 9 << 24, 9u << 24)) {
         return false;
     }
     Packet ps[kBeamPackets];
