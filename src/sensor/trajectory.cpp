@@ -79,6 +79,38 @@ constexpr std::size_t kMaxFileBytes = std::size_t{512} << 20;
     return f >= 1.0 ? w1 : lerp(w0, w1, f);
 }
 
+/// The leg of a linear flight (waypoint times `times`) that a run of times falls on: pulse times
+/// mostly stay on one leg, so the leg is kept while a time is on it (the leg segment_of would
+/// find) and searched again otherwise. Its times in members, which a batch's loop keeps in
+/// registers (the stores of each pose's doubles may alias the trajectory's vectors).
+struct LegCursor {
+    const std::vector<double>* times;
+    double start, end;  ///< the flight's
+    bool have_leg = false, last_leg = false;
+    std::size_t k = 0;  ///< the leg: [times[k], times[k + 1]]
+    double t0 = 0.0, t1 = 0.0;
+
+    explicit LegCursor(const std::vector<double>& waypoint_times)
+        : times(&waypoint_times), start(waypoint_times.front()), end(waypoint_times.back()) {}
+
+    /// Time t (within the flight's range, or within its tolerance: then its end) as used, after
+    /// moving to its leg; `moved`: whether the leg changed. Throws ConfigError past the range.
+    [[gnu::always_inline]] double move_to(double t, bool& moved) {
+        if (!(t >= start && t <= end)) {
+            t = checked_time("linear legs", t, start, end);
+        }
+        moved = !have_leg || !(t0 <= t && (t < t1 || last_leg));
+        if (moved) {
+            k = segment_of(*times, t);
+            have_leg = true;
+            last_leg = k + 2 == times->size();
+            t0 = (*times)[k];
+            t1 = (*times)[k + 1];
+        }
+        return t;
+    }
+};
+
 #if defined(__x86_64__) && defined(__GNUC__)
 /// A leg's ends and attitude as vectors: x, y, z (and 0) of its start, of its end and of end
 /// less start (point_on_leg's b - a); w, x, y, z of the attitude.
@@ -107,23 +139,15 @@ __attribute__((target("avx2"))) void straight_poses_avx2(const std::vector<doubl
                                                          std::span<Pose> out) {
     static_assert(offsetof(Pose, position_m) == 0 && offsetof(Pose, attitude) == 24 &&
                   offsetof(Vec3d, z) == 16 && offsetof(Quat, z) == 24);
-    const double start = times.front(), end = times.back();
-    bool have_leg = false, last_leg = false;
-    double t0 = 0.0, t1 = 0.0;
+    LegCursor legs(times);
     LegLanes leg{};
     for (std::size_t i = 0; i < times_s.size(); ++i) {
-        const double t = times_s[i] >= start && times_s[i] <= end
-                             ? times_s[i]
-                             : checked_time("linear legs", times_s[i], start, end);
-        if (!have_leg || !(t0 <= t && (t < t1 || last_leg))) {
-            const std::size_t k = segment_of(times, t);
-            have_leg = true;
-            last_leg = k + 2 == times.size();
-            t0 = times[k];
-            t1 = times[k + 1];
-            leg = leg_lanes(waypoints[k], waypoints[k + 1], attitudes[k]);
+        bool moved = false;
+        const double t = legs.move_to(times_s[i], moved);
+        if (moved) {
+            leg = leg_lanes(waypoints[legs.k], waypoints[legs.k + 1], attitudes[legs.k]);
         }
-        const double f = leg_fraction(t, t0, t1);
+        const double f = leg_fraction(t, legs.t0, legs.t1);
         const __m256d p =
             f >= 1.0 ? leg.b : _mm256_add_pd(leg.a, _mm256_mul_pd(leg.d, _mm256_set1_pd(f)));
         auto* pose = reinterpret_cast<double*>(&out[i]);
@@ -486,39 +510,26 @@ void LinearLegs::poses_at(std::span<const double> times_s, std::span<Pose> out) 
 }
 
 void LinearLegs::poses_at_scalar(std::span<const double> times_s, std::span<Pose> out) const {
-    // Pulse times mostly stay on one leg: keep the leg while the time is on it (the leg
-    // segment_of would find), search again otherwise. The leg's times, ends and attitude in
-    // locals: the stores of each pose's doubles may alias them, which were loaded again for
-    // every pulse.
     const bool turning = !config_.attitudes.empty();  // attitudes slerped along each leg
-    const double start = start_time_s(), end = end_time_s();
-    bool have_leg = false, last_leg = false;
-    std::size_t k = 0;
-    double t0 = 0.0, t1 = 0.0;
+    LegCursor legs(times_s_);
     Vec3d w0, w1;
     Quat q;
     for (std::size_t i = 0; i < times_s.size(); ++i) {
-        const double t = times_s[i] >= start && times_s[i] <= end
-                             ? times_s[i]
-                             : checked_time("linear legs", times_s[i], start, end);
-        if (!have_leg || !(t0 <= t && (t < t1 || last_leg))) {
-            k = segment_of(times_s_, t);
-            have_leg = true;
-            last_leg = k + 2 == times_s_.size();
-            t0 = times_s_[k];
-            t1 = times_s_[k + 1];
-            w0 = config_.waypoints_m[k];
-            w1 = config_.waypoints_m[k + 1];
-            q = attitude_[k];
+        bool moved = false;
+        const double t = legs.move_to(times_s[i], moved);
+        if (moved) {
+            w0 = config_.waypoints_m[legs.k];
+            w1 = config_.waypoints_m[legs.k + 1];
+            q = attitude_[legs.k];
         }
         if (turning) {
-            pose_on_leg_into(t, k, out[i]);
+            pose_on_leg_into(t, legs.k, out[i]);
             continue;
         }
         // pose_on_leg_into()'s values, stored field by field (a pose returned through memory
         // and copied was read back as 16-byte pieces right after being stored as doubles,
         // which stalls store forwarding).
-        const Vec3d p = point_on_leg(leg_fraction(t, t0, t1), w0, w1);
+        const Vec3d p = point_on_leg(leg_fraction(t, legs.t0, legs.t1), w0, w1);
         Pose& pose = out[i];
         pose.position_m.x = p.x;
         pose.position_m.y = p.y;
