@@ -37,19 +37,28 @@ struct MemoSlots {
     double slots_per_deg = 1.0;
 };
 
+/// Memo entry `e` holding the angle of bits `s_bits` (radians) and its cos and sin: as it is, or
+/// computed where it holds another angle (bits, not s == key: -0.0, 0.0).
+[[gnu::always_inline]] inline const SincosMemo::Entry& memo_entry(SincosMemo::Entry& e,
+                                                                  std::uint64_t s_bits) {
+    if (e.angle_bits != s_bits) {
+        const double s = std::bit_cast<double>(s_bits);
+        e.angle_bits = s_bits;
+        e.cos = std::cos(s);
+        e.sin = std::sin(s);
+    }
+    return e;
+}
+
 /// Pulse k of `out` from its angle and time: its direction (cos, sin, 0) from the memo's slot of
-/// the angle, computed where the slot holds another angle.
+/// the angle.
 [[gnu::always_inline]] inline void memo_pulse(SincosMemo::Entry* memo, const MemoSlots& m,
                                               double s_deg, double time_s, PulseBatch& out,
                                               std::size_t k) {
     const double s = s_deg * kDegToRad;
     const double u = std::min((s_deg + m.max_deg) * m.slots_per_deg, kMemoSlots - 1.0);
-    SincosMemo::Entry& e = memo[u >= 0.0 ? static_cast<std::size_t>(u) : 0];
-    if (e.angle_bits != std::bit_cast<std::uint64_t>(s)) {  // not s == key: -0.0, 0.0
-        e.angle_bits = std::bit_cast<std::uint64_t>(s);
-        e.cos = std::cos(s);
-        e.sin = std::sin(s);
-    }
+    const SincosMemo::Entry& e = memo_entry(memo[u >= 0.0 ? static_cast<std::size_t>(u) : 0],
+                                            std::bit_cast<std::uint64_t>(s));
     out.time_s[k] = time_s;
     out.direction[k] = {e.cos, e.sin, 0.0};
     out.channel[k] = 0;
@@ -79,13 +88,7 @@ __attribute__((target("avx2"))) std::size_t memo_quads(SincosMemo::Entry* memo, 
         _mm_store_si128(reinterpret_cast<__m128i*>(slot),
                         _mm256_cvttpd_epi32(_mm256_max_pd(u, _mm256_setzero_pd())));
         for (std::size_t l = 0; l < 4; ++l) {
-            SincosMemo::Entry& e = memo[slot[l]];
-            if (e.angle_bits != bits[l]) {
-                const double s = std::bit_cast<double>(bits[l]);
-                e.angle_bits = bits[l];
-                e.cos = std::cos(s);
-                e.sin = std::sin(s);
-            }
+            const SincosMemo::Entry& e = memo_entry(memo[slot[l]], bits[l]);
             Vec3d& d = out.direction[at + j + l];
             d.x = e.cos;
             d.y = e.sin;

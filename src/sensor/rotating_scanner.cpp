@@ -249,10 +249,10 @@ void RotatingScanner::generate_pulses(std::uint64_t first, std::size_t count,
         const std::size_t n = std::min<std::size_t>(static_cast<std::size_t>(beams) - b, count - j);
         std::size_t done = uniform_times ? detail::firing_lanes(f, first + j, b, n, out, j) : 0;
         for (; done < n; ++done) {
-            detail::firing_pulse(f, first + j + done, b + done, out, j + done);
-            if (!uniform_times) {
-                out.time_s[j + done] = beam_time_s(first + j + done, k, b + done);
-            }
+            const std::uint64_t i = first + j + done;
+            const double time_s = uniform_times ? uniform_time_s(f.start_s, f.pulse_rate_hz, i)
+                                                : beam_time_s(i, k, b + done);
+            detail::firing_pulse(f, time_s, b + done, out, j + done);
         }
         j += n;
     }

@@ -41,23 +41,24 @@ struct FiringParams {
     return w - 180.0;
 }
 
-/// Pulse `pulse`, beam `b` of the firing `f`, into slot j of `out`.
-inline void firing_pulse(const FiringParams& f, std::uint64_t pulse, std::size_t b, PulseBatch& out,
+/// Pulse `pulse`, beam `b` of the firing `f`, emitted at `time_s`, into slot j of `out`.
+inline void firing_pulse(const FiringParams& f, double time_s, std::size_t b, PulseBatch& out,
                          std::size_t j) {
     const double az_deg =
         wrap_deg(f.start_azimuth_deg + f.sign * (f.head_deg + f.within_deg[b]) + f.offset_deg[b]);
     const double cos_az = f.cos_head * f.cos_beam[b] - f.sin_head * f.sin_beam[b];
     const double sin_az = f.sin_head * f.cos_beam[b] + f.cos_head * f.sin_beam[b];
-    out.time_s[j] = ScanPattern::uniform_time_s(f.start_s, f.pulse_rate_hz, pulse);
+    out.time_s[j] = time_s;
     out.direction[j] = {f.cos_elevation[b] * cos_az, f.cos_elevation[b] * sin_az,
                         f.sin_elevation[b]};
     out.channel[j] = f.channels == nullptr ? static_cast<std::uint16_t>(b) : f.channels[b];
     out.scan_angle_deg[j] = static_cast<float>(az_deg);
 }
 
-/// firing_pulse() of pulses first .. first + count - 1, beams b .. b + count - 1 of one firing,
-/// into slots j .. of `out`, four at a time in AVX2 lanes: returns how many it did (a multiple
-/// of 4; 0 without AVX2). It stops before a four whose azimuths need std::fmod to wrap.
+/// firing_pulse() of pulses first .. first + count - 1 at uniform times (start_s + i /
+/// pulse_rate_hz), beams b .. b + count - 1 of one firing, into slots j .. of `out`, four at a
+/// time in AVX2 lanes: returns how many it did (a multiple of 4; 0 without AVX2). It stops
+/// before a four whose azimuths need std::fmod to wrap.
 [[nodiscard]] std::size_t firing_lanes(const FiringParams& f, std::uint64_t first, std::size_t b,
                                        std::size_t count, PulseBatch& out, std::size_t j);
 
